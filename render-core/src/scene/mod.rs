@@ -1,0 +1,14 @@
+//! Scenes: the model, glTF import, built-in generators and the instance hierarchy (a BVH).
+
+mod builtin;
+mod bvh;
+mod chunking;
+mod city;
+mod gltf_import;
+mod model;
+
+pub use builtin::{BUILTIN_SCENES, BuiltinScene, load_builtin};
+pub use bvh::Bvh;
+pub use chunking::{ChunkSettings, split_large_instances};
+pub use gltf_import::{ImportError, import_gltf};
+pub use model::{Instance, Mesh, MeshId, Mobility, Scene, SceneFacts, Sun, compute_vertex_normals};

@@ -1,0 +1,247 @@
+//! The scene model: meshes shared between instances, instances with a name, a transform, a world
+//! box and flags, and one directional sun. Only what a scene needs.
+
+use glam::{Mat4, Vec3};
+use serde::Serialize;
+
+use super::bvh::Bvh;
+use crate::geom::Aabb;
+
+/// Index of a mesh in [`Scene::meshes`].
+pub type MeshId = u32;
+
+/// Triangle geometry in its own local space, shared by every instance that refers to it.
+#[derive(Clone, Debug, Default)]
+pub struct Mesh {
+    pub name: String,
+    pub positions: Vec<Vec3>,
+    /// One unit normal per position.
+    pub normals: Vec<Vec3>,
+    /// Triangle list, three indices per triangle.
+    pub indices: Vec<u32>,
+    pub aabb_in_local: Aabb,
+}
+
+impl Mesh {
+    /// A mesh from positions and indices; normals are computed when `normals` is `None`.
+    pub fn new(
+        name: impl Into<String>,
+        positions: Vec<Vec3>,
+        normals: Option<Vec<Vec3>>,
+        indices: Vec<u32>,
+    ) -> Self {
+        let normals = normals.unwrap_or_else(|| compute_vertex_normals(&positions, &indices));
+        let aabb_in_local = Aabb::from_points(positions.iter().copied());
+        Self { name: name.into(), positions, normals, indices, aabb_in_local }
+    }
+
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len() / 3
+    }
+}
+
+/// Area-weighted vertex normals; a vertex touching only degenerate triangles gets +Y.
+pub fn compute_vertex_normals(positions: &[Vec3], indices: &[u32]) -> Vec<Vec3> {
+    let mut normals = vec![Vec3::ZERO; positions.len()];
+    for tri in indices.chunks_exact(3) {
+        let [a, b, c] = [tri[0], tri[1], tri[2]].map(|i| i as usize);
+        if a >= positions.len() || b >= positions.len() || c >= positions.len() {
+            continue;
+        }
+        let face = (positions[b] - positions[a]).cross(positions[c] - positions[a]);
+        for i in [a, b, c] {
+            normals[i] += face;
+        }
+    }
+    normals.iter().map(|n| n.try_normalize().unwrap_or(Vec3::Y)).collect()
+}
+
+/// Whether an instance can move between frames.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Mobility {
+    Static,
+    Dynamic,
+}
+
+/// One placed copy of a mesh.
+#[derive(Clone, Debug)]
+pub struct Instance {
+    /// The glTF node name (with a `#chunk` suffix for split objects), or a generated name.
+    pub name: String,
+    pub mesh: MeshId,
+    pub world_from_local: Mat4,
+    pub aabb_in_world: Aabb,
+    /// Linear RGBA.
+    pub base_color: [f32; 4],
+    pub casts_shadow: bool,
+    pub receives_shadow: bool,
+    pub mobility: Mobility,
+}
+
+impl Instance {
+    /// An instance that casts and receives shadows; its world box is computed from the mesh.
+    pub fn new(name: impl Into<String>, mesh: MeshId, mesh_data: &Mesh, world_from_local: Mat4) -> Self {
+        Self {
+            name: name.into(),
+            mesh,
+            world_from_local,
+            aabb_in_world: mesh_data.aabb_in_local.transformed(&world_from_local),
+            base_color: [0.8, 0.8, 0.8, 1.0],
+            casts_shadow: true,
+            receives_shadow: true,
+            mobility: Mobility::Static,
+        }
+    }
+
+    #[must_use]
+    pub fn with_color(mut self, base_color: [f32; 4]) -> Self {
+        self.base_color = base_color;
+        self
+    }
+
+    #[must_use]
+    pub fn with_mobility(mut self, mobility: Mobility) -> Self {
+        self.mobility = mobility;
+        self
+    }
+}
+
+/// The sun: a directional light. `direction_to_sun` points from the scene towards the sun.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sun {
+    pub direction_to_sun: Vec3,
+}
+
+impl Sun {
+    /// Azimuth is measured in the XZ plane from +X towards +Z, elevation up from the horizon.
+    pub fn from_azimuth_elevation_deg(azimuth_deg: f32, elevation_deg: f32) -> Self {
+        let (az, el) = (azimuth_deg.to_radians(), elevation_deg.to_radians());
+        Self { direction_to_sun: Vec3::new(el.cos() * az.cos(), el.sin(), el.cos() * az.sin()) }
+    }
+
+    /// A sun pointing along `direction_to_sun`, or straight overhead for a zero vector.
+    pub fn from_direction(direction_to_sun: Vec3) -> Self {
+        Self { direction_to_sun: direction_to_sun.try_normalize().unwrap_or(Vec3::Y) }
+    }
+
+    pub fn azimuth_elevation_deg(&self) -> (f32, f32) {
+        let d = self.direction_to_sun;
+        let elevation = d.y.clamp(-1.0, 1.0).asin().to_degrees();
+        let azimuth = d.z.atan2(d.x).to_degrees();
+        (azimuth.rem_euclid(360.0), elevation)
+    }
+}
+
+impl Default for Sun {
+    fn default() -> Self {
+        Self::from_azimuth_elevation_deg(35.0, 45.0)
+    }
+}
+
+/// Meshes, their instances, the sun, and derived data kept up to date: bounds and the BVH.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    /// `builtin:NAME` or the file path it came from.
+    pub name: String,
+    pub meshes: Vec<Mesh>,
+    pub instances: Vec<Instance>,
+    pub sun: Sun,
+    bounds: Aabb,
+    bvh: Bvh,
+}
+
+impl Scene {
+    pub fn new(name: impl Into<String>, meshes: Vec<Mesh>, instances: Vec<Instance>, sun: Sun) -> Self {
+        let boxes: Vec<Aabb> = instances.iter().map(|i| i.aabb_in_world).collect();
+        let bounds = boxes.iter().fold(Aabb::EMPTY, |acc, b| acc.union(*b));
+        let bvh = Bvh::build(&boxes);
+        Self { name: name.into(), meshes, instances, sun, bounds, bvh }
+    }
+
+    /// The box around every instance, in world space.
+    pub fn bounds(&self) -> Aabb {
+        self.bounds
+    }
+
+    pub fn bvh(&self) -> &Bvh {
+        &self.bvh
+    }
+
+    pub fn mesh_of(&self, instance: &Instance) -> &Mesh {
+        &self.meshes[instance.mesh as usize]
+    }
+
+    /// Triangles over all instances (a mesh instanced twice counts twice).
+    pub fn triangle_count(&self) -> usize {
+        self.instances.iter().map(|i| self.mesh_of(i).triangle_count()).sum()
+    }
+
+    pub fn caster_count(&self) -> usize {
+        self.instances.iter().filter(|i| i.casts_shadow).count()
+    }
+
+    /// Moves a dynamic instance. Call [`Scene::refit`] once after moving a batch.
+    pub fn set_world_from_local(&mut self, instance: usize, world_from_local: Mat4) {
+        let aabb = self.meshes[self.instances[instance].mesh as usize]
+            .aabb_in_local
+            .transformed(&world_from_local);
+        let inst = &mut self.instances[instance];
+        inst.world_from_local = world_from_local;
+        inst.aabb_in_world = aabb;
+    }
+
+    /// Refits the BVH and bounds to the instances' current world boxes.
+    pub fn refit(&mut self) {
+        let boxes: Vec<Aabb> = self.instances.iter().map(|i| i.aabb_in_world).collect();
+        self.bounds = boxes.iter().fold(Aabb::EMPTY, |acc, b| acc.union(*b));
+        self.bvh.refit(&boxes);
+    }
+}
+
+/// A short summary for panels and reports.
+#[derive(Clone, Debug, Default, Serialize, PartialEq)]
+pub struct SceneFacts {
+    pub name: String,
+    pub objects: usize,
+    pub meshes: usize,
+    pub triangles: usize,
+    pub casters: usize,
+    pub bounds_min_m: [f32; 3],
+    pub bounds_max_m: [f32; 3],
+}
+
+impl From<&Scene> for SceneFacts {
+    fn from(scene: &Scene) -> Self {
+        Self {
+            name: scene.name.clone(),
+            objects: scene.instances.len(),
+            meshes: scene.meshes.len(),
+            triangles: scene.triangle_count(),
+            casters: scene.caster_count(),
+            bounds_min_m: scene.bounds.min.to_array(),
+            bounds_max_m: scene.bounds.max.to_array(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sun_round_trips_azimuth_elevation() {
+        let sun = Sun::from_azimuth_elevation_deg(123.0, 17.0);
+        let (az, el) = sun.azimuth_elevation_deg();
+        assert!((az - 123.0).abs() < 1e-3 && (el - 17.0).abs() < 1e-3);
+        assert!((sun.direction_to_sun.length() - 1.0).abs() < 1e-6);
+        assert_eq!(Sun::from_direction(Vec3::ZERO).direction_to_sun, Vec3::Y);
+    }
+
+    #[test]
+    fn normals_of_degenerate_triangles_are_finite() {
+        let positions = vec![Vec3::ZERO, Vec3::ZERO, Vec3::ZERO, Vec3::X];
+        let normals = compute_vertex_normals(&positions, &[0, 1, 2]);
+        assert!(normals.iter().all(|n| n.is_finite() && (n.length() - 1.0).abs() < 1e-6));
+    }
+}
