@@ -95,8 +95,9 @@ mod tests {
 
     #[test]
     fn perspective_frustum_classifies_boxes() {
-        let view = Mat4::look_at_rh(Vec3::ZERO, Vec3::NEG_Z, Vec3::Y);
-        let proj = Mat4::perspective_rh(1.0, 1.0, 0.1, 100.0);
+        use glam::camera::rh::{proj::directx::perspective, view::look_at_mat4};
+        let view = look_at_mat4(Vec3::ZERO, Vec3::NEG_Z, Vec3::Y);
+        let proj = perspective(1.0, 1.0, 0.1, 100.0);
         let f = Frustum::from_clip_from_world(&(proj * view));
         let ahead = Aabb::new(Vec3::new(-1.0, -1.0, -11.0), Vec3::new(1.0, 1.0, -9.0));
         let behind = Aabb::new(Vec3::new(-1.0, -1.0, 1.0), Vec3::new(1.0, 1.0, 3.0));

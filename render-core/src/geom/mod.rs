@@ -1,7 +1,11 @@
 //! Pure CPU geometry: boxes, planes, frusta, cameras and light-space fitting.
 
 mod aabb;
+mod camera;
 mod frustum;
+mod light_fit;
 
 pub use aabb::Aabb;
+pub use camera::{Camera, basis_for_direction};
 pub use frustum::{Containment, Frustum, Plane};
+pub use light_fit::{LightFrustum, fit_directional_light};

@@ -1,0 +1,105 @@
+// The camera passes: a depth + object-id prepass, then shading with the shadow map.
+// Prepended with frame/common.wgsl.
+
+@group(1) @binding(0) var shadow_map: texture_depth_2d;
+
+struct VsOut {
+    @builtin(position) @invariant clip: vec4<f32>,
+    @location(0) world_pos: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) @interpolate(flat) instance: u32,
+}
+
+@vertex
+fn vs_main(
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @builtin(instance_index) instance: u32,
+) -> VsOut {
+    var out: VsOut;
+    out.world_pos = world_position(instance, position);
+    out.clip = frame.clip_from_world * vec4<f32>(out.world_pos, 1.0);
+    out.normal = world_normal(instance, normal);
+    out.instance = instance;
+    return out;
+}
+
+// Object id per pixel: instance index + 1, 0 is sky.
+@fragment
+fn fs_prepass(in: VsOut) -> @location(0) u32 {
+    return in.instance + 1u;
+}
+
+struct ShadeOut {
+    @location(0) color: vec4<f32>,
+    @location(1) shadow: vec4<f32>,
+}
+
+// Fraction of kernel taps that see the light, comparing each tap with the receiver's plane
+// extended to that tap's texel centre (receiver-plane depth bias), plus constant and slope terms.
+fn shadow_factor(world_pos: vec3<f32>, geometric_normal: vec3<f32>) -> f32 {
+    let texel_m = vec2<f32>(frame.light_right.w, frame.light_up.w);
+    let range_m = max(frame.light_dir.w, 1e-6);
+    let size = frame.shadow.w;
+    let offset_pos = world_pos + geometric_normal * (frame.shadow.z * max(texel_m.x, texel_m.y));
+    let clip = frame.light_clip_from_world * vec4<f32>(offset_pos, 1.0);
+    let ndc = clip.xyz / clip.w;
+    if (abs(ndc.x) > 1.0 || abs(ndc.y) > 1.0 || ndc.z > 1.0) {
+        return 1.0;
+    }
+    let p = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5) * size;
+
+    // Depth change per texel along the receiver's plane, in normalised light depth.
+    let a = dot(geometric_normal, frame.light_right.xyz);
+    let b = dot(geometric_normal, frame.light_up.xyz);
+    let c = dot(geometric_normal, frame.light_dir.xyz);
+    let c_safe = select(min(c, -1e-3), max(c, 1e-3), c > 0.0);
+    let ddepth_per_texel = vec2<f32>(-a / c_safe * texel_m.x, b / c_safe * texel_m.y) / range_m;
+    let slope = min(abs(ddepth_per_texel.x) + abs(ddepth_per_texel.y), 10.0 * max(texel_m.x, texel_m.y) / range_m);
+    let bias = frame.shadow.x / range_m + frame.shadow.y * slope;
+
+    let k = i32(frame.params.x);
+    let start = vec2<i32>(floor(p - 0.5 * f32(k - 1)));
+    let max_texel = i32(size) - 1;
+    var lit = 0.0;
+    for (var j = 0; j < k; j++) {
+        for (var i = 0; i < k; i++) {
+            let t = start + vec2<i32>(i, j);
+            if (any(t < vec2<i32>(0)) || any(t > vec2<i32>(max_texel))) {
+                lit += 1.0;
+                continue;
+            }
+            let delta = vec2<f32>(t) + 0.5 - p;
+            let receiver = ndc.z + dot(ddepth_per_texel, delta);
+            let stored = textureLoad(shadow_map, t, 0);
+            lit += select(0.0, 1.0, receiver - bias <= stored);
+        }
+    }
+    return lit / f32(k * k);
+}
+
+@fragment
+fn fs_shade(in: VsOut) -> ShadeOut {
+    let to_eye = frame.eye_world.xyz - in.world_pos;
+    var geometric = cross(dpdx(in.world_pos), dpdy(in.world_pos));
+    geometric = select(in.normal, normalize(geometric), length(geometric) > 0.0);
+    geometric = select(geometric, -geometric, dot(geometric, to_eye) < 0.0);
+    var n = in.normal;
+    n = select(n, -n, dot(n, to_eye) < 0.0);
+
+    let data = instances[in.instance];
+    let receives = (data.flags.x & FLAG_RECEIVER) != 0u;
+    var visibility = 1.0;
+    if (frame.params.y != 0u && receives) {
+        visibility = shadow_factor(in.world_pos, geometric);
+    }
+    let l = frame.direction_to_sun.xyz;
+    let diffuse = max(dot(n, l), 0.0) * frame.direction_to_sun.w * visibility;
+    let sky = mix(vec3<f32>(0.30, 0.28, 0.25), vec3<f32>(0.45, 0.55, 0.70), n.y * 0.5 + 0.5);
+    let ambient = sky * 0.35;
+    let sun = vec3<f32>(1.0, 0.95, 0.85);
+    var out: ShadeOut;
+    out.color = vec4<f32>(data.base_color.rgb * (ambient + sun * diffuse), 1.0);
+    out.shadow = vec4<f32>(visibility, 0.0, 0.0, 1.0);
+    return out;
+}

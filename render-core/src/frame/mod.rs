@@ -1,0 +1,495 @@
+//! One frame, in a fixed order:
+//!
+//! ```text
+//! prepare_targets / prepare_scene_bindings      long-lived objects follow size and scene
+//! fit light, prepare_draw_lists (CPU culling)   light frustum and camera frustum via the BVH
+//! draw_camera_prepass                           depth + object id
+//! mark_visible                                  visible objects and receivers from the ids
+//! draw_shadow_map                               casters into the shadow map
+//! draw_shading                                  diffuse + ambient with PCF shadows
+//! draw_overlays                                 the light's view inset
+//! ```
+//!
+//! The window and the headless CLI both call [`FrameRenderer::render`]; the window only
+//! presents the colour target.
+
+pub(crate) mod gpu_data;
+mod report;
+pub mod scene_gpu;
+mod settings;
+pub mod targets;
+mod visibility;
+
+use std::time::Instant;
+
+use glam::Vec3;
+
+pub use report::{CpuTimings, FrameCounts, FrameReport, LightFacts, Stage, pass_label};
+pub use scene_gpu::SceneGpu;
+pub use settings::{FrameSettings, Method, Overlays, PcfKernel, ShadowSettings};
+pub use targets::ViewTargets;
+pub use visibility::VisibilityCounts;
+
+use crate::geom::{Camera, Frustum, LightFrustum, fit_directional_light};
+use crate::gpu::{FrameTimer, GpuContext, PassTiming};
+use crate::scene::Scene;
+use crate::shadow_map::{LIGHT_VIEW_SIZE, ShadowMapPass};
+use gpu_data::FrameUniforms;
+use scene_gpu::{DrawList, VERTEX_LAYOUT};
+use targets::{COLOR_FORMAT, DEPTH_FORMAT, ID_FORMAT, SHADOW_FACTOR_FORMAT};
+use visibility::VisibilityPass;
+
+pub(crate) const COMMON_WGSL: &str = include_str!("common.wgsl");
+pub(crate) const CAMERA_WGSL: &str = include_str!("camera.wgsl");
+
+/// Linear sky colour behind the scene.
+const SKY: wgpu::Color = wgpu::Color { r: 0.42, g: 0.58, b: 0.80, a: 1.0 };
+
+/// What a frame looks at.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameInput<'a> {
+    pub camera: &'a Camera,
+    pub width: u32,
+    pub height: u32,
+    pub settings: &'a FrameSettings,
+}
+
+/// Long-lived: pipelines, layouts, the shadow map and per-size targets. Per frame: uniforms,
+/// draw lists and bind groups that depend on them.
+pub struct FrameRenderer {
+    frame_layout: wgpu::BindGroupLayout,
+    shade_layout: wgpu::BindGroupLayout,
+    prepass_pipeline: wgpu::RenderPipeline,
+    shade_pipeline: wgpu::RenderPipeline,
+    uniform_buffer: wgpu::Buffer,
+    frame_bind_group: Option<(u64, wgpu::BindGroup)>,
+    shade_bind_group: wgpu::BindGroup,
+    pub shadow_map: ShadowMapPass,
+    visibility: VisibilityPass,
+    camera_list: DrawList,
+    caster_list: DrawList,
+    targets: Option<ViewTargets>,
+    timer: FrameTimer,
+    frame_index: u64,
+    latest_gpu: Option<(u64, Vec<PassTiming>)>,
+    latest_visibility: Option<VisibilityCounts>,
+    gpu_frames_in_flight: std::collections::VecDeque<u64>,
+    indirect_first_instance: bool,
+    scratch: Vec<u32>,
+    casters: Vec<u32>,
+}
+
+impl FrameRenderer {
+    pub fn new(ctx: &GpuContext) -> Self {
+        let device = &ctx.device;
+        let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("Frame::frame_layout"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                    ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: true },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+            ],
+        });
+        let shade_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("Frame::shade_layout"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Depth,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
+                count: None,
+            }],
+        });
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("Frame::camera_shader"),
+            source: wgpu::ShaderSource::Wgsl(format!("{COMMON_WGSL}\n{CAMERA_WGSL}").into()),
+        });
+        let prepass_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("Frame::prepass_layout"),
+            bind_group_layouts: &[Some(&frame_layout)],
+            immediate_size: 0,
+        });
+        let shade_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("Frame::shade_layout"),
+            bind_group_layouts: &[Some(&frame_layout), Some(&shade_layout)],
+            immediate_size: 0,
+        });
+        let prepass_pipeline = camera_pipeline(
+            device,
+            "Frame::prepass_pipeline",
+            &prepass_layout,
+            &module,
+            "fs_prepass",
+            &[Some(ID_FORMAT.into())],
+            (true, wgpu::CompareFunction::Greater),
+        );
+        let shade_pipeline = camera_pipeline(
+            device,
+            "Frame::shade_pipeline",
+            &shade_pipeline_layout,
+            &module,
+            "fs_shade",
+            &[Some(COLOR_FORMAT.into()), Some(SHADOW_FACTOR_FORMAT.into())],
+            (false, wgpu::CompareFunction::Equal),
+        );
+        let uniform_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("Frame::uniforms"),
+            size: size_of::<FrameUniforms>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let shadow_map = ShadowMapPass::new(device, &frame_layout, COMMON_WGSL, ShadowSettings::default().resolution);
+        let shade_bind_group = shade_bind_group(device, &shade_layout, &shadow_map.depth_view);
+        Self {
+            frame_layout,
+            shade_layout,
+            prepass_pipeline,
+            shade_pipeline,
+            uniform_buffer,
+            frame_bind_group: None,
+            shade_bind_group,
+            shadow_map,
+            visibility: VisibilityPass::new(ctx),
+            camera_list: DrawList::new(ctx, "Frame::camera_draws"),
+            caster_list: DrawList::new(ctx, "Frame::caster_draws"),
+            targets: None,
+            timer: FrameTimer::new(ctx),
+            frame_index: 0,
+            latest_gpu: None,
+            latest_visibility: None,
+            gpu_frames_in_flight: std::collections::VecDeque::new(),
+            indirect_first_instance: ctx.features().contains(wgpu::Features::INDIRECT_FIRST_INSTANCE),
+            scratch: Vec::new(),
+            casters: Vec::new(),
+        }
+    }
+
+    /// The camera targets of the last frame (colour, ids, depth, shadow factor).
+    pub fn targets(&self) -> Option<&ViewTargets> {
+        self.targets.as_ref()
+    }
+
+    pub fn has_gpu_timestamps(&self) -> bool {
+        self.timer.has_gpu_timestamps()
+    }
+
+    /// Renders one frame and submits it. Returns at once; GPU times and visible counts in the
+    /// report are the newest that have come back (see [`FrameRenderer::collect_finished`]).
+    pub fn render(&mut self, ctx: &GpuContext, scene: &Scene, scene_gpu: &SceneGpu, input: &FrameInput<'_>) -> FrameReport {
+        let started = Instant::now();
+        self.frame_index += 1;
+        let (width, height) = (input.width.max(1), input.height.max(1));
+        let settings = input.settings;
+        self.prepare_targets(ctx, width, height);
+        self.prepare_scene_bindings(ctx, scene_gpu, settings.shadow.resolution);
+
+        let aspect = width as f32 / height as f32;
+        let light = fit_directional_light(input.camera, aspect, settings.sun.direction_to_sun, &scene.bounds(), self.shadow_map.resolution);
+        let culling_started = Instant::now();
+        let counts = self.prepare_draw_lists(ctx, scene, scene_gpu, input.camera, aspect, &light);
+        let culling_ms = culling_started.elapsed().as_secs_f64() * 1000.0;
+        self.write_uniforms(ctx, input.camera, aspect, settings, &light);
+
+        let mut encoder = ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("Frame::encoder") });
+        self.draw_camera_prepass(&mut encoder, scene_gpu);
+        self.mark_visible(ctx, &mut encoder, scene_gpu);
+        self.draw_shadow_map(&mut encoder, scene_gpu);
+        self.draw_shading(&mut encoder, scene_gpu);
+        self.draw_overlays(&mut encoder, settings);
+        self.timer.resolve(&mut encoder);
+        ctx.queue.submit([encoder.finish()]);
+        self.timer.end_frame();
+        self.visibility.after_submit();
+        self.gpu_frames_in_flight.push_back(self.frame_index);
+
+        let mut report = FrameReport {
+            frame_index: self.frame_index,
+            width,
+            height,
+            counts,
+            stages: vec![
+                Stage { name: "scene casters".into(), remaining: scene.caster_count() as u32 },
+                Stage { name: "light frustum".into(), remaining: self.caster_list.len() },
+            ],
+            cpu: CpuTimings { culling_ms, encode_submit_ms: 0.0 },
+            light: LightFacts {
+                texel_size_m: light.texel_size_m,
+                depth_range_m: light.depth_range_m,
+                covers_whole_scene: light.covers_whole_scene,
+            },
+            ..FrameReport::default()
+        };
+        report.cpu.encode_submit_ms = started.elapsed().as_secs_f64() * 1000.0 - culling_ms;
+        self.collect_finished(ctx, &mut report);
+        report
+    }
+
+    /// Takes GPU times and visible counts that have come back, without waiting, and puts the
+    /// newest into `report`. After [`GpuContext::wait_idle`] they belong to the last frame.
+    pub fn collect_finished(&mut self, ctx: &GpuContext, report: &mut FrameReport) {
+        // A non-blocking poll runs the map callbacks of finished work.
+        if let Err(e) = ctx.device.poll(wgpu::PollType::Poll) {
+            log::warn!("device poll failed: {e}");
+        }
+        while let Some(timings) = self.timer.take_finished() {
+            let frame = self.gpu_frames_in_flight.pop_front().unwrap_or(self.frame_index);
+            self.latest_gpu = Some((frame, timings));
+        }
+        if let Some(counts) = self.visibility.take_latest() {
+            self.latest_visibility = Some(counts);
+        }
+        if let Some((frame, timings)) = &self.latest_gpu {
+            report.gpu.clone_from(timings);
+            report.gpu_frame_index = Some(*frame);
+        }
+        if let Some(v) = self.latest_visibility {
+            report.counts.receivers_visible = Some(v.receivers_visible);
+            report.counts.objects_visible = Some(v.objects_visible);
+        }
+    }
+
+    fn prepare_targets(&mut self, ctx: &GpuContext, width: u32, height: u32) {
+        if self.targets.as_ref().is_none_or(|t| t.width != width || t.height != height) {
+            self.targets = Some(ViewTargets::new(&ctx.device, width, height));
+        }
+    }
+
+    fn prepare_scene_bindings(&mut self, ctx: &GpuContext, scene_gpu: &SceneGpu, resolution: u32) {
+        let resolution = resolution.clamp(ShadowSettings::MIN_RESOLUTION, ShadowSettings::MAX_RESOLUTION.min(ctx.device.limits().max_texture_dimension_2d));
+        if self.shadow_map.ensure_resolution(&ctx.device, resolution) {
+            self.shade_bind_group = shade_bind_group(&ctx.device, &self.shade_layout, &self.shadow_map.depth_view);
+        }
+        if self.frame_bind_group.as_ref().is_none_or(|(id, _)| *id != scene_gpu.id) {
+            let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("Frame::frame_bind_group"),
+                layout: &self.frame_layout,
+                entries: &[
+                    wgpu::BindGroupEntry { binding: 0, resource: self.uniform_buffer.as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 1, resource: scene_gpu.instance_buffer.as_entire_binding() },
+                ],
+            });
+            self.frame_bind_group = Some((scene_gpu.id, group));
+        }
+    }
+
+    /// Light-frustum culling of casters and view-frustum culling of the camera passes, on the
+    /// CPU through the scene's BVH.
+    fn prepare_draw_lists(&mut self, ctx: &GpuContext, scene: &Scene, scene_gpu: &SceneGpu, camera: &Camera, aspect: f32, light: &LightFrustum) -> FrameCounts {
+        let light_frustum = Frustum::from_clip_from_world(&light.light_clip_from_world);
+        self.scratch.clear();
+        scene.bvh().query_frustum(&light_frustum, &mut self.scratch);
+        self.casters.clear();
+        self.casters.extend(self.scratch.iter().copied().filter(|&i| scene.instances[i as usize].casts_shadow));
+        self.casters.sort_unstable();
+        self.caster_list.upload(ctx, scene_gpu, &self.casters);
+
+        let camera_frustum = Frustum::from_clip_from_world(&camera.clip_from_world(aspect));
+        self.scratch.clear();
+        scene.bvh().query_frustum(&camera_frustum, &mut self.scratch);
+        self.scratch.sort_unstable();
+        self.camera_list.upload(ctx, scene_gpu, &self.scratch);
+        FrameCounts {
+            casters_total: scene.caster_count() as u32,
+            casters_rendered: self.caster_list.len(),
+            objects_drawn_camera: self.camera_list.len(),
+            triangles_shadow: self.caster_list.triangles,
+            triangles_camera: self.camera_list.triangles,
+            ..FrameCounts::default()
+        }
+    }
+
+    fn write_uniforms(&self, ctx: &GpuContext, camera: &Camera, aspect: f32, settings: &FrameSettings, light: &LightFrustum) {
+        let rows = light.light_from_world.transpose();
+        let (right, up) = (rows.x_axis.truncate(), rows.y_axis.truncate());
+        let shadow = &settings.shadow;
+        let uniforms = FrameUniforms {
+            clip_from_world: camera.clip_from_world(aspect).to_cols_array_2d(),
+            light_clip_from_world: light.light_clip_from_world.to_cols_array_2d(),
+            eye_world: camera.eye.extend(1.0).to_array(),
+            direction_to_sun: settings.sun.direction_to_sun.extend(1.0).to_array(),
+            light_right: right.extend(light.texel_size_m[0]).to_array(),
+            light_up: up.extend(light.texel_size_m[1]).to_array(),
+            light_dir: light.light_direction.extend(light.depth_range_m).to_array(),
+            shadow: [shadow.depth_bias_m, shadow.slope_bias, shadow.normal_offset_texels, self.shadow_map.resolution as f32],
+            params: [shadow.pcf.width(), u32::from(shadow.shadows_enabled), 0, 0],
+        };
+        debug_assert!(Vec3::from(uniforms.light_dir[..3].try_into().unwrap_or([0.0; 3])).is_finite());
+        ctx.queue.write_buffer(&self.uniform_buffer, 0, bytemuck::bytes_of(&uniforms));
+    }
+
+    fn frame_bind_group(&self) -> &wgpu::BindGroup {
+        &self.frame_bind_group.as_ref().expect("prepare_scene_bindings runs first").1
+    }
+
+    fn targets_ref(&self) -> &ViewTargets {
+        self.targets.as_ref().expect("prepare_targets runs first")
+    }
+
+    fn draw_camera_prepass(&self, encoder: &mut wgpu::CommandEncoder, scene_gpu: &SceneGpu) {
+        let targets = self.targets_ref();
+        let query = self.timer.begin_pass(pass_label::CAMERA_PREPASS, encoder);
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("Frame::draw_camera_prepass"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &targets.ids_view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &targets.depth_view,
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0.0), store: wgpu::StoreOp::Store }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: query.as_ref().and_then(wgpu_profiler::GpuProfilerQuery::render_pass_timestamp_writes),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&self.prepass_pipeline);
+            pass.set_bind_group(0, self.frame_bind_group(), &[]);
+            self.camera_list.draw(&mut pass, scene_gpu, self.indirect_first_instance);
+        }
+        self.timer.end_pass(encoder, query);
+    }
+
+    fn mark_visible(&mut self, ctx: &GpuContext, encoder: &mut wgpu::CommandEncoder, scene_gpu: &SceneGpu) {
+        let query = self.timer.begin_pass(pass_label::VISIBILITY, encoder);
+        let targets = self.targets.as_ref().expect("prepare_targets runs first");
+        self.visibility.mark_visible(
+            ctx,
+            encoder,
+            query.as_ref().and_then(wgpu_profiler::GpuProfilerQuery::compute_pass_timestamp_writes),
+            &targets.ids_view,
+            (targets.width, targets.height),
+            &scene_gpu.instance_buffer,
+            scene_gpu.instance_count,
+            self.frame_index,
+        );
+        self.timer.end_pass(encoder, query);
+    }
+
+    fn draw_shadow_map(&self, encoder: &mut wgpu::CommandEncoder, scene_gpu: &SceneGpu) {
+        let query = self.timer.begin_pass(pass_label::SHADOW_MAP, encoder);
+        self.shadow_map.draw_casters(
+            encoder,
+            query.as_ref().and_then(wgpu_profiler::GpuProfilerQuery::render_pass_timestamp_writes),
+            self.frame_bind_group(),
+            scene_gpu,
+            &self.caster_list,
+            self.indirect_first_instance,
+        );
+        self.timer.end_pass(encoder, query);
+    }
+
+    fn draw_shading(&self, encoder: &mut wgpu::CommandEncoder, scene_gpu: &SceneGpu) {
+        let targets = self.targets_ref();
+        let query = self.timer.begin_pass(pass_label::SHADING, encoder);
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("Frame::draw_shading"),
+                color_attachments: &[
+                    Some(wgpu::RenderPassColorAttachment {
+                        view: &targets.color_view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations { load: wgpu::LoadOp::Clear(SKY), store: wgpu::StoreOp::Store },
+                    }),
+                    Some(wgpu::RenderPassColorAttachment {
+                        view: &targets.shadow_view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::WHITE), store: wgpu::StoreOp::Store },
+                    }),
+                ],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &targets.depth_view,
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: query.as_ref().and_then(wgpu_profiler::GpuProfilerQuery::render_pass_timestamp_writes),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&self.shade_pipeline);
+            pass.set_bind_group(0, self.frame_bind_group(), &[]);
+            pass.set_bind_group(1, &self.shade_bind_group, &[]);
+            self.camera_list.draw(&mut pass, scene_gpu, self.indirect_first_instance);
+        }
+        self.timer.end_pass(encoder, query);
+    }
+
+    /// The light's view inset is always rendered (the panel shows it); the `light-view`
+    /// overlay also draws it into the top-left corner of the colour target.
+    fn draw_overlays(&self, encoder: &mut wgpu::CommandEncoder, settings: &FrameSettings) {
+        self.shadow_map.draw_light_view(encoder);
+        if settings.overlays.light_view {
+            let targets = self.targets_ref();
+            let side = (LIGHT_VIEW_SIZE as f32).min(targets.width.min(targets.height) as f32 * 0.4).max(1.0);
+            let margin = (side * 0.05).round();
+            self.shadow_map.draw_light_view_into(encoder, &targets.color_view, Some([margin, margin, side, side]), wgpu::LoadOp::Load);
+        }
+    }
+}
+
+fn shade_bind_group(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, shadow_view: &wgpu::TextureView) -> wgpu::BindGroup {
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("Frame::shade_bind_group"),
+        layout,
+        entries: &[wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(shadow_view) }],
+    })
+}
+
+fn camera_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    fragment_entry: &str,
+    targets: &[Option<wgpu::ColorTargetState>],
+    (depth_write, depth_compare): (bool, wgpu::CompareFunction),
+) -> wgpu::RenderPipeline {
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(label),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs_main"),
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            buffers: &[Some(VERTEX_LAYOUT)],
+        },
+        primitive: wgpu::PrimitiveState { cull_mode: Some(wgpu::Face::Back), ..Default::default() },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: DEPTH_FORMAT,
+            depth_write_enabled: Some(depth_write),
+            depth_compare: Some(depth_compare),
+            stencil: wgpu::StencilState::default(),
+            bias: wgpu::DepthBiasState::default(),
+        }),
+        multisample: wgpu::MultisampleState::default(),
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some(fragment_entry),
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            targets,
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}

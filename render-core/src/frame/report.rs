@@ -1,0 +1,80 @@
+//! What a frame reports: counts, stages, timings. The stats JSON and the panels read this.
+
+use serde::Serialize;
+
+use crate::gpu::PassTiming;
+
+/// Object and triangle counts of one frame.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct FrameCounts {
+    /// Objects that cast shadows in the scene.
+    pub casters_total: u32,
+    /// Objects drawn into the shadow map.
+    pub casters_rendered: u32,
+    /// Visible objects that receive shadows; `None` until the GPU count has come back.
+    pub receivers_visible: Option<u32>,
+    /// Visible objects of any kind.
+    pub objects_visible: Option<u32>,
+    /// Objects drawn by the camera passes (after view-frustum culling).
+    pub objects_drawn_camera: u32,
+    pub triangles_shadow: u64,
+    pub triangles_camera: u64,
+}
+
+/// One caster-culling stage and how many casters remain after it.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Stage {
+    pub name: String,
+    pub remaining: u32,
+}
+
+/// CPU time of the frame's parts, milliseconds.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct CpuTimings {
+    pub culling_ms: f64,
+    pub encode_submit_ms: f64,
+}
+
+/// Facts about the fitted light frustum.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct LightFacts {
+    pub texel_size_m: [f32; 2],
+    pub depth_range_m: f32,
+    pub covers_whole_scene: bool,
+}
+
+/// Everything one frame reports.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct FrameReport {
+    pub frame_index: u64,
+    pub width: u32,
+    pub height: u32,
+    pub counts: FrameCounts,
+    pub stages: Vec<Stage>,
+    pub cpu: CpuTimings,
+    /// GPU time per pass of frame `gpu_frame_index` (timestamps arrive late in the window).
+    pub gpu: Vec<PassTiming>,
+    pub gpu_frame_index: Option<u64>,
+    pub light: LightFacts,
+}
+
+/// Pass labels, shared by the renderer and readers of [`FrameReport::gpu`].
+pub mod pass_label {
+    pub const CAMERA_PREPASS: &str = "camera depth+id";
+    pub const VISIBILITY: &str = "visible objects";
+    pub const SHADOW_MAP: &str = "shadow map";
+    pub const SHADING: &str = "shading";
+    pub const OVERLAYS: &str = "overlays";
+}
+
+impl FrameReport {
+    /// GPU time of the pass called `label`, if it was measured.
+    pub fn gpu_ms(&self, label: &str) -> Option<f64> {
+        self.gpu.iter().find(|t| t.label == label).map(|t| t.gpu_ms)
+    }
+
+    /// Sum of all measured GPU pass times.
+    pub fn gpu_total_ms(&self) -> Option<f64> {
+        (!self.gpu.is_empty()).then(|| self.gpu.iter().map(|t| t.gpu_ms).sum())
+    }
+}

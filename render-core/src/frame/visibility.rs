@@ -1,0 +1,146 @@
+//! Which objects the camera sees, from the object-id target: a flag per object and counts,
+//! computed on the GPU and read back without stalling.
+
+use crate::gpu::{AsyncReadback, GpuContext};
+
+pub(crate) const VISIBILITY_WGSL: &str = include_str!("visibility.wgsl");
+
+/// Counts of one frame's visible objects.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct VisibilityCounts {
+    pub frame_index: u64,
+    pub objects_visible: u32,
+    pub receivers_visible: u32,
+}
+
+/// Long-lived compute pipeline; per-scene flag buffer.
+pub struct VisibilityPass {
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+    /// One `u32` per instance: non-zero when some pixel shows it.
+    pub visible_flags: wgpu::Buffer,
+    counters: wgpu::Buffer,
+    readback: AsyncReadback,
+    capacity: u32,
+}
+
+const COUNTERS_SIZE: u64 = 8;
+
+impl VisibilityPass {
+    pub fn new(ctx: &GpuContext) -> Self {
+        let device = &ctx.device;
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("Visibility::shader"),
+            source: wgpu::ShaderSource::Wgsl(VISIBILITY_WGSL.into()),
+        });
+        let storage = |binding, read_only| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only }, has_dynamic_offset: false, min_binding_size: None },
+            count: None,
+        };
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("Visibility::layout"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Uint,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                storage(1, true),
+                storage(2, false),
+                storage(3, false),
+            ],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("Visibility::pipeline_layout"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("Visibility::pipeline"),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some("cs_mark_visible"),
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            cache: None,
+        });
+        let counters = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("Visibility::counters"),
+            size: COUNTERS_SIZE,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Self {
+            pipeline,
+            layout,
+            visible_flags: create_flags(device, 1),
+            counters,
+            readback: AsyncReadback::new(device, "Visibility::readback", COUNTERS_SIZE, 3),
+            capacity: 1,
+        }
+    }
+
+    /// Clears the flags and counters and marks every object some pixel of `ids_view` shows.
+    pub fn mark_visible(
+        &mut self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
+        ids_view: &wgpu::TextureView,
+        size: (u32, u32),
+        instances: &wgpu::Buffer,
+        instance_count: u32,
+        frame_index: u64,
+    ) {
+        if instance_count > self.capacity {
+            self.capacity = instance_count.next_power_of_two();
+            self.visible_flags = create_flags(&ctx.device, self.capacity);
+        }
+        encoder.clear_buffer(&self.visible_flags, 0, None);
+        encoder.clear_buffer(&self.counters, 0, None);
+        let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("Visibility::bind_group"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(ids_view) },
+                wgpu::BindGroupEntry { binding: 1, resource: instances.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 2, resource: self.visible_flags.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 3, resource: self.counters.as_entire_binding() },
+            ],
+        });
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("Visibility::mark_visible"), timestamp_writes });
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &bind_group, &[]);
+            pass.dispatch_workgroups(size.0.div_ceil(8), size.1.div_ceil(8), 1);
+        }
+        self.readback.copy(encoder, &self.counters, frame_index);
+    }
+
+    /// Call after submit.
+    pub fn after_submit(&mut self) {
+        self.readback.map_copied();
+    }
+
+    /// The newest counts that have come back, if any (needs a device poll first).
+    pub fn take_latest(&mut self) -> Option<VisibilityCounts> {
+        let (frame_index, bytes) = self.readback.take_latest()?;
+        let words: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes);
+        Some(VisibilityCounts { frame_index, objects_visible: words[0], receivers_visible: words[1] })
+    }
+}
+
+fn create_flags(device: &wgpu::Device, count: u32) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("Visibility::visible_flags"),
+        size: u64::from(count.max(1)) * 4,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}

@@ -1,0 +1,114 @@
+//! A perspective camera with reversed depth, and a robust orthonormal basis.
+
+use glam::camera::rh::{proj::directx, view::look_to_mat4};
+use glam::{DVec3, Mat4, Vec3};
+
+/// A right-handed orthonormal basis `(right, up)` for a view direction. Uses +Y as the up
+/// reference unless `forward` is nearly parallel to it, then +Z, so `look_at` never degenerates.
+pub fn basis_for_direction(forward: DVec3) -> (DVec3, DVec3) {
+    let forward = forward.try_normalize().unwrap_or(DVec3::NEG_Z);
+    let up_reference = if forward.y.abs() > 0.999 { DVec3::Z } else { DVec3::Y };
+    let right = forward.cross(up_reference).normalize();
+    let up = right.cross(forward);
+    (right, up)
+}
+
+/// A pinhole camera. Depth is reversed (near maps to 1, far to 0) for precision over 0.01 m to
+/// 10 km; the camera pass clears depth to 0 and keeps the greater value.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    pub eye: Vec3,
+    /// Unit view direction.
+    pub forward: Vec3,
+    pub fov_y_rad: f32,
+    pub near_m: f32,
+    pub far_m: f32,
+}
+
+impl Default for Camera {
+    fn default() -> Self {
+        Self::look_at(Vec3::new(0.0, 10.0, 30.0), Vec3::ZERO, 60f32.to_radians(), 0.1, 2000.0)
+    }
+}
+
+impl Camera {
+    /// A camera at `eye` looking at `target`; a target equal to the eye looks along -Z.
+    pub fn look_at(eye: Vec3, target: Vec3, fov_y_rad: f32, near_m: f32, far_m: f32) -> Self {
+        let forward = (target - eye).try_normalize().unwrap_or(Vec3::NEG_Z);
+        Self { eye, forward, fov_y_rad, near_m, far_m }
+    }
+
+    /// `(right, up)` in world space.
+    pub fn basis(&self) -> (Vec3, Vec3) {
+        let (right, up) = basis_for_direction(self.forward.as_dvec3());
+        (right.as_vec3(), up.as_vec3())
+    }
+
+    pub fn view_from_world(&self) -> Mat4 {
+        let (_, up) = self.basis();
+        look_to_mat4(self.eye, self.forward, up)
+    }
+
+    /// Reversed-depth perspective projection.
+    pub fn clip_from_view(&self, aspect: f32) -> Mat4 {
+        let aspect = if aspect.is_finite() && aspect > 0.0 { aspect } else { 1.0 };
+        directx::perspective(self.fov_y_rad, aspect, self.far_m, self.near_m)
+    }
+
+    pub fn clip_from_world(&self, aspect: f32) -> Mat4 {
+        self.clip_from_view(aspect) * self.view_from_world()
+    }
+
+    /// The eight corners of the view frustum between `near_m` and `far_m`, in world space, in f64:
+    /// near plane first (bottom-left, bottom-right, top-left, top-right), then the far plane.
+    pub fn frustum_corners_world(&self, aspect: f64, near_m: f64, far_m: f64) -> [DVec3; 8] {
+        let eye = self.eye.as_dvec3();
+        let forward = self.forward.as_dvec3().try_normalize().unwrap_or(DVec3::NEG_Z);
+        let (right, up) = basis_for_direction(forward);
+        let tan_half_y = (f64::from(self.fov_y_rad) * 0.5).tan();
+        let tan_half_x = tan_half_y * aspect;
+        let mut corners = [DVec3::ZERO; 8];
+        for (plane, depth) in [near_m, far_m].into_iter().enumerate() {
+            for (k, (sx, sy)) in [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)].into_iter().enumerate() {
+                corners[plane * 4 + k] =
+                    eye + forward * depth + right * (sx * tan_half_x * depth) + up * (sy * tan_half_y * depth);
+            }
+        }
+        corners
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn basis_is_orthonormal_even_looking_straight_down() {
+        for forward in [DVec3::NEG_Y, DVec3::Y, DVec3::X, DVec3::new(0.3, -0.9, 0.1), DVec3::ZERO] {
+            let (right, up) = basis_for_direction(forward);
+            assert!(right.is_finite() && up.is_finite());
+            assert!((right.length() - 1.0).abs() < 1e-9 && (up.length() - 1.0).abs() < 1e-9);
+            assert!(right.dot(up).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn reversed_depth_maps_near_to_one_and_far_to_zero() {
+        let cam = Camera::look_at(Vec3::ZERO, Vec3::NEG_Z, 1.0, 0.5, 100.0);
+        let m = cam.clip_from_world(1.5);
+        let near = m.project_point3(Vec3::new(0.0, 0.0, -0.5));
+        let far = m.project_point3(Vec3::new(0.0, 0.0, -100.0));
+        assert!((near.z - 1.0).abs() < 1e-5, "{near}");
+        assert!(far.z.abs() < 1e-5, "{far}");
+    }
+
+    #[test]
+    fn frustum_corners_project_to_clip_corners() {
+        let cam = Camera::look_at(Vec3::new(3.0, 4.0, 5.0), Vec3::new(-2.0, 0.0, 1.0), 0.9, 0.1, 50.0);
+        let m = cam.clip_from_world(1.6);
+        for (i, c) in cam.frustum_corners_world(1.6, 0.1, 50.0).iter().enumerate() {
+            let p = m.project_point3(c.as_vec3());
+            assert!((p.x.abs() - 1.0).abs() < 1e-3 && (p.y.abs() - 1.0).abs() < 1e-3, "corner {i}: {p}");
+        }
+    }
+}

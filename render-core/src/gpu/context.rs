@@ -1,0 +1,95 @@
+//! The one owner of the wgpu instance, adapter, device and queue; everything else borrows it.
+
+use std::sync::Arc;
+
+/// Why no GPU could be set up.
+#[derive(Debug, thiserror::Error)]
+pub enum GpuError {
+    #[error(
+        "no GPU adapter found (backends tried: {backends}). shadowlab needs Vulkan, Metal, DX12 or GL. \
+         On Linux without a GPU, install a software Vulkan driver (Debian/Ubuntu: \
+         `apt-get install mesa-vulkan-drivers libvulkan1`) and set WGPU_BACKEND=vulkan"
+    )]
+    NoAdapter { backends: String },
+    #[error("the GPU adapter {adapter} refused to create a device: {source}")]
+    RequestDevice {
+        adapter: String,
+        #[source]
+        source: wgpu::RequestDeviceError,
+    },
+    #[error("reading back {what} from the GPU failed: {reason}")]
+    Readback { what: String, reason: String },
+}
+
+/// Device features shadowlab uses when the adapter has them; none is required.
+pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY
+    .union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS)
+    .union(wgpu::Features::INDIRECT_FIRST_INSTANCE)
+    .union(wgpu::Features::PIPELINE_STATISTICS_QUERY);
+
+/// Instance, adapter, device and queue. Long-lived: one per process (or per window).
+#[derive(Clone, Debug)]
+pub struct GpuContext {
+    pub instance: wgpu::Instance,
+    pub adapter: wgpu::Adapter,
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+}
+
+impl GpuContext {
+    /// A context without a window, on the adapter `WGPU_BACKEND` / `WGPU_ADAPTER_NAME` select.
+    pub fn headless() -> Result<Self, GpuError> {
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let adapter = Self::request_adapter(&instance, None)?;
+        Self::with_adapter(instance, adapter)
+    }
+
+    /// The adapter for `surface` (or any, when `None`); a clear error when there is none.
+    pub fn request_adapter(instance: &wgpu::Instance, surface: Option<&wgpu::Surface<'_>>) -> Result<wgpu::Adapter, GpuError> {
+        let options = wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::from_env().unwrap_or(wgpu::PowerPreference::HighPerformance),
+            force_fallback_adapter: false,
+            compatible_surface: surface,
+            apply_limit_buckets: false,
+        };
+        pollster::block_on(instance.request_adapter(&options)).map_err(|_| GpuError::NoAdapter {
+            backends: format!("{:?}", wgpu::Backends::from_env().unwrap_or(wgpu::Backends::all())),
+        })
+    }
+
+    /// Opens a device with the adapter's limits and whichever [`OPTIONAL_FEATURES`] it has.
+    pub fn with_adapter(instance: wgpu::Instance, adapter: wgpu::Adapter) -> Result<Self, GpuError> {
+        let features = adapter.features() & OPTIONAL_FEATURES;
+        let descriptor = wgpu::DeviceDescriptor {
+            label: Some("shadowlab"),
+            required_features: features,
+            required_limits: adapter.limits(),
+            ..Default::default()
+        };
+        let (device, queue) = pollster::block_on(adapter.request_device(&descriptor)).map_err(|source| {
+            GpuError::RequestDevice { adapter: adapter.get_info().name, source }
+        })?;
+        Ok(Self { instance, adapter, device, queue })
+    }
+
+    pub fn features(&self) -> wgpu::Features {
+        self.device.features()
+    }
+
+    /// "name (backend, device type)", for logs and reports.
+    pub fn adapter_description(&self) -> String {
+        let info = self.adapter.get_info();
+        format!("{} ({:?}, {:?})", info.name, info.backend, info.device_type)
+    }
+
+    /// Blocks until the GPU has finished all submitted work.
+    pub fn wait_idle(&self) -> Result<(), GpuError> {
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map(|_| ())
+            .map_err(|e| GpuError::Readback { what: "device poll".into(), reason: e.to_string() })
+    }
+}
+
+/// Shared handle for code that keeps the context alive (the window, the headless runner).
+pub type SharedGpu = Arc<GpuContext>;

@@ -1,0 +1,11 @@
+//! GPU plumbing shared by every pass: the context, readback, and pass timing.
+
+mod async_readback;
+mod context;
+mod readback;
+mod timing;
+
+pub use async_readback::AsyncReadback;
+pub use context::{GpuContext, GpuError, OPTIONAL_FEATURES, SharedGpu};
+pub use readback::{TexelRows, map_and_copy, read_texture};
+pub use timing::{FrameTimer, PassTiming};

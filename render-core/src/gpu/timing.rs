@@ -1,0 +1,88 @@
+//! GPU time per pass from timestamp queries (wgpu-profiler), when the adapter has them.
+
+use serde::Serialize;
+use wgpu_profiler::{GpuProfiler, GpuProfilerQuery, GpuProfilerSettings, GpuTimerQueryResult};
+
+use super::GpuContext;
+
+/// GPU time of one pass in one frame.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct PassTiming {
+    pub label: String,
+    pub gpu_ms: f64,
+}
+
+/// Timestamps around each pass. Long-lived; results arrive one or more frames later, so the
+/// window never waits for them. Without `TIMESTAMP_QUERY` it records nothing.
+pub struct FrameTimer {
+    profiler: Option<GpuProfiler>,
+    timestamp_period: f32,
+    warned_end_frame: bool,
+}
+
+impl FrameTimer {
+    pub fn new(ctx: &GpuContext) -> Self {
+        let enabled = ctx.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let settings = GpuProfilerSettings { enable_timer_queries: enabled, max_num_pending_frames: 4, ..Default::default() };
+        let profiler = match GpuProfiler::new(&ctx.device, settings) {
+            Ok(p) => Some(p),
+            Err(e) => {
+                log::warn!("GPU pass timing disabled: {e}");
+                None
+            }
+        };
+        Self { profiler, timestamp_period: ctx.queue.get_timestamp_period(), warned_end_frame: false }
+    }
+
+    /// Whether GPU times will be reported at all.
+    pub fn has_gpu_timestamps(&self) -> bool {
+        self.profiler.as_ref().is_some_and(|p| p.settings().enable_timer_queries)
+    }
+
+    /// Opens a pass query; put its [`GpuProfilerQuery::render_pass_timestamp_writes`] into the
+    /// pass descriptor and close it with [`FrameTimer::end_pass`] after the pass.
+    pub fn begin_pass(&self, label: &str, encoder: &mut wgpu::CommandEncoder) -> Option<GpuProfilerQuery> {
+        self.profiler.as_ref().map(|p| p.begin_pass_query(label, encoder))
+    }
+
+    pub fn end_pass(&self, encoder: &mut wgpu::CommandEncoder, query: Option<GpuProfilerQuery>) {
+        if let (Some(p), Some(q)) = (&self.profiler, query) {
+            p.end_query(encoder, q);
+        }
+    }
+
+    /// Resolves this frame's queries; call once per frame before finishing the encoder.
+    pub fn resolve(&mut self, encoder: &mut wgpu::CommandEncoder) {
+        if let Some(p) = &mut self.profiler {
+            p.resolve_queries(encoder);
+        }
+    }
+
+    /// Closes the frame; call after submitting it.
+    pub fn end_frame(&mut self) {
+        if let Some(p) = &mut self.profiler
+            && let Err(e) = p.end_frame()
+            && !self.warned_end_frame
+        {
+            self.warned_end_frame = true;
+            log::warn!("GPU pass timings dropped: {e}");
+        }
+    }
+
+    /// The oldest finished frame's pass times, if one has come back.
+    pub fn take_finished(&mut self) -> Option<Vec<PassTiming>> {
+        let results = self.profiler.as_mut()?.process_finished_frame(self.timestamp_period)?;
+        let mut out = Vec::new();
+        flatten(&results, &mut out);
+        Some(out)
+    }
+}
+
+fn flatten(results: &[GpuTimerQueryResult], out: &mut Vec<PassTiming>) {
+    for r in results {
+        if let Some(time) = &r.time {
+            out.push(PassTiming { label: r.label.clone(), gpu_ms: (time.end - time.start).max(0.0) * 1000.0 });
+        }
+        flatten(&r.nested_queries, out);
+    }
+}
