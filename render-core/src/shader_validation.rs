@@ -3,14 +3,21 @@
 use std::path::Path;
 
 fn validate(name: &str, source: &str) {
-    let module = naga::front::wgsl::parse_str(source).unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(source)));
-    naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all())
-        .validate(&module)
+    let module = naga::front::wgsl::parse_str(source)
         .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(source)));
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(&module)
+    .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(source)));
 }
 
 fn wgsl_files(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
-    for entry in std::fs::read_dir(dir).expect("source dir is readable").flatten() {
+    for entry in std::fs::read_dir(dir)
+        .expect("source dir is readable")
+        .flatten()
+    {
         let path = entry.path();
         if path.is_dir() {
             wgsl_files(&path, out);
@@ -23,8 +30,14 @@ fn wgsl_files(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
 #[test]
 fn every_wgsl_file_validates() {
     let mut files = Vec::new();
-    wgsl_files(&Path::new(env!("CARGO_MANIFEST_DIR")).join("src"), &mut files);
-    assert!(files.len() >= 5, "expected the crate's shaders, found {files:?}");
+    wgsl_files(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("src"),
+        &mut files,
+    );
+    assert!(
+        files.len() >= 5,
+        "expected the crate's shaders, found {files:?}"
+    );
     let common = crate::frame::COMMON_WGSL;
     for path in files {
         let source = std::fs::read_to_string(&path).expect("shader is readable");

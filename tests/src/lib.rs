@@ -1,1 +1,134 @@
+//! Helpers for shadowlab's headless GPU tests: a shared adapter, small known-answer scenes,
+//! and world positions of captured pixels.
 
+use std::sync::OnceLock;
+
+use glam::{Mat4, Vec3, Vec4};
+use render_core::frame::{
+    FrameCapture, FrameInput, FrameRenderer, FrameReport, FrameSettings, SceneGpu,
+};
+use render_core::geom::Camera;
+use render_core::gpu::GpuContext;
+use render_core::scene::{Instance, Mesh, Scene, Sun};
+
+/// One GPU context for every test in a binary (device creation on lavapipe is slow).
+/// In CI (`CI=true`) a missing adapter fails the test instead of being reported as skipped.
+pub fn gpu() -> &'static GpuContext {
+    static GPU: OnceLock<GpuContext> = OnceLock::new();
+    GPU.get_or_init(|| match GpuContext::headless() {
+        Ok(ctx) => {
+            eprintln!("GPU tests run on {}", ctx.adapter_description());
+            ctx
+        }
+        Err(e) => panic!("GPU tests need an adapter: {e}"),
+    })
+}
+
+/// An axis-aligned box mesh with outward faces, counter-clockwise seen from outside.
+pub fn box_mesh(name: &str, half_extent: Vec3) -> Mesh {
+    let h = half_extent;
+    let faces: [(Vec3, Vec3, Vec3); 6] = [
+        (Vec3::X, Vec3::Z, Vec3::Y),
+        (Vec3::NEG_X, Vec3::Y, Vec3::Z),
+        (Vec3::Y, Vec3::Z, Vec3::X),
+        (Vec3::NEG_Y, Vec3::X, Vec3::Z),
+        (Vec3::Z, Vec3::Y, Vec3::X),
+        (Vec3::NEG_Z, Vec3::X, Vec3::Y),
+    ];
+    let mut positions = Vec::new();
+    let mut normals = Vec::new();
+    let mut indices = Vec::new();
+    for (n, a, b) in faces {
+        // `a x b` points along `n` so the quad winds counter-clockwise seen from outside.
+        let (a, b) = if a.cross(b).dot(n) > 0.0 {
+            (a, b)
+        } else {
+            (b, a)
+        };
+        let base = positions.len() as u32;
+        for (sa, sb) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+            positions.push((n + a * sa + b * sb) * h);
+            normals.push(n);
+        }
+        indices.extend([base, base + 1, base + 2, base, base + 2, base + 3]);
+    }
+    Mesh::new(name, positions, Some(normals), indices)
+}
+
+/// A ground box of `ground_half_m` (top face at y = 0) and one box of `box_size` whose bottom
+/// is `lift_m` above the ground (0: standing on it).
+pub fn box_on_plane(ground_half_m: f32, box_size: Vec3, lift_m: f32, sun: Sun) -> Scene {
+    let ground = box_mesh("ground", Vec3::new(ground_half_m, 0.5, ground_half_m));
+    let cube = box_mesh("box", box_size * 0.5);
+    let instances = vec![
+        Instance::new(
+            "ground",
+            0,
+            &ground,
+            Mat4::from_translation(Vec3::new(0.0, -0.5, 0.0)),
+        ),
+        Instance::new(
+            "box",
+            1,
+            &cube,
+            Mat4::from_translation(Vec3::new(0.0, lift_m + box_size.y * 0.5, 0.0)),
+        ),
+    ];
+    Scene::new("test:box-on-plane", vec![ground, cube], instances, sun)
+}
+
+/// Renders one frame headless and reads every target back.
+pub fn render(
+    scene: &Scene,
+    camera: &Camera,
+    settings: &FrameSettings,
+    width: u32,
+    height: u32,
+) -> (FrameReport, FrameCapture) {
+    let ctx = gpu();
+    let scene_gpu = SceneGpu::new(ctx, scene);
+    let mut renderer = FrameRenderer::new(ctx);
+    let input = FrameInput {
+        camera,
+        width,
+        height,
+        settings,
+    };
+    let report = renderer
+        .render_and_wait(ctx, scene, &scene_gpu, &input)
+        .expect("frame renders");
+    let capture = FrameCapture::read(
+        ctx,
+        renderer.targets().expect("targets exist after a frame"),
+    )
+    .expect("readback");
+    (report, capture)
+}
+
+/// World position of pixel `(x, y)` from the captured reversed depth, or `None` for sky.
+pub fn world_position(capture: &FrameCapture, camera: &Camera, x: u32, y: u32) -> Option<Vec3> {
+    let i = (y * capture.width + x) as usize;
+    let depth = capture.depth[i];
+    if depth <= 0.0 {
+        return None;
+    }
+    let aspect = capture.width as f32 / capture.height as f32;
+    let ndc = Vec4::new(
+        (x as f32 + 0.5) / capture.width as f32 * 2.0 - 1.0,
+        1.0 - (y as f32 + 0.5) / capture.height as f32 * 2.0,
+        depth,
+        1.0,
+    );
+    let world = camera.clip_from_world(aspect).inverse() * ndc;
+    Some(world.truncate() / world.w)
+}
+
+/// Whether the ray from `p` towards the sun hits the axis-aligned box `[min, max]` (slab test).
+pub fn ray_hits_box(p: Vec3, direction_to_sun: Vec3, min: Vec3, max: Vec3) -> bool {
+    let inv = direction_to_sun.recip();
+    let t0 = (min - p) * inv;
+    let t1 = (max - p) * inv;
+    let t_near = t0.min(t1).max_element();
+    let t_far = t0.max(t1).min_element();
+    t_far >= t_near.max(0.0)
+}

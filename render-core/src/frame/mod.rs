@@ -13,6 +13,7 @@
 //! The window and the headless CLI both call [`FrameRenderer::render`]; the window only
 //! presents the colour target.
 
+mod capture;
 pub(crate) mod gpu_data;
 mod report;
 pub mod scene_gpu;
@@ -24,6 +25,7 @@ use std::time::Instant;
 
 use glam::Vec3;
 
+pub use capture::FrameCapture;
 pub use report::{CpuTimings, FrameCounts, FrameReport, LightFacts, Stage, pass_label};
 pub use scene_gpu::SceneGpu;
 pub use settings::{FrameSettings, Method, Overlays, PcfKernel, ShadowSettings};
@@ -43,7 +45,12 @@ pub(crate) const COMMON_WGSL: &str = include_str!("common.wgsl");
 pub(crate) const CAMERA_WGSL: &str = include_str!("camera.wgsl");
 
 /// Linear sky colour behind the scene.
-const SKY: wgpu::Color = wgpu::Color { r: 0.42, g: 0.58, b: 0.80, a: 1.0 };
+const SKY: wgpu::Color = wgpu::Color {
+    r: 0.42,
+    g: 0.58,
+    b: 0.80,
+    a: 1.0,
+};
 
 /// What a frame looks at.
 #[derive(Clone, Copy, Debug)]
@@ -88,7 +95,11 @@ impl FrameRenderer {
                 wgpu::BindGroupLayoutEntry {
                     binding: 0,
                     visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-                    ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None },
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
                     count: None,
                 },
                 wgpu::BindGroupLayoutEntry {
@@ -125,11 +136,12 @@ impl FrameRenderer {
             bind_group_layouts: &[Some(&frame_layout)],
             immediate_size: 0,
         });
-        let shade_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("Frame::shade_layout"),
-            bind_group_layouts: &[Some(&frame_layout), Some(&shade_layout)],
-            immediate_size: 0,
-        });
+        let shade_pipeline_layout =
+            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("Frame::shade_layout"),
+                bind_group_layouts: &[Some(&frame_layout), Some(&shade_layout)],
+                immediate_size: 0,
+            });
         let prepass_pipeline = camera_pipeline(
             device,
             "Frame::prepass_pipeline",
@@ -154,7 +166,12 @@ impl FrameRenderer {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let shadow_map = ShadowMapPass::new(device, &frame_layout, COMMON_WGSL, ShadowSettings::default().resolution);
+        let shadow_map = ShadowMapPass::new(
+            device,
+            &frame_layout,
+            COMMON_WGSL,
+            ShadowSettings::default().resolution,
+        );
         let shade_bind_group = shade_bind_group(device, &shade_layout, &shadow_map.depth_view);
         Self {
             frame_layout,
@@ -174,7 +191,9 @@ impl FrameRenderer {
             latest_gpu: None,
             latest_visibility: None,
             gpu_frames_in_flight: std::collections::VecDeque::new(),
-            indirect_first_instance: ctx.features().contains(wgpu::Features::INDIRECT_FIRST_INSTANCE),
+            indirect_first_instance: ctx
+                .features()
+                .contains(wgpu::Features::INDIRECT_FIRST_INSTANCE),
             scratch: Vec::new(),
             casters: Vec::new(),
         }
@@ -191,7 +210,13 @@ impl FrameRenderer {
 
     /// Renders one frame and submits it. Returns at once; GPU times and visible counts in the
     /// report are the newest that have come back (see [`FrameRenderer::collect_finished`]).
-    pub fn render(&mut self, ctx: &GpuContext, scene: &Scene, scene_gpu: &SceneGpu, input: &FrameInput<'_>) -> FrameReport {
+    pub fn render(
+        &mut self,
+        ctx: &GpuContext,
+        scene: &Scene,
+        scene_gpu: &SceneGpu,
+        input: &FrameInput<'_>,
+    ) -> FrameReport {
         let started = Instant::now();
         self.frame_index += 1;
         let (width, height) = (input.width.max(1), input.height.max(1));
@@ -200,13 +225,23 @@ impl FrameRenderer {
         self.prepare_scene_bindings(ctx, scene_gpu, settings.shadow.resolution);
 
         let aspect = width as f32 / height as f32;
-        let light = fit_directional_light(input.camera, aspect, settings.sun.direction_to_sun, &scene.bounds(), self.shadow_map.resolution);
+        let light = fit_directional_light(
+            input.camera,
+            aspect,
+            settings.sun.direction_to_sun,
+            &scene.bounds(),
+            self.shadow_map.resolution,
+        );
         let culling_started = Instant::now();
         let counts = self.prepare_draw_lists(ctx, scene, scene_gpu, input.camera, aspect, &light);
         let culling_ms = culling_started.elapsed().as_secs_f64() * 1000.0;
         self.write_uniforms(ctx, input.camera, aspect, settings, &light);
 
-        let mut encoder = ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("Frame::encoder") });
+        let mut encoder = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("Frame::encoder"),
+            });
         self.draw_camera_prepass(&mut encoder, scene_gpu);
         self.mark_visible(ctx, &mut encoder, scene_gpu);
         self.draw_shadow_map(&mut encoder, scene_gpu);
@@ -224,10 +259,19 @@ impl FrameRenderer {
             height,
             counts,
             stages: vec![
-                Stage { name: "scene casters".into(), remaining: scene.caster_count() as u32 },
-                Stage { name: "light frustum".into(), remaining: self.caster_list.len() },
+                Stage {
+                    name: "scene casters".into(),
+                    remaining: scene.caster_count() as u32,
+                },
+                Stage {
+                    name: "light frustum".into(),
+                    remaining: self.caster_list.len(),
+                },
             ],
-            cpu: CpuTimings { culling_ms, encode_submit_ms: 0.0 },
+            cpu: CpuTimings {
+                culling_ms,
+                encode_submit_ms: 0.0,
+            },
             light: LightFacts {
                 texel_size_m: light.texel_size_m,
                 depth_range_m: light.depth_range_m,
@@ -248,7 +292,10 @@ impl FrameRenderer {
             log::warn!("device poll failed: {e}");
         }
         while let Some(timings) = self.timer.take_finished() {
-            let frame = self.gpu_frames_in_flight.pop_front().unwrap_or(self.frame_index);
+            let frame = self
+                .gpu_frames_in_flight
+                .pop_front()
+                .unwrap_or(self.frame_index);
             self.latest_gpu = Some((frame, timings));
         }
         if let Some(counts) = self.visibility.take_latest() {
@@ -265,23 +312,41 @@ impl FrameRenderer {
     }
 
     fn prepare_targets(&mut self, ctx: &GpuContext, width: u32, height: u32) {
-        if self.targets.as_ref().is_none_or(|t| t.width != width || t.height != height) {
+        if self
+            .targets
+            .as_ref()
+            .is_none_or(|t| t.width != width || t.height != height)
+        {
             self.targets = Some(ViewTargets::new(&ctx.device, width, height));
         }
     }
 
     fn prepare_scene_bindings(&mut self, ctx: &GpuContext, scene_gpu: &SceneGpu, resolution: u32) {
-        let resolution = resolution.clamp(ShadowSettings::MIN_RESOLUTION, ShadowSettings::MAX_RESOLUTION.min(ctx.device.limits().max_texture_dimension_2d));
+        let resolution = resolution.clamp(
+            ShadowSettings::MIN_RESOLUTION,
+            ShadowSettings::MAX_RESOLUTION.min(ctx.device.limits().max_texture_dimension_2d),
+        );
         if self.shadow_map.ensure_resolution(&ctx.device, resolution) {
-            self.shade_bind_group = shade_bind_group(&ctx.device, &self.shade_layout, &self.shadow_map.depth_view);
+            self.shade_bind_group =
+                shade_bind_group(&ctx.device, &self.shade_layout, &self.shadow_map.depth_view);
         }
-        if self.frame_bind_group.as_ref().is_none_or(|(id, _)| *id != scene_gpu.id) {
+        if self
+            .frame_bind_group
+            .as_ref()
+            .is_none_or(|(id, _)| *id != scene_gpu.id)
+        {
             let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("Frame::frame_bind_group"),
                 layout: &self.frame_layout,
                 entries: &[
-                    wgpu::BindGroupEntry { binding: 0, resource: self.uniform_buffer.as_entire_binding() },
-                    wgpu::BindGroupEntry { binding: 1, resource: scene_gpu.instance_buffer.as_entire_binding() },
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: self.uniform_buffer.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: scene_gpu.instance_buffer.as_entire_binding(),
+                    },
                 ],
             });
             self.frame_bind_group = Some((scene_gpu.id, group));
@@ -290,18 +355,33 @@ impl FrameRenderer {
 
     /// Light-frustum culling of casters and view-frustum culling of the camera passes, on the
     /// CPU through the scene's BVH.
-    fn prepare_draw_lists(&mut self, ctx: &GpuContext, scene: &Scene, scene_gpu: &SceneGpu, camera: &Camera, aspect: f32, light: &LightFrustum) -> FrameCounts {
+    fn prepare_draw_lists(
+        &mut self,
+        ctx: &GpuContext,
+        scene: &Scene,
+        scene_gpu: &SceneGpu,
+        camera: &Camera,
+        aspect: f32,
+        light: &LightFrustum,
+    ) -> FrameCounts {
         let light_frustum = Frustum::from_clip_from_world(&light.light_clip_from_world);
         self.scratch.clear();
         scene.bvh().query_frustum(&light_frustum, &mut self.scratch);
         self.casters.clear();
-        self.casters.extend(self.scratch.iter().copied().filter(|&i| scene.instances[i as usize].casts_shadow));
+        self.casters.extend(
+            self.scratch
+                .iter()
+                .copied()
+                .filter(|&i| scene.instances[i as usize].casts_shadow),
+        );
         self.casters.sort_unstable();
         self.caster_list.upload(ctx, scene_gpu, &self.casters);
 
         let camera_frustum = Frustum::from_clip_from_world(&camera.clip_from_world(aspect));
         self.scratch.clear();
-        scene.bvh().query_frustum(&camera_frustum, &mut self.scratch);
+        scene
+            .bvh()
+            .query_frustum(&camera_frustum, &mut self.scratch);
         self.scratch.sort_unstable();
         self.camera_list.upload(ctx, scene_gpu, &self.scratch);
         FrameCounts {
@@ -314,7 +394,14 @@ impl FrameRenderer {
         }
     }
 
-    fn write_uniforms(&self, ctx: &GpuContext, camera: &Camera, aspect: f32, settings: &FrameSettings, light: &LightFrustum) {
+    fn write_uniforms(
+        &self,
+        ctx: &GpuContext,
+        camera: &Camera,
+        aspect: f32,
+        settings: &FrameSettings,
+        light: &LightFrustum,
+    ) {
         let rows = light.light_from_world.transpose();
         let (right, up) = (rows.x_axis.truncate(), rows.y_axis.truncate());
         let shadow = &settings.shadow;
@@ -326,15 +413,27 @@ impl FrameRenderer {
             light_right: right.extend(light.texel_size_m[0]).to_array(),
             light_up: up.extend(light.texel_size_m[1]).to_array(),
             light_dir: light.light_direction.extend(light.depth_range_m).to_array(),
-            shadow: [shadow.depth_bias_m, shadow.slope_bias, shadow.normal_offset_texels, self.shadow_map.resolution as f32],
+            shadow: [
+                shadow.depth_bias_m,
+                shadow.slope_bias,
+                shadow.normal_offset_texels,
+                self.shadow_map.resolution as f32,
+            ],
             params: [shadow.pcf.width(), u32::from(shadow.shadows_enabled), 0, 0],
         };
-        debug_assert!(Vec3::from(uniforms.light_dir[..3].try_into().unwrap_or([0.0; 3])).is_finite());
-        ctx.queue.write_buffer(&self.uniform_buffer, 0, bytemuck::bytes_of(&uniforms));
+        debug_assert!(
+            Vec3::from(uniforms.light_dir[..3].try_into().unwrap_or([0.0; 3])).is_finite()
+        );
+        ctx.queue
+            .write_buffer(&self.uniform_buffer, 0, bytemuck::bytes_of(&uniforms));
     }
 
     fn frame_bind_group(&self) -> &wgpu::BindGroup {
-        &self.frame_bind_group.as_ref().expect("prepare_scene_bindings runs first").1
+        &self
+            .frame_bind_group
+            .as_ref()
+            .expect("prepare_scene_bindings runs first")
+            .1
     }
 
     fn targets_ref(&self) -> &ViewTargets {
@@ -351,31 +450,47 @@ impl FrameRenderer {
                     view: &targets.ids_view,
                     depth_slice: None,
                     resolve_target: None,
-                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                        store: wgpu::StoreOp::Store,
+                    },
                 })],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: &targets.depth_view,
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0.0), store: wgpu::StoreOp::Store }),
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(0.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
                     stencil_ops: None,
                 }),
-                timestamp_writes: query.as_ref().and_then(wgpu_profiler::GpuProfilerQuery::render_pass_timestamp_writes),
+                timestamp_writes: query
+                    .as_ref()
+                    .and_then(wgpu_profiler::GpuProfilerQuery::render_pass_timestamp_writes),
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
             pass.set_pipeline(&self.prepass_pipeline);
             pass.set_bind_group(0, self.frame_bind_group(), &[]);
-            self.camera_list.draw(&mut pass, scene_gpu, self.indirect_first_instance);
+            self.camera_list
+                .draw(&mut pass, scene_gpu, self.indirect_first_instance);
         }
         self.timer.end_pass(encoder, query);
     }
 
-    fn mark_visible(&mut self, ctx: &GpuContext, encoder: &mut wgpu::CommandEncoder, scene_gpu: &SceneGpu) {
+    fn mark_visible(
+        &mut self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        scene_gpu: &SceneGpu,
+    ) {
         let query = self.timer.begin_pass(pass_label::VISIBILITY, encoder);
         let targets = self.targets.as_ref().expect("prepare_targets runs first");
         self.visibility.mark_visible(
             ctx,
             encoder,
-            query.as_ref().and_then(wgpu_profiler::GpuProfilerQuery::compute_pass_timestamp_writes),
+            query
+                .as_ref()
+                .and_then(wgpu_profiler::GpuProfilerQuery::compute_pass_timestamp_writes),
             &targets.ids_view,
             (targets.width, targets.height),
             &scene_gpu.instance_buffer,
@@ -389,7 +504,9 @@ impl FrameRenderer {
         let query = self.timer.begin_pass(pass_label::SHADOW_MAP, encoder);
         self.shadow_map.draw_casters(
             encoder,
-            query.as_ref().and_then(wgpu_profiler::GpuProfilerQuery::render_pass_timestamp_writes),
+            query
+                .as_ref()
+                .and_then(wgpu_profiler::GpuProfilerQuery::render_pass_timestamp_writes),
             self.frame_bind_group(),
             scene_gpu,
             &self.caster_list,
@@ -409,28 +526,40 @@ impl FrameRenderer {
                         view: &targets.color_view,
                         depth_slice: None,
                         resolve_target: None,
-                        ops: wgpu::Operations { load: wgpu::LoadOp::Clear(SKY), store: wgpu::StoreOp::Store },
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(SKY),
+                            store: wgpu::StoreOp::Store,
+                        },
                     }),
                     Some(wgpu::RenderPassColorAttachment {
                         view: &targets.shadow_view,
                         depth_slice: None,
                         resolve_target: None,
-                        ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::WHITE), store: wgpu::StoreOp::Store },
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(wgpu::Color::WHITE),
+                            store: wgpu::StoreOp::Store,
+                        },
                     }),
                 ],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: &targets.depth_view,
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Load,
+                        store: wgpu::StoreOp::Store,
+                    }),
                     stencil_ops: None,
                 }),
-                timestamp_writes: query.as_ref().and_then(wgpu_profiler::GpuProfilerQuery::render_pass_timestamp_writes),
+                timestamp_writes: query
+                    .as_ref()
+                    .and_then(wgpu_profiler::GpuProfilerQuery::render_pass_timestamp_writes),
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
             pass.set_pipeline(&self.shade_pipeline);
             pass.set_bind_group(0, self.frame_bind_group(), &[]);
             pass.set_bind_group(1, &self.shade_bind_group, &[]);
-            self.camera_list.draw(&mut pass, scene_gpu, self.indirect_first_instance);
+            self.camera_list
+                .draw(&mut pass, scene_gpu, self.indirect_first_instance);
         }
         self.timer.end_pass(encoder, query);
     }
@@ -441,18 +570,32 @@ impl FrameRenderer {
         self.shadow_map.draw_light_view(encoder);
         if settings.overlays.light_view {
             let targets = self.targets_ref();
-            let side = (LIGHT_VIEW_SIZE as f32).min(targets.width.min(targets.height) as f32 * 0.4).max(1.0);
+            let side = (LIGHT_VIEW_SIZE as f32)
+                .min(targets.width.min(targets.height) as f32 * 0.4)
+                .max(1.0);
             let margin = (side * 0.05).round();
-            self.shadow_map.draw_light_view_into(encoder, &targets.color_view, Some([margin, margin, side, side]), wgpu::LoadOp::Load);
+            self.shadow_map.draw_light_view_into(
+                encoder,
+                &targets.color_view,
+                Some([margin, margin, side, side]),
+                wgpu::LoadOp::Load,
+            );
         }
     }
 }
 
-fn shade_bind_group(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, shadow_view: &wgpu::TextureView) -> wgpu::BindGroup {
+fn shade_bind_group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    shadow_view: &wgpu::TextureView,
+) -> wgpu::BindGroup {
     device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("Frame::shade_bind_group"),
         layout,
-        entries: &[wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(shadow_view) }],
+        entries: &[wgpu::BindGroupEntry {
+            binding: 0,
+            resource: wgpu::BindingResource::TextureView(shadow_view),
+        }],
     })
 }
 
@@ -474,7 +617,10 @@ fn camera_pipeline(
             compilation_options: wgpu::PipelineCompilationOptions::default(),
             buffers: &[Some(VERTEX_LAYOUT)],
         },
-        primitive: wgpu::PrimitiveState { cull_mode: Some(wgpu::Face::Back), ..Default::default() },
+        primitive: wgpu::PrimitiveState {
+            cull_mode: Some(wgpu::Face::Back),
+            ..Default::default()
+        },
         depth_stencil: Some(wgpu::DepthStencilState {
             format: DEPTH_FORMAT,
             depth_write_enabled: Some(depth_write),

@@ -44,12 +44,23 @@ impl SceneGpu {
                 index_count: mesh.indices.len() as u32,
                 base_vertex: vertices.len() as i32,
             });
-            vertices.extend(mesh.positions.iter().zip(&mesh.normals).map(|(p, n)| Vertex { position: p.to_array(), normal: n.to_array() }));
+            vertices.extend(
+                mesh.positions
+                    .iter()
+                    .zip(&mesh.normals)
+                    .map(|(p, n)| Vertex {
+                        position: p.to_array(),
+                        normal: n.to_array(),
+                    }),
+            );
             indices.extend_from_slice(&mesh.indices);
         }
         // wgpu rejects zero-sized vertex buffers in some paths; keep one dummy element.
         if vertices.is_empty() {
-            vertices.push(Vertex { position: [0.0; 3], normal: [0.0, 1.0, 0.0] });
+            vertices.push(Vertex {
+                position: [0.0; 3],
+                normal: [0.0, 1.0, 0.0],
+            });
         }
         if indices.is_empty() {
             indices.extend([0, 0, 0]);
@@ -71,7 +82,11 @@ impl SceneGpu {
             contents: bytemuck::cast_slice(&instance_data),
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
         });
-        let instance_ranges = scene.instances.iter().map(|i| mesh_ranges[i.mesh as usize]).collect();
+        let instance_ranges = scene
+            .instances
+            .iter()
+            .map(|i| mesh_ranges[i.mesh as usize])
+            .collect();
         Self {
             id: NEXT_SCENE_ID.fetch_add(1, Ordering::Relaxed),
             vertex_buffer,
@@ -88,7 +103,8 @@ impl SceneGpu {
         for &i in moved {
             let data = instance_data(std::slice::from_ref(&scene.instances[i as usize]));
             let offset = u64::from(i) * size_of::<InstanceData>() as u64;
-            ctx.queue.write_buffer(&self.instance_buffer, offset, bytemuck::cast_slice(&data));
+            ctx.queue
+                .write_buffer(&self.instance_buffer, offset, bytemuck::cast_slice(&data));
         }
     }
 }
@@ -98,10 +114,19 @@ fn instance_data(instances: &[Instance]) -> Vec<InstanceData> {
         .iter()
         .map(|inst| {
             let normal = normal_from_local(&inst.world_from_local);
-            let flags = if inst.casts_shadow { FLAG_CASTER } else { 0 } | if inst.receives_shadow { FLAG_RECEIVER } else { 0 };
+            let flags = if inst.casts_shadow { FLAG_CASTER } else { 0 }
+                | if inst.receives_shadow {
+                    FLAG_RECEIVER
+                } else {
+                    0
+                };
             InstanceData {
                 world_from_local: inst.world_from_local.to_cols_array_2d(),
-                normal_from_local: [normal.x_axis.extend(0.0).to_array(), normal.y_axis.extend(0.0).to_array(), normal.z_axis.extend(0.0).to_array()],
+                normal_from_local: [
+                    normal.x_axis.extend(0.0).to_array(),
+                    normal.y_axis.extend(0.0).to_array(),
+                    normal.z_axis.extend(0.0).to_array(),
+                ],
                 base_color: inst.base_color,
                 flags: [flags, 0, 0, 0],
             }
@@ -117,7 +142,11 @@ fn instance_data(instances: &[Instance]) -> Vec<InstanceData> {
 fn normal_from_local(world_from_local: &Mat4) -> Mat3 {
     let m = Mat3::from_mat4(*world_from_local);
     let det = m.determinant();
-    if det.abs() > f32::EPSILON { m.inverse().transpose() } else { m }
+    if det.abs() > f32::EPSILON {
+        m.inverse().transpose()
+    } else {
+        m
+    }
 }
 
 /// Instances to draw in one pass, as indirect draw arguments. Long-lived, refilled per frame.
@@ -131,7 +160,13 @@ pub struct DrawList {
 
 impl DrawList {
     pub fn new(ctx: &GpuContext, label: &'static str) -> Self {
-        Self { label, buffer: Self::create_buffer(ctx, label, 64), capacity: 64, args: Vec::new(), triangles: 0 }
+        Self {
+            label,
+            buffer: Self::create_buffer(ctx, label, 64),
+            capacity: 64,
+            args: Vec::new(),
+            triangles: 0,
+        }
     }
 
     fn create_buffer(ctx: &GpuContext, label: &str, capacity: u32) -> wgpu::Buffer {
@@ -171,13 +206,22 @@ impl DrawList {
             self.buffer = Self::create_buffer(ctx, self.label, self.capacity);
         }
         if !self.args.is_empty() {
-            let bytes: Vec<u8> = self.args.iter().flat_map(|a| a.as_bytes().iter().copied()).collect();
+            let bytes: Vec<u8> = self
+                .args
+                .iter()
+                .flat_map(|a| a.as_bytes().iter().copied())
+                .collect();
             ctx.queue.write_buffer(&self.buffer, 0, &bytes);
         }
     }
 
     /// Records the draws; uses one multi-draw when the device can start at any instance.
-    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, scene_gpu: &SceneGpu, indirect_first_instance: bool) {
+    pub fn draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        scene_gpu: &SceneGpu,
+        indirect_first_instance: bool,
+    ) {
         if self.args.is_empty() {
             return;
         }
@@ -187,7 +231,11 @@ impl DrawList {
             pass.multi_draw_indexed_indirect(&self.buffer, 0, self.len());
         } else {
             for a in &self.args {
-                pass.draw_indexed(a.first_index..a.first_index + a.index_count, a.base_vertex, a.first_instance..a.first_instance + 1);
+                pass.draw_indexed(
+                    a.first_index..a.first_index + a.index_count,
+                    a.base_vertex,
+                    a.first_instance..a.first_instance + 1,
+                );
             }
         }
     }

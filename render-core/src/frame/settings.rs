@@ -116,10 +116,13 @@ impl Method {
 impl FromStr for Method {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        Self::ALL.into_iter().find(|m| m.name() == s).ok_or_else(|| {
-            let names: Vec<_> = Self::ALL.iter().map(|m| m.name()).collect();
-            format!("unknown method '{s}' (available: {})", names.join(", "))
-        })
+        Self::ALL
+            .into_iter()
+            .find(|m| m.name() == s)
+            .ok_or_else(|| {
+                let names: Vec<_> = Self::ALL.iter().map(|m| m.name()).collect();
+                format!("unknown method '{s}' (available: {})", names.join(", "))
+            })
     }
 }
 
@@ -137,7 +140,12 @@ impl Overlays {
     pub fn enable(&mut self, name: &str) -> Result<(), String> {
         match name {
             "light-view" => self.light_view = true,
-            _ => return Err(format!("unknown overlay '{name}' (available: {})", Self::NAMES.join(", "))),
+            _ => {
+                return Err(format!(
+                    "unknown overlay '{name}' (available: {})",
+                    Self::NAMES.join(", ")
+                ));
+            }
         }
         Ok(())
     }

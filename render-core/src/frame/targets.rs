@@ -30,21 +30,54 @@ impl ViewTargets {
         let make = |label: &str, format: wgpu::TextureFormat, extra: wgpu::TextureUsages| {
             let texture = device.create_texture(&wgpu::TextureDescriptor {
                 label: Some(label),
-                size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+                size: wgpu::Extent3d {
+                    width,
+                    height,
+                    depth_or_array_layers: 1,
+                },
                 mip_level_count: 1,
                 sample_count: 1,
                 dimension: wgpu::TextureDimension::D2,
                 format,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC | extra,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::COPY_SRC
+                    | extra,
                 view_formats: &[],
             });
             let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
             (texture, view)
         };
-        let (color, color_view) = make("ViewTargets::color", COLOR_FORMAT, wgpu::TextureUsages::TEXTURE_BINDING);
-        let (ids, ids_view) = make("ViewTargets::ids", ID_FORMAT, wgpu::TextureUsages::TEXTURE_BINDING);
-        let (depth, depth_view) = make("ViewTargets::depth", DEPTH_FORMAT, wgpu::TextureUsages::TEXTURE_BINDING);
-        let (shadow, shadow_view) = make("ViewTargets::shadow", SHADOW_FACTOR_FORMAT, wgpu::TextureUsages::empty());
-        Self { width, height, color, color_view, ids, ids_view, depth, depth_view, shadow, shadow_view }
+        let (color, color_view) = make(
+            "ViewTargets::color",
+            COLOR_FORMAT,
+            wgpu::TextureUsages::TEXTURE_BINDING,
+        );
+        let (ids, ids_view) = make(
+            "ViewTargets::ids",
+            ID_FORMAT,
+            wgpu::TextureUsages::TEXTURE_BINDING,
+        );
+        let (depth, depth_view) = make(
+            "ViewTargets::depth",
+            DEPTH_FORMAT,
+            wgpu::TextureUsages::TEXTURE_BINDING,
+        );
+        let (shadow, shadow_view) = make(
+            "ViewTargets::shadow",
+            SHADOW_FACTOR_FORMAT,
+            wgpu::TextureUsages::empty(),
+        );
+        Self {
+            width,
+            height,
+            color,
+            color_view,
+            ids,
+            ids_view,
+            depth,
+            depth_view,
+            shadow,
+            shadow_view,
+        }
     }
 }

@@ -36,7 +36,11 @@ impl VisibilityPass {
         let storage = |binding, read_only| wgpu::BindGroupLayoutEntry {
             binding,
             visibility: wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only }, has_dynamic_offset: false, min_binding_size: None },
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Storage { read_only },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
             count: None,
         };
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -73,7 +77,9 @@ impl VisibilityPass {
         let counters = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("Visibility::counters"),
             size: COUNTERS_SIZE,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+            usage: wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::COPY_SRC
+                | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
         Self {
@@ -108,14 +114,29 @@ impl VisibilityPass {
             label: Some("Visibility::bind_group"),
             layout: &self.layout,
             entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(ids_view) },
-                wgpu::BindGroupEntry { binding: 1, resource: instances.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 2, resource: self.visible_flags.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 3, resource: self.counters.as_entire_binding() },
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(ids_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: instances.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: self.visible_flags.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: self.counters.as_entire_binding(),
+                },
             ],
         });
         {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("Visibility::mark_visible"), timestamp_writes });
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("Visibility::mark_visible"),
+                timestamp_writes,
+            });
             pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, &bind_group, &[]);
             pass.dispatch_workgroups(size.0.div_ceil(8), size.1.div_ceil(8), 1);
@@ -132,7 +153,11 @@ impl VisibilityPass {
     pub fn take_latest(&mut self) -> Option<VisibilityCounts> {
         let (frame_index, bytes) = self.readback.take_latest()?;
         let words: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes);
-        Some(VisibilityCounts { frame_index, objects_visible: words[0], receivers_visible: words[1] })
+        Some(VisibilityCounts {
+            frame_index,
+            objects_visible: words[0],
+            receivers_visible: words[1],
+        })
     }
 }
 
@@ -140,7 +165,9 @@ fn create_flags(device: &wgpu::Device, count: u32) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("Visibility::visible_flags"),
         size: u64::from(count.max(1)) * 4,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+        usage: wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_SRC
+            | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     })
 }

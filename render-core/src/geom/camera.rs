@@ -7,7 +7,11 @@ use glam::{DVec3, Mat4, Vec3};
 /// reference unless `forward` is nearly parallel to it, then +Z, so `look_at` never degenerates.
 pub fn basis_for_direction(forward: DVec3) -> (DVec3, DVec3) {
     let forward = forward.try_normalize().unwrap_or(DVec3::NEG_Z);
-    let up_reference = if forward.y.abs() > 0.999 { DVec3::Z } else { DVec3::Y };
+    let up_reference = if forward.y.abs() > 0.999 {
+        DVec3::Z
+    } else {
+        DVec3::Y
+    };
     let right = forward.cross(up_reference).normalize();
     let up = right.cross(forward);
     (right, up)
@@ -27,7 +31,13 @@ pub struct Camera {
 
 impl Default for Camera {
     fn default() -> Self {
-        Self::look_at(Vec3::new(0.0, 10.0, 30.0), Vec3::ZERO, 60f32.to_radians(), 0.1, 2000.0)
+        Self::look_at(
+            Vec3::new(0.0, 10.0, 30.0),
+            Vec3::ZERO,
+            60f32.to_radians(),
+            0.1,
+            2000.0,
+        )
     }
 }
 
@@ -35,7 +45,13 @@ impl Camera {
     /// A camera at `eye` looking at `target`; a target equal to the eye looks along -Z.
     pub fn look_at(eye: Vec3, target: Vec3, fov_y_rad: f32, near_m: f32, far_m: f32) -> Self {
         let forward = (target - eye).try_normalize().unwrap_or(Vec3::NEG_Z);
-        Self { eye, forward, fov_y_rad, near_m, far_m }
+        Self {
+            eye,
+            forward,
+            fov_y_rad,
+            near_m,
+            far_m,
+        }
     }
 
     /// `(right, up)` in world space.
@@ -51,7 +67,11 @@ impl Camera {
 
     /// Reversed-depth perspective projection.
     pub fn clip_from_view(&self, aspect: f32) -> Mat4 {
-        let aspect = if aspect.is_finite() && aspect > 0.0 { aspect } else { 1.0 };
+        let aspect = if aspect.is_finite() && aspect > 0.0 {
+            aspect
+        } else {
+            1.0
+        };
         directx::perspective(self.fov_y_rad, aspect, self.far_m, self.near_m)
     }
 
@@ -63,15 +83,24 @@ impl Camera {
     /// near plane first (bottom-left, bottom-right, top-left, top-right), then the far plane.
     pub fn frustum_corners_world(&self, aspect: f64, near_m: f64, far_m: f64) -> [DVec3; 8] {
         let eye = self.eye.as_dvec3();
-        let forward = self.forward.as_dvec3().try_normalize().unwrap_or(DVec3::NEG_Z);
+        let forward = self
+            .forward
+            .as_dvec3()
+            .try_normalize()
+            .unwrap_or(DVec3::NEG_Z);
         let (right, up) = basis_for_direction(forward);
         let tan_half_y = (f64::from(self.fov_y_rad) * 0.5).tan();
         let tan_half_x = tan_half_y * aspect;
         let mut corners = [DVec3::ZERO; 8];
         for (plane, depth) in [near_m, far_m].into_iter().enumerate() {
-            for (k, (sx, sy)) in [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)].into_iter().enumerate() {
-                corners[plane * 4 + k] =
-                    eye + forward * depth + right * (sx * tan_half_x * depth) + up * (sy * tan_half_y * depth);
+            for (k, (sx, sy)) in [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)]
+                .into_iter()
+                .enumerate()
+            {
+                corners[plane * 4 + k] = eye
+                    + forward * depth
+                    + right * (sx * tan_half_x * depth)
+                    + up * (sy * tan_half_y * depth);
             }
         }
         corners
@@ -84,7 +113,13 @@ mod tests {
 
     #[test]
     fn basis_is_orthonormal_even_looking_straight_down() {
-        for forward in [DVec3::NEG_Y, DVec3::Y, DVec3::X, DVec3::new(0.3, -0.9, 0.1), DVec3::ZERO] {
+        for forward in [
+            DVec3::NEG_Y,
+            DVec3::Y,
+            DVec3::X,
+            DVec3::new(0.3, -0.9, 0.1),
+            DVec3::ZERO,
+        ] {
             let (right, up) = basis_for_direction(forward);
             assert!(right.is_finite() && up.is_finite());
             assert!((right.length() - 1.0).abs() < 1e-9 && (up.length() - 1.0).abs() < 1e-9);
@@ -104,11 +139,20 @@ mod tests {
 
     #[test]
     fn frustum_corners_project_to_clip_corners() {
-        let cam = Camera::look_at(Vec3::new(3.0, 4.0, 5.0), Vec3::new(-2.0, 0.0, 1.0), 0.9, 0.1, 50.0);
+        let cam = Camera::look_at(
+            Vec3::new(3.0, 4.0, 5.0),
+            Vec3::new(-2.0, 0.0, 1.0),
+            0.9,
+            0.1,
+            50.0,
+        );
         let m = cam.clip_from_world(1.6);
         for (i, c) in cam.frustum_corners_world(1.6, 0.1, 50.0).iter().enumerate() {
             let p = m.project_point3(c.as_vec3());
-            assert!((p.x.abs() - 1.0).abs() < 1e-3 && (p.y.abs() - 1.0).abs() < 1e-3, "corner {i}: {p}");
+            assert!(
+                (p.x.abs() - 1.0).abs() < 1e-3 && (p.y.abs() - 1.0).abs() < 1e-3,
+                "corner {i}: {p}"
+            );
         }
     }
 }

@@ -17,9 +17,15 @@ impl Plane {
     pub fn from_vec4(v: Vec4) -> Self {
         let len = v.truncate().length();
         if len > 0.0 && len.is_finite() {
-            Self { normal: v.truncate() / len, d: v.w / len }
+            Self {
+                normal: v.truncate() / len,
+                d: v.w / len,
+            }
         } else {
-            Self { normal: Vec3::ZERO, d: 1.0 }
+            Self {
+                normal: Vec3::ZERO,
+                d: 1.0,
+            }
         }
     }
 
@@ -85,7 +91,9 @@ impl Frustum {
     }
 
     pub fn contains_point(&self, p: Vec3) -> bool {
-        self.planes.iter().all(|plane| plane.signed_distance(p) >= 0.0)
+        self.planes
+            .iter()
+            .all(|plane| plane.signed_distance(p) >= 0.0)
     }
 }
 

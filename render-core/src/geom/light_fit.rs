@@ -37,9 +37,14 @@ pub fn fit_directional_light(
     scene_bounds: &Aabb,
     resolution: u32,
 ) -> LightFrustum {
-    let light_direction = (-direction_to_sun.as_dvec3()).try_normalize().unwrap_or(DVec3::NEG_Y);
+    let light_direction = (-direction_to_sun.as_dvec3())
+        .try_normalize()
+        .unwrap_or(DVec3::NEG_Y);
     let (right, up) = basis_for_direction(light_direction);
-    let scene = if scene_bounds.is_empty() || !scene_bounds.min.is_finite() || !scene_bounds.max.is_finite() {
+    let scene = if scene_bounds.is_empty()
+        || !scene_bounds.min.is_finite()
+        || !scene_bounds.max.is_finite()
+    {
         Aabb::new(Vec3::splat(-1.0), Vec3::splat(1.0))
     } else {
         *scene_bounds
@@ -54,9 +59,21 @@ pub fn fit_directional_light(
 
     let (extent, covers_whole_scene) = match view_extent(camera, aspect, &scene, &to_light) {
         Some(view) => {
-            let min = DVec3::new(view.0.x.max(scene_extent.0.x), view.0.y.max(scene_extent.0.y), scene_extent.0.z);
-            let max = DVec3::new(view.1.x.min(scene_extent.1.x), view.1.y.min(scene_extent.1.y), view.1.z.min(scene_extent.1.z));
-            if min.cmplt(max).all() { (Some((min, max)), false) } else { (None, true) }
+            let min = DVec3::new(
+                view.0.x.max(scene_extent.0.x),
+                view.0.y.max(scene_extent.0.y),
+                scene_extent.0.z,
+            );
+            let max = DVec3::new(
+                view.1.x.min(scene_extent.1.x),
+                view.1.y.min(scene_extent.1.y),
+                view.1.z.min(scene_extent.1.z),
+            );
+            if min.cmplt(max).all() {
+                (Some((min, max)), false)
+            } else {
+                (None, true)
+            }
         }
         None => (None, true),
     };
@@ -73,21 +90,37 @@ pub fn fit_directional_light(
         clip_from_light: clip_from_light.as_mat4(),
         light_clip_from_world: (clip_from_light * light_from_world).as_mat4(),
         light_direction: light_direction.as_vec3(),
-        texel_size_m: [((max.x - min.x) / res) as f32, ((max.y - min.y) / res) as f32],
+        texel_size_m: [
+            ((max.x - min.x) / res) as f32,
+            ((max.y - min.y) / res) as f32,
+        ],
         depth_range_m: (max.z - min.z) as f32,
         covers_whole_scene,
     }
 }
 
 fn extent_of(points: &[DVec3]) -> Extent {
-    points.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| (lo.min(*p), hi.max(*p)))
+    points
+        .iter()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(*p), hi.max(*p))
+        })
 }
 
 /// The light-space extent of the view frustum cut to the depth range where it can meet the
 /// scene, or `None` when the scene lies wholly behind or beyond it.
-fn view_extent(camera: &Camera, aspect: f32, scene: &Aabb, to_light: &impl Fn(DVec3) -> DVec3) -> Option<Extent> {
+fn view_extent(
+    camera: &Camera,
+    aspect: f32,
+    scene: &Aabb,
+    to_light: &impl Fn(DVec3) -> DVec3,
+) -> Option<Extent> {
     let eye = camera.eye.as_dvec3();
-    let forward = camera.forward.as_dvec3().try_normalize().unwrap_or(DVec3::NEG_Z);
+    let forward = camera
+        .forward
+        .as_dvec3()
+        .try_normalize()
+        .unwrap_or(DVec3::NEG_Z);
     let depths = scene.corners().map(|c| (c.as_dvec3() - eye).dot(forward));
     let scene_far = depths.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     let scene_near = depths.iter().copied().fold(f64::INFINITY, f64::min);
@@ -96,8 +129,14 @@ fn view_extent(camera: &Camera, aspect: f32, scene: &Aabb, to_light: &impl Fn(DV
     if !(far > near) {
         return None;
     }
-    let aspect = if aspect.is_finite() && aspect > 0.0 { f64::from(aspect) } else { 1.0 };
-    let corners = camera.frustum_corners_world(aspect, near, far).map(to_light);
+    let aspect = if aspect.is_finite() && aspect > 0.0 {
+        f64::from(aspect)
+    } else {
+        1.0
+    };
+    let corners = camera
+        .frustum_corners_world(aspect, near, far)
+        .map(to_light);
     Some(extent_of(&corners))
 }
 
@@ -106,7 +145,10 @@ fn view_extent(camera: &Camera, aspect: f32, scene: &Aabb, to_light: &impl Fn(DV
 fn pad_and_snap((min, max): Extent, resolution: u32) -> Extent {
     let size = max - min;
     let z_margin = size.z.abs() * 1e-3 + 1e-2;
-    let (mut min, mut max) = (min - DVec3::new(0.0, 0.0, z_margin), max + DVec3::new(0.0, 0.0, z_margin));
+    let (mut min, mut max) = (
+        min - DVec3::new(0.0, 0.0, z_margin),
+        max + DVec3::new(0.0, 0.0, z_margin),
+    );
     let res = f64::from(resolution);
     for axis in 0..2 {
         let width = size[axis].max(1e-3);
@@ -137,7 +179,11 @@ mod tests {
         }
         fn unit_vector(&mut self) -> DVec3 {
             loop {
-                let v = DVec3::new(self.range(-1.0, 1.0), self.range(-1.0, 1.0), self.range(-1.0, 1.0));
+                let v = DVec3::new(
+                    self.range(-1.0, 1.0),
+                    self.range(-1.0, 1.0),
+                    self.range(-1.0, 1.0),
+                );
                 if let Some(n) = v.try_normalize() {
                     return n;
                 }
@@ -154,22 +200,36 @@ mod tests {
     fn check_case(camera: &Camera, aspect: f32, sun: Vec3, scene: &Aabb, rng: &mut Rng) -> usize {
         let fit = fit_directional_light(camera, aspect, sun, scene, 2048);
         let m = fit.light_clip_from_world;
-        assert!(m.is_finite() && fit.light_from_world.is_finite(), "non-finite matrix for {camera:?} sun {sun}");
+        assert!(
+            m.is_finite() && fit.light_from_world.is_finite(),
+            "non-finite matrix for {camera:?} sun {sun}"
+        );
         assert!(fit.texel_size_m.iter().all(|t| t.is_finite() && *t > 0.0));
         let tol = 1e-3;
         // Casters between the sun and the frustum: no scene corner is in front of the near plane.
         for c in scene.corners() {
             let z = light_clip(&fit, c.as_dvec3()).z;
-            assert!(z >= -tol, "scene corner {c} before the light's near plane (z = {z})");
+            assert!(
+                z >= -tol,
+                "scene corner {c} before the light's near plane (z = {z})"
+            );
         }
-        let corners = camera.frustum_corners_world(f64::from(aspect), f64::from(camera.near_m), f64::from(camera.far_m));
+        let corners = camera.frustum_corners_world(
+            f64::from(aspect),
+            f64::from(camera.near_m),
+            f64::from(camera.far_m),
+        );
         let scene_d = Aabb::new(scene.min, scene.max);
         let mut checked = 0;
         let mut samples: Vec<DVec3> = corners.to_vec();
         for _ in 0..400 {
             let (u, v, t) = (rng.next_f64(), rng.next_f64(), rng.next_f64());
-            let near = corners[0].lerp(corners[1], u).lerp(corners[2].lerp(corners[3], u), v);
-            let far = corners[4].lerp(corners[5], u).lerp(corners[6].lerp(corners[7], u), v);
+            let near = corners[0]
+                .lerp(corners[1], u)
+                .lerp(corners[2].lerp(corners[3], u), v);
+            let far = corners[4]
+                .lerp(corners[5], u)
+                .lerp(corners[6].lerp(corners[7], u), v);
             samples.push(near.lerp(far, t));
         }
         for p in samples {
@@ -187,29 +247,61 @@ mod tests {
     }
 
     fn random_camera(rng: &mut Rng, centre: DVec3, spread: f64, near: f32, far: f32) -> Camera {
-        let eye = centre + DVec3::new(rng.range(-spread, spread), rng.range(0.5, spread * 0.3), rng.range(-spread, spread));
-        Camera { eye: eye.as_vec3(), forward: rng.unit_vector().as_vec3(), fov_y_rad: rng.range(0.3, 1.8) as f32, near_m: near, far_m: far }
+        let eye = centre
+            + DVec3::new(
+                rng.range(-spread, spread),
+                rng.range(0.5, spread * 0.3),
+                rng.range(-spread, spread),
+            );
+        Camera {
+            eye: eye.as_vec3(),
+            forward: rng.unit_vector().as_vec3(),
+            fov_y_rad: rng.range(0.3, 1.8) as f32,
+            near_m: near,
+            far_m: far,
+        }
     }
 
     #[test]
     fn light_frustum_contains_visible_scene_for_random_cameras_and_suns() {
         let mut rng = Rng(7);
-        let scene = Aabb::new(Vec3::new(-500.0, 0.0, -500.0), Vec3::new(500.0, 300.0, 500.0));
+        let scene = Aabb::new(
+            Vec3::new(-500.0, 0.0, -500.0),
+            Vec3::new(500.0, 300.0, 500.0),
+        );
         let mut checked = 0;
         for _ in 0..300 {
             let camera = random_camera(&mut rng, DVec3::ZERO, 600.0, 0.1, 3000.0);
             let mut sun = rng.unit_vector();
             sun.y = sun.y.abs().max(0.02);
-            checked += check_case(&camera, rng.range(0.5, 2.5) as f32, sun.as_vec3(), &scene, &mut rng);
+            checked += check_case(
+                &camera,
+                rng.range(0.5, 2.5) as f32,
+                sun.as_vec3(),
+                &scene,
+                &mut rng,
+            );
         }
-        assert!(checked > 5_000, "too few visible points were checked: {checked}");
+        assert!(
+            checked > 5_000,
+            "too few visible points were checked: {checked}"
+        );
     }
 
     #[test]
     fn hard_cases_stay_finite_and_contain_the_view() {
         let mut rng = Rng(11);
-        let city = Aabb::new(Vec3::new(-1000.0, 0.0, -1000.0), Vec3::new(1000.0, 300.0, 1000.0));
-        let street = Camera::look_at(Vec3::new(10.0, 1.7, 5.0), Vec3::new(200.0, 20.0, -100.0), 1.0, 0.1, 2000.0);
+        let city = Aabb::new(
+            Vec3::new(-1000.0, 0.0, -1000.0),
+            Vec3::new(1000.0, 300.0, 1000.0),
+        );
+        let street = Camera::look_at(
+            Vec3::new(10.0, 1.7, 5.0),
+            Vec3::new(200.0, 20.0, -100.0),
+            1.0,
+            0.1,
+            2000.0,
+        );
         let down = Camera::look_at(Vec3::new(0.0, 500.0, 0.0), Vec3::ZERO, 1.0, 0.1, 2000.0);
         let zenith = Vec3::Y;
         let grazing = Sun::from_azimuth_elevation_deg(30.0, 1.0).direction_to_sun;
@@ -222,23 +314,50 @@ mod tests {
         checked += check_case(&street, 16.0 / 9.0, grazing, &city, &mut rng);
         checked += check_case(&down, 16.0 / 9.0, grazing, &city, &mut rng);
         // Near 0.01 m and far 10 km.
-        let wide = Camera::look_at(Vec3::new(0.0, 2.0, 0.0), Vec3::new(1.0, 1.9, 1.0), 1.2, 0.01, 10_000.0);
+        let wide = Camera::look_at(
+            Vec3::new(0.0, 2.0, 0.0),
+            Vec3::new(1.0, 1.9, 1.0),
+            1.2,
+            0.01,
+            10_000.0,
+        );
         checked += check_case(&wide, 2.0, grazing, &city, &mut rng);
         // Camera 100 km from the origin, in a huge scene around it.
         let far_out = Vec3::new(100_000.0, 50.0, -70_000.0);
-        let huge = Aabb::new(far_out - Vec3::new(20_000.0, 50.0, 20_000.0), far_out + Vec3::new(20_000.0, 500.0, 20_000.0));
+        let huge = Aabb::new(
+            far_out - Vec3::new(20_000.0, 50.0, 20_000.0),
+            far_out + Vec3::new(20_000.0, 500.0, 20_000.0),
+        );
         for sun in [zenith, grazing, Vec3::new(0.2, 0.5, -0.3)] {
-            let cam = Camera::look_at(far_out + Vec3::Y * 2.0, far_out + Vec3::new(300.0, 0.0, 50.0), 1.0, 0.01, 10_000.0);
+            let cam = Camera::look_at(
+                far_out + Vec3::Y * 2.0,
+                far_out + Vec3::new(300.0, 0.0, 50.0),
+                1.0,
+                0.01,
+                10_000.0,
+            );
             checked += check_case(&cam, 16.0 / 9.0, sun, &huge, &mut rng);
         }
-        assert!(checked > 500, "too few visible points were checked: {checked}");
+        assert!(
+            checked > 500,
+            "too few visible points were checked: {checked}"
+        );
         // Camera 100 km from a small scene at the origin: nothing visible, a finite fallback.
-        let lost = Camera::look_at(Vec3::new(100_000.0, 10.0, 0.0), Vec3::new(200_000.0, 10.0, 0.0), 1.0, 0.01, 10_000.0);
+        let lost = Camera::look_at(
+            Vec3::new(100_000.0, 10.0, 0.0),
+            Vec3::new(200_000.0, 10.0, 0.0),
+            1.0,
+            0.01,
+            10_000.0,
+        );
         let fit = fit_directional_light(&lost, 1.5, grazing, &city, 1024);
         assert!(fit.covers_whole_scene && fit.light_clip_from_world.is_finite());
         for c in city.corners() {
             let q = light_clip(&fit, c.as_dvec3());
-            assert!(q.x.abs() <= 1.001 && q.y.abs() <= 1.001 && (-0.001..=1.001).contains(&q.z), "{q}");
+            assert!(
+                q.x.abs() <= 1.001 && q.y.abs() <= 1.001 && (-0.001..=1.001).contains(&q.z),
+                "{q}"
+            );
         }
     }
 
@@ -246,10 +365,17 @@ mod tests {
     fn degenerate_inputs_give_finite_frusta() {
         let cam = Camera::look_at(Vec3::ZERO, Vec3::ZERO, 1.0, 0.1, 100.0);
         for sun in [Vec3::ZERO, Vec3::Y, -Vec3::Y, Vec3::X] {
-            for scene in [Aabb::EMPTY, Aabb::new(Vec3::ZERO, Vec3::ZERO), Aabb::new(Vec3::splat(-1.0), Vec3::ONE)] {
+            for scene in [
+                Aabb::EMPTY,
+                Aabb::new(Vec3::ZERO, Vec3::ZERO),
+                Aabb::new(Vec3::splat(-1.0), Vec3::ONE),
+            ] {
                 for aspect in [0.0, f32::NAN, 1.0] {
                     let fit = fit_directional_light(&cam, aspect, sun, &scene, 0);
-                    assert!(fit.light_clip_from_world.is_finite(), "sun {sun} scene {scene:?} aspect {aspect}");
+                    assert!(
+                        fit.light_clip_from_world.is_finite(),
+                        "sun {sun} scene {scene:?} aspect {aspect}"
+                    );
                 }
             }
         }

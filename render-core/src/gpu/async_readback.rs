@@ -43,7 +43,12 @@ impl AsyncReadback {
 
     /// Records a copy of `source` (at least `size` bytes) into a free slot, remembering `tag`.
     /// Returns false when every slot is still in flight; the caller then skips this readback.
-    pub fn copy(&mut self, encoder: &mut wgpu::CommandEncoder, source: &wgpu::Buffer, tag: u64) -> bool {
+    pub fn copy(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        source: &wgpu::Buffer,
+        tag: u64,
+    ) -> bool {
         let Some(slot) = self.slots.iter_mut().find(|s| state(s) == SlotState::Free) else {
             return false;
         };
@@ -58,11 +63,17 @@ impl AsyncReadback {
         for slot in self.slots.iter().filter(|s| state(s) == SlotState::Copied) {
             set_state(slot, SlotState::Mapping);
             let state = Arc::clone(&slot.state);
-            slot.buffer.slice(..).map_async(wgpu::MapMode::Read, move |result| {
-                if let Ok(mut s) = state.lock() {
-                    *s = if result.is_ok() { SlotState::Mapped } else { SlotState::Failed };
-                }
-            });
+            slot.buffer
+                .slice(..)
+                .map_async(wgpu::MapMode::Read, move |result| {
+                    if let Ok(mut s) = state.lock() {
+                        *s = if result.is_ok() {
+                            SlotState::Mapped
+                        } else {
+                            SlotState::Failed
+                        };
+                    }
+                });
         }
     }
 
@@ -72,7 +83,12 @@ impl AsyncReadback {
         for slot in &mut self.slots {
             match state(slot) {
                 SlotState::Mapped => {
-                    let bytes = slot.buffer.slice(..).get_mapped_range().ok().map(|view| view.to_vec());
+                    let bytes = slot
+                        .buffer
+                        .slice(..)
+                        .get_mapped_range()
+                        .ok()
+                        .map(|view| view.to_vec());
                     slot.buffer.unmap();
                     set_state(slot, SlotState::Free);
                     if let Some(bytes) = bytes

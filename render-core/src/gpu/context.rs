@@ -39,26 +39,37 @@ pub struct GpuContext {
 impl GpuContext {
     /// A context without a window, on the adapter `WGPU_BACKEND` / `WGPU_ADAPTER_NAME` select.
     pub fn headless() -> Result<Self, GpuError> {
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let instance =
+            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
         let adapter = Self::request_adapter(&instance, None)?;
         Self::with_adapter(instance, adapter)
     }
 
     /// The adapter for `surface` (or any, when `None`); a clear error when there is none.
-    pub fn request_adapter(instance: &wgpu::Instance, surface: Option<&wgpu::Surface<'_>>) -> Result<wgpu::Adapter, GpuError> {
+    pub fn request_adapter(
+        instance: &wgpu::Instance,
+        surface: Option<&wgpu::Surface<'_>>,
+    ) -> Result<wgpu::Adapter, GpuError> {
         let options = wgpu::RequestAdapterOptions {
-            power_preference: wgpu::PowerPreference::from_env().unwrap_or(wgpu::PowerPreference::HighPerformance),
+            power_preference: wgpu::PowerPreference::from_env()
+                .unwrap_or(wgpu::PowerPreference::HighPerformance),
             force_fallback_adapter: false,
             compatible_surface: surface,
             apply_limit_buckets: false,
         };
         pollster::block_on(instance.request_adapter(&options)).map_err(|_| GpuError::NoAdapter {
-            backends: format!("{:?}", wgpu::Backends::from_env().unwrap_or(wgpu::Backends::all())),
+            backends: format!(
+                "{:?}",
+                wgpu::Backends::from_env().unwrap_or(wgpu::Backends::all())
+            ),
         })
     }
 
     /// Opens a device with the adapter's limits and whichever [`OPTIONAL_FEATURES`] it has.
-    pub fn with_adapter(instance: wgpu::Instance, adapter: wgpu::Adapter) -> Result<Self, GpuError> {
+    pub fn with_adapter(
+        instance: wgpu::Instance,
+        adapter: wgpu::Adapter,
+    ) -> Result<Self, GpuError> {
         let features = adapter.features() & OPTIONAL_FEATURES;
         let descriptor = wgpu::DeviceDescriptor {
             label: Some("shadowlab"),
@@ -66,10 +77,19 @@ impl GpuContext {
             required_limits: adapter.limits(),
             ..Default::default()
         };
-        let (device, queue) = pollster::block_on(adapter.request_device(&descriptor)).map_err(|source| {
-            GpuError::RequestDevice { adapter: adapter.get_info().name, source }
-        })?;
-        Ok(Self { instance, adapter, device, queue })
+        let (device, queue) =
+            pollster::block_on(adapter.request_device(&descriptor)).map_err(|source| {
+                GpuError::RequestDevice {
+                    adapter: adapter.get_info().name,
+                    source,
+                }
+            })?;
+        Ok(Self {
+            instance,
+            adapter,
+            device,
+            queue,
+        })
     }
 
     pub fn features(&self) -> wgpu::Features {
@@ -87,7 +107,10 @@ impl GpuContext {
         self.device
             .poll(wgpu::PollType::wait_indefinitely())
             .map(|_| ())
-            .map_err(|e| GpuError::Readback { what: "device poll".into(), reason: e.to_string() })
+            .map_err(|e| GpuError::Readback {
+                what: "device poll".into(),
+                reason: e.to_string(),
+            })
     }
 }
 

@@ -12,28 +12,53 @@ pub struct TexelRows {
 }
 
 /// Reads a whole 2D texture (mip 0, layer 0) and blocks until the copy is done.
-pub fn read_texture(ctx: &GpuContext, texture: &wgpu::Texture, aspect: wgpu::TextureAspect) -> Result<TexelRows, GpuError> {
+pub fn read_texture(
+    ctx: &GpuContext,
+    texture: &wgpu::Texture,
+    aspect: wgpu::TextureAspect,
+) -> Result<TexelRows, GpuError> {
     let (width, height) = (texture.width(), texture.height());
-    let bytes_per_texel = texture.format().block_copy_size(Some(aspect)).ok_or_else(|| GpuError::Readback {
-        what: format!("{:?}", texture.format()),
-        reason: "format cannot be copied to a buffer".into(),
-    })?;
+    let bytes_per_texel = texture
+        .format()
+        .block_copy_size(Some(aspect))
+        .ok_or_else(|| GpuError::Readback {
+            what: format!("{:?}", texture.format()),
+            reason: "format cannot be copied to a buffer".into(),
+        })?;
     let unpadded = width * bytes_per_texel;
-    let padded = unpadded.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let padded =
+        unpadded.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
     let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("readback::texture"),
         size: u64::from(padded) * u64::from(height),
         usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     });
-    let mut encoder = ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("readback::texture") });
+    let mut encoder = ctx
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("readback::texture"),
+        });
     encoder.copy_texture_to_buffer(
-        wgpu::TexelCopyTextureInfo { texture, mip_level: 0, origin: wgpu::Origin3d::ZERO, aspect },
+        wgpu::TexelCopyTextureInfo {
+            texture,
+            mip_level: 0,
+            origin: wgpu::Origin3d::ZERO,
+            aspect,
+        },
         wgpu::TexelCopyBufferInfo {
             buffer: &buffer,
-            layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(padded), rows_per_image: Some(height) },
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(padded),
+                rows_per_image: Some(height),
+            },
         },
-        wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+        wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
     );
     ctx.queue.submit([encoder.finish()]);
     let padded_bytes = map_and_copy(ctx, &buffer, "texture")?;
@@ -41,11 +66,20 @@ pub fn read_texture(ctx: &GpuContext, texture: &wgpu::Texture, aspect: wgpu::Tex
     for row in padded_bytes.chunks(padded as usize) {
         bytes.extend_from_slice(&row[..unpadded as usize]);
     }
-    Ok(TexelRows { width, height, bytes_per_texel, bytes })
+    Ok(TexelRows {
+        width,
+        height,
+        bytes_per_texel,
+        bytes,
+    })
 }
 
 /// Maps a `MAP_READ` buffer, waits, and returns its contents.
-pub fn map_and_copy(ctx: &GpuContext, buffer: &wgpu::Buffer, what: &str) -> Result<Vec<u8>, GpuError> {
+pub fn map_and_copy(
+    ctx: &GpuContext,
+    buffer: &wgpu::Buffer,
+    what: &str,
+) -> Result<Vec<u8>, GpuError> {
     let slice = buffer.slice(..);
     let (sender, receiver) = std::sync::mpsc::channel();
     slice.map_async(wgpu::MapMode::Read, move |result| {
@@ -53,9 +87,18 @@ pub fn map_and_copy(ctx: &GpuContext, buffer: &wgpu::Buffer, what: &str) -> Resu
         let _ = sender.send(result);
     });
     ctx.wait_idle()?;
-    let error = |reason: String| GpuError::Readback { what: what.to_owned(), reason };
-    receiver.recv().map_err(|e| error(e.to_string()))?.map_err(|e| error(e.to_string()))?;
-    let bytes = slice.get_mapped_range().map_err(|e| error(e.to_string()))?.to_vec();
+    let error = |reason: String| GpuError::Readback {
+        what: what.to_owned(),
+        reason,
+    };
+    receiver
+        .recv()
+        .map_err(|e| error(e.to_string()))?
+        .map_err(|e| error(e.to_string()))?;
+    let bytes = slice
+        .get_mapped_range()
+        .map_err(|e| error(e.to_string()))?
+        .to_vec();
     buffer.unmap();
     Ok(bytes)
 }

@@ -23,7 +23,11 @@ pub struct FrameTimer {
 impl FrameTimer {
     pub fn new(ctx: &GpuContext) -> Self {
         let enabled = ctx.features().contains(wgpu::Features::TIMESTAMP_QUERY);
-        let settings = GpuProfilerSettings { enable_timer_queries: enabled, max_num_pending_frames: 4, ..Default::default() };
+        let settings = GpuProfilerSettings {
+            enable_timer_queries: enabled,
+            max_num_pending_frames: 4,
+            ..Default::default()
+        };
         let profiler = match GpuProfiler::new(&ctx.device, settings) {
             Ok(p) => Some(p),
             Err(e) => {
@@ -31,18 +35,30 @@ impl FrameTimer {
                 None
             }
         };
-        Self { profiler, timestamp_period: ctx.queue.get_timestamp_period(), warned_end_frame: false }
+        Self {
+            profiler,
+            timestamp_period: ctx.queue.get_timestamp_period(),
+            warned_end_frame: false,
+        }
     }
 
     /// Whether GPU times will be reported at all.
     pub fn has_gpu_timestamps(&self) -> bool {
-        self.profiler.as_ref().is_some_and(|p| p.settings().enable_timer_queries)
+        self.profiler
+            .as_ref()
+            .is_some_and(|p| p.settings().enable_timer_queries)
     }
 
     /// Opens a pass query; put its [`GpuProfilerQuery::render_pass_timestamp_writes`] into the
     /// pass descriptor and close it with [`FrameTimer::end_pass`] after the pass.
-    pub fn begin_pass(&self, label: &str, encoder: &mut wgpu::CommandEncoder) -> Option<GpuProfilerQuery> {
-        self.profiler.as_ref().map(|p| p.begin_pass_query(label, encoder))
+    pub fn begin_pass(
+        &self,
+        label: &str,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> Option<GpuProfilerQuery> {
+        self.profiler
+            .as_ref()
+            .map(|p| p.begin_pass_query(label, encoder))
     }
 
     pub fn end_pass(&self, encoder: &mut wgpu::CommandEncoder, query: Option<GpuProfilerQuery>) {
@@ -71,7 +87,10 @@ impl FrameTimer {
 
     /// The oldest finished frame's pass times, if one has come back.
     pub fn take_finished(&mut self) -> Option<Vec<PassTiming>> {
-        let results = self.profiler.as_mut()?.process_finished_frame(self.timestamp_period)?;
+        let results = self
+            .profiler
+            .as_mut()?
+            .process_finished_frame(self.timestamp_period)?;
         let mut out = Vec::new();
         flatten(&results, &mut out);
         Some(out)
@@ -81,7 +100,10 @@ impl FrameTimer {
 fn flatten(results: &[GpuTimerQueryResult], out: &mut Vec<PassTiming>) {
     for r in results {
         if let Some(time) = &r.time {
-            out.push(PassTiming { label: r.label.clone(), gpu_ms: (time.end - time.start).max(0.0) * 1000.0 });
+            out.push(PassTiming {
+                label: r.label.clone(),
+                gpu_ms: (time.end - time.start).max(0.0) * 1000.0,
+            });
         }
         flatten(&r.nested_queries, out);
     }

@@ -10,5 +10,6 @@ mod model;
 pub use builtin::{BUILTIN_SCENES, BuiltinScene, load_builtin};
 pub use bvh::Bvh;
 pub use chunking::{ChunkSettings, split_large_instances};
-pub use gltf_import::{ImportError, import_gltf};
+pub use city::{CityParams, RectXz, build_city};
+pub use gltf_import::{ImportError, import_gltf, import_gltf_slice};
 pub use model::{Instance, Mesh, MeshId, Mobility, Scene, SceneFacts, Sun, compute_vertex_normals};

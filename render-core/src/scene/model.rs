@@ -32,7 +32,13 @@ impl Mesh {
     ) -> Self {
         let normals = normals.unwrap_or_else(|| compute_vertex_normals(&positions, &indices));
         let aabb_in_local = Aabb::from_points(positions.iter().copied());
-        Self { name: name.into(), positions, normals, indices, aabb_in_local }
+        Self {
+            name: name.into(),
+            positions,
+            normals,
+            indices,
+            aabb_in_local,
+        }
     }
 
     pub fn triangle_count(&self) -> usize {
@@ -53,7 +59,10 @@ pub fn compute_vertex_normals(positions: &[Vec3], indices: &[u32]) -> Vec<Vec3> 
             normals[i] += face;
         }
     }
-    normals.iter().map(|n| n.try_normalize().unwrap_or(Vec3::Y)).collect()
+    normals
+        .iter()
+        .map(|n| n.try_normalize().unwrap_or(Vec3::Y))
+        .collect()
 }
 
 /// Whether an instance can move between frames.
@@ -81,7 +90,12 @@ pub struct Instance {
 
 impl Instance {
     /// An instance that casts and receives shadows; its world box is computed from the mesh.
-    pub fn new(name: impl Into<String>, mesh: MeshId, mesh_data: &Mesh, world_from_local: Mat4) -> Self {
+    pub fn new(
+        name: impl Into<String>,
+        mesh: MeshId,
+        mesh_data: &Mesh,
+        world_from_local: Mat4,
+    ) -> Self {
         Self {
             name: name.into(),
             mesh,
@@ -117,12 +131,16 @@ impl Sun {
     /// Azimuth is measured in the XZ plane from +X towards +Z, elevation up from the horizon.
     pub fn from_azimuth_elevation_deg(azimuth_deg: f32, elevation_deg: f32) -> Self {
         let (az, el) = (azimuth_deg.to_radians(), elevation_deg.to_radians());
-        Self { direction_to_sun: Vec3::new(el.cos() * az.cos(), el.sin(), el.cos() * az.sin()) }
+        Self {
+            direction_to_sun: Vec3::new(el.cos() * az.cos(), el.sin(), el.cos() * az.sin()),
+        }
     }
 
     /// A sun pointing along `direction_to_sun`, or straight overhead for a zero vector.
     pub fn from_direction(direction_to_sun: Vec3) -> Self {
-        Self { direction_to_sun: direction_to_sun.try_normalize().unwrap_or(Vec3::Y) }
+        Self {
+            direction_to_sun: direction_to_sun.try_normalize().unwrap_or(Vec3::Y),
+        }
     }
 
     pub fn azimuth_elevation_deg(&self) -> (f32, f32) {
@@ -152,11 +170,23 @@ pub struct Scene {
 }
 
 impl Scene {
-    pub fn new(name: impl Into<String>, meshes: Vec<Mesh>, instances: Vec<Instance>, sun: Sun) -> Self {
+    pub fn new(
+        name: impl Into<String>,
+        meshes: Vec<Mesh>,
+        instances: Vec<Instance>,
+        sun: Sun,
+    ) -> Self {
         let boxes: Vec<Aabb> = instances.iter().map(|i| i.aabb_in_world).collect();
         let bounds = boxes.iter().fold(Aabb::EMPTY, |acc, b| acc.union(*b));
         let bvh = Bvh::build(&boxes);
-        Self { name: name.into(), meshes, instances, sun, bounds, bvh }
+        Self {
+            name: name.into(),
+            meshes,
+            instances,
+            sun,
+            bounds,
+            bvh,
+        }
     }
 
     /// The box around every instance, in world space.
@@ -174,7 +204,10 @@ impl Scene {
 
     /// Triangles over all instances (a mesh instanced twice counts twice).
     pub fn triangle_count(&self) -> usize {
-        self.instances.iter().map(|i| self.mesh_of(i).triangle_count()).sum()
+        self.instances
+            .iter()
+            .map(|i| self.mesh_of(i).triangle_count())
+            .sum()
     }
 
     pub fn caster_count(&self) -> usize {
@@ -242,6 +275,10 @@ mod tests {
     fn normals_of_degenerate_triangles_are_finite() {
         let positions = vec![Vec3::ZERO, Vec3::ZERO, Vec3::ZERO, Vec3::X];
         let normals = compute_vertex_normals(&positions, &[0, 1, 2]);
-        assert!(normals.iter().all(|n| n.is_finite() && (n.length() - 1.0).abs() < 1e-6));
+        assert!(
+            normals
+                .iter()
+                .all(|n| n.is_finite() && (n.length() - 1.0).abs() < 1e-6)
+        );
     }
 }

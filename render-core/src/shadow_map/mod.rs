@@ -29,7 +29,12 @@ pub struct ShadowMapPass {
 
 impl ShadowMapPass {
     /// `frame_layout` is the camera passes' group 0 (frame uniforms and instances).
-    pub fn new(device: &wgpu::Device, frame_layout: &wgpu::BindGroupLayout, common_wgsl: &str, resolution: u32) -> Self {
+    pub fn new(
+        device: &wgpu::Device,
+        frame_layout: &wgpu::BindGroupLayout,
+        common_wgsl: &str,
+        resolution: u32,
+    ) -> Self {
         let source = format!("{common_wgsl}\n{SHADOW_DEPTH_WGSL}");
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("ShadowMap::shader"),
@@ -84,12 +89,18 @@ impl ShadowMapPass {
         let (depth, depth_view) = create_depth(device, resolution);
         let light_view = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("ShadowMap::light_view"),
-            size: wgpu::Extent3d { width: LIGHT_VIEW_SIZE, height: LIGHT_VIEW_SIZE, depth_or_array_layers: 1 },
+            size: wgpu::Extent3d {
+                width: LIGHT_VIEW_SIZE,
+                height: LIGHT_VIEW_SIZE,
+                depth_or_array_layers: 1,
+            },
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format: COLOR_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
             view_formats: &[],
         });
         let light_view_view = light_view.create_view(&wgpu::TextureViewDescriptor::default());
@@ -113,7 +124,8 @@ impl ShadowMapPass {
             return false;
         }
         let (depth, depth_view) = create_depth(device, resolution);
-        self.light_view_bind_group = light_view_bind_group(device, &self.light_view_layout, &depth_view);
+        self.light_view_bind_group =
+            light_view_bind_group(device, &self.light_view_layout, &depth_view);
         self.depth = depth;
         self.depth_view = depth_view;
         self.resolution = resolution;
@@ -135,7 +147,10 @@ impl ShadowMapPass {
             color_attachments: &[],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &self.depth_view,
-                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Store,
+                }),
                 stencil_ops: None,
             }),
             timestamp_writes,
@@ -149,7 +164,12 @@ impl ShadowMapPass {
 
     /// Renders the light's view inset from the current depth texture.
     pub fn draw_light_view(&self, encoder: &mut wgpu::CommandEncoder) {
-        self.draw_light_view_into(encoder, &self.light_view_view, None, wgpu::LoadOp::Clear(wgpu::Color::BLACK));
+        self.draw_light_view_into(
+            encoder,
+            &self.light_view_view,
+            None,
+            wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+        );
     }
 
     /// Draws the light's view into `target` (an sRGB colour view), in `viewport` if given
@@ -167,7 +187,10 @@ impl ShadowMapPass {
                 view: target,
                 depth_slice: None,
                 resolve_target: None,
-                ops: wgpu::Operations { load, store: wgpu::StoreOp::Store },
+                ops: wgpu::Operations {
+                    load,
+                    store: wgpu::StoreOp::Store,
+                },
             })],
             depth_stencil_attachment: None,
             timestamp_writes: None,
@@ -187,27 +210,43 @@ fn create_depth(device: &wgpu::Device, resolution: u32) -> (wgpu::Texture, wgpu:
     let resolution = resolution.clamp(1, device.limits().max_texture_dimension_2d);
     let depth = device.create_texture(&wgpu::TextureDescriptor {
         label: Some("ShadowMap::depth"),
-        size: wgpu::Extent3d { width: resolution, height: resolution, depth_or_array_layers: 1 },
+        size: wgpu::Extent3d {
+            width: resolution,
+            height: resolution,
+            depth_or_array_layers: 1,
+        },
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
         format: SHADOW_FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
         view_formats: &[],
     });
     let view = depth.create_view(&wgpu::TextureViewDescriptor::default());
     (depth, view)
 }
 
-fn light_view_bind_group(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, depth_view: &wgpu::TextureView) -> wgpu::BindGroup {
+fn light_view_bind_group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    depth_view: &wgpu::TextureView,
+) -> wgpu::BindGroup {
     device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("ShadowMap::light_view_bind_group"),
         layout,
-        entries: &[wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(depth_view) }],
+        entries: &[wgpu::BindGroupEntry {
+            binding: 0,
+            resource: wgpu::BindingResource::TextureView(depth_view),
+        }],
     })
 }
 
-fn fullscreen_pipeline(device: &wgpu::Device, layout: &wgpu::BindGroupLayout) -> wgpu::RenderPipeline {
+fn fullscreen_pipeline(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+) -> wgpu::RenderPipeline {
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("ShadowMap::light_view_shader"),
         source: wgpu::ShaderSource::Wgsl(LIGHT_VIEW_WGSL.into()),

@@ -1,0 +1,56 @@
+//! Headless frames: render, wait for the GPU, and read the targets back.
+
+use super::{FrameInput, FrameRenderer, FrameReport, SceneGpu, ViewTargets};
+use crate::gpu::{GpuContext, GpuError, read_texture};
+use crate::scene::Scene;
+
+/// The camera targets of one frame on the CPU, row-major from the top-left pixel.
+#[derive(Clone, Debug)]
+pub struct FrameCapture {
+    pub width: u32,
+    pub height: u32,
+    /// sRGB-encoded colour, as a screenshot saves it.
+    pub color: image::RgbaImage,
+    /// Instance index + 1 per pixel, 0 for sky.
+    pub ids: Vec<u32>,
+    /// Reversed depth: 1 at the near plane, 0 at the far plane and for sky.
+    pub depth: Vec<f32>,
+    /// Fraction of shadow taps that see the sun, 0..=255.
+    pub shadow: Vec<u8>,
+}
+
+impl FrameCapture {
+    pub fn read(ctx: &GpuContext, targets: &ViewTargets) -> Result<Self, GpuError> {
+        let color = read_texture(ctx, &targets.color, wgpu::TextureAspect::All)?
+            .into_rgba_image()
+            .ok_or_else(|| GpuError::Readback {
+                what: "colour target".into(),
+                reason: "not 4 bytes per texel".into(),
+            })?;
+        Ok(Self {
+            width: targets.width,
+            height: targets.height,
+            color,
+            ids: read_texture(ctx, &targets.ids, wgpu::TextureAspect::All)?.to_u32(),
+            depth: read_texture(ctx, &targets.depth, wgpu::TextureAspect::DepthOnly)?.to_f32(),
+            shadow: read_texture(ctx, &targets.shadow, wgpu::TextureAspect::All)?.bytes,
+        })
+    }
+}
+
+impl FrameRenderer {
+    /// Renders `input`, waits for the GPU, and returns the report with this frame's GPU times
+    /// and visible counts.
+    pub fn render_and_wait(
+        &mut self,
+        ctx: &GpuContext,
+        scene: &Scene,
+        scene_gpu: &SceneGpu,
+        input: &FrameInput<'_>,
+    ) -> Result<FrameReport, GpuError> {
+        let mut report = self.render(ctx, scene, scene_gpu, input);
+        ctx.wait_idle()?;
+        self.collect_finished(ctx, &mut report);
+        Ok(report)
+    }
+}
