@@ -1,1 +1,34 @@
-fn main() {}
+//! `shadowlab`: the window (winit + egui) and the headless command line, over one frame code.
+
+mod cli;
+mod headless;
+mod scene_source;
+mod window;
+
+use std::process::ExitCode;
+
+use clap::Parser as _;
+
+fn main() -> ExitCode {
+    env_logger::Builder::from_env(
+        env_logger::Env::default().default_filter_or("warn,shadowlab=info"),
+    )
+    .init();
+    let cli = cli::Cli::parse();
+    let result = match &cli.command {
+        Some(cli::Command::Shot(args)) => headless::shot(args),
+        Some(cli::Command::Bench(args)) => headless::bench(args),
+        Some(cli::Command::Scenes) => {
+            headless::list_scenes();
+            Ok(())
+        }
+        None => window::run(&cli.open),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("shadowlab: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

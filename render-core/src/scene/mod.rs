@@ -2,6 +2,7 @@
 
 mod builtin;
 mod bvh;
+mod camera_path;
 mod chunking;
 mod city;
 mod gltf_import;
@@ -9,6 +10,7 @@ mod model;
 
 pub use builtin::{BUILTIN_SCENES, BuiltinScene, load_builtin};
 pub use bvh::Bvh;
+pub use camera_path::{CameraPath, PathError, PathKey};
 pub use chunking::{ChunkSettings, split_large_instances};
 pub use city::{CityParams, RectXz, build_city};
 pub use gltf_import::{ImportError, import_gltf, import_gltf_slice};

@@ -1,0 +1,361 @@
+//! The command-line contract of DESIGN.md: arguments shared by `shot`, `bench` and the window.
+
+use std::path::PathBuf;
+
+use anyhow::{Context as _, bail};
+use clap::{Args, Parser, Subcommand};
+use glam::Vec3;
+use render_core::frame::{FrameSettings, Method, PcfKernel, ShadowSettings};
+use render_core::geom::Camera;
+use render_core::scene::{ChunkSettings, Scene, Sun};
+
+use crate::scene_source::frame_scene;
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "shadowlab",
+    version,
+    about = "A lab for real-time shadows: open a scene, switch methods, measure."
+)]
+#[command(args_conflicts_with_subcommands = true)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+    #[command(flatten)]
+    pub open: OpenArgs,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Render one frame headless and write a PNG and a stats JSON.
+    Shot(ShotArgs),
+    /// Fly a camera path and print a table of methods (median over frames, after warm-up).
+    Bench(BenchArgs),
+    /// List the built-in scenes.
+    Scenes,
+}
+
+/// `shadowlab [SCENE]`: open the window.
+#[derive(Args, Debug)]
+pub struct OpenArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    #[command(flatten)]
+    pub view: ViewArgs,
+    /// Smoke test: close the window after this many frames.
+    #[arg(long, value_name = "N")]
+    pub exit_after_frames: Option<u64>,
+    /// Smoke test: write a screenshot of the whole window (3D view and panel) before closing.
+    #[arg(long, value_name = "PNG", requires = "exit_after_frames")]
+    pub window_screenshot: Option<PathBuf>,
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct SceneArgs {
+    /// builtin:NAME or a path to a .gltf / .glb file (`shadowlab scenes` lists the built-ins).
+    #[arg(value_name = "SCENE", default_value = "builtin:city")]
+    pub scene: String,
+    /// Seed of built-in scenes.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Split objects larger than this fraction of the scene into chunks (0 disables).
+    #[arg(long, value_name = "FRACTION", default_value_t = ChunkSettings::default().max_extent_fraction)]
+    pub chunk_fraction: f32,
+}
+
+impl SceneArgs {
+    pub fn chunking(&self) -> ChunkSettings {
+        ChunkSettings {
+            max_extent_fraction: self.chunk_fraction,
+        }
+    }
+}
+
+/// Camera, sun and shadow settings of a frame.
+#[derive(Args, Debug, Clone, Default)]
+pub struct ViewArgs {
+    /// Camera position x,y,z in metres.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub eye: Option<Vec3>,
+    /// Point the camera looks at, x,y,z in metres.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub target: Option<Vec3>,
+    /// Vertical field of view in degrees.
+    #[arg(long, value_name = "DEG")]
+    pub fov: Option<f32>,
+    /// Near plane distance in metres.
+    #[arg(long, value_name = "N")]
+    pub near: Option<f32>,
+    /// Far plane distance in metres.
+    #[arg(long, value_name = "F")]
+    pub far: Option<f32>,
+    /// Direction from the scene towards the sun, x,y,z.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub sun: Option<Vec3>,
+    /// Image size WIDTHxHEIGHT in pixels.
+    #[arg(long, value_parser = parse_size, value_name = "WxH")]
+    pub size: Option<(u32, u32)>,
+    /// Shadow map resolution in texels (512 to 8192).
+    #[arg(long, value_name = "N")]
+    pub shadow_res: Option<u32>,
+    /// Shadow caster method.
+    #[arg(long, value_parser = parse_method, value_name = "NAME")]
+    pub method: Option<Method>,
+    /// Overlay to draw (repeatable): light-view.
+    #[arg(long, value_name = "NAME")]
+    pub overlay: Vec<String>,
+    /// PCF kernel: off, 2x2, 3x3, 5x5.
+    #[arg(long, value_parser = parse_pcf, value_name = "KERNEL")]
+    pub pcf: Option<PcfKernel>,
+    /// Constant depth bias in metres.
+    #[arg(long, value_name = "M")]
+    pub depth_bias: Option<f32>,
+    /// Slope-scaled bias, in texels of depth slope.
+    #[arg(long, value_name = "S")]
+    pub slope_bias: Option<f32>,
+    /// Normal offset, in shadow texels.
+    #[arg(long, value_name = "TEXELS")]
+    pub normal_offset: Option<f32>,
+}
+
+pub const DEFAULT_SIZE: (u32, u32) = (1280, 720);
+pub const DEFAULT_FOV_DEG: f32 = 60.0;
+
+impl ViewArgs {
+    /// The frame settings these arguments ask for, starting from the scene's sun.
+    pub fn settings(&self, scene: &Scene) -> anyhow::Result<FrameSettings> {
+        let mut settings = FrameSettings {
+            sun: scene.sun,
+            ..FrameSettings::default()
+        };
+        if let Some(sun) = self.sun {
+            if sun.length_squared() == 0.0 || !sun.is_finite() {
+                bail!("--sun must be a non-zero direction x,y,z, got {sun}");
+            }
+            settings.sun = Sun::from_direction(sun);
+        }
+        if let Some(res) = self.shadow_res {
+            let range = ShadowSettings::MIN_RESOLUTION..=ShadowSettings::MAX_RESOLUTION;
+            if !range.contains(&res) {
+                bail!(
+                    "--shadow-res {res} is outside {} to {}",
+                    range.start(),
+                    range.end()
+                );
+            }
+            settings.shadow.resolution = res;
+        }
+        if let Some(method) = self.method {
+            settings.method = method;
+        }
+        if let Some(pcf) = self.pcf {
+            settings.shadow.pcf = pcf;
+        }
+        for (value, name) in [
+            (self.depth_bias, "--depth-bias"),
+            (self.slope_bias, "--slope-bias"),
+            (self.normal_offset, "--normal-offset"),
+        ] {
+            if value.is_some_and(|v| !v.is_finite() || v < 0.0) {
+                bail!("{name} must be a finite number >= 0");
+            }
+        }
+        settings.shadow.depth_bias_m = self.depth_bias.unwrap_or(settings.shadow.depth_bias_m);
+        settings.shadow.slope_bias = self.slope_bias.unwrap_or(settings.shadow.slope_bias);
+        settings.shadow.normal_offset_texels = self
+            .normal_offset
+            .unwrap_or(settings.shadow.normal_offset_texels);
+        for name in &self.overlay {
+            settings.overlays.enable(name).map_err(anyhow::Error::msg)?;
+        }
+        Ok(settings)
+    }
+
+    pub fn size(&self) -> anyhow::Result<(u32, u32)> {
+        let (w, h) = self.size.unwrap_or(DEFAULT_SIZE);
+        if w == 0 || h == 0 || w > 16384 || h > 16384 {
+            bail!("--size {w}x{h}: width and height must be between 1 and 16384");
+        }
+        Ok((w, h))
+    }
+
+    /// The camera: `--eye`/`--target` where given, else a view framing the whole scene.
+    pub fn camera(&self, scene: &Scene, aspect: f32) -> anyhow::Result<Camera> {
+        let framed = frame_scene(&scene.bounds(), aspect, DEFAULT_FOV_DEG.to_radians());
+        let eye = self.eye.unwrap_or(framed.eye);
+        let target = self.target.unwrap_or_else(|| {
+            if self.eye.is_some() {
+                scene.bounds().center()
+            } else {
+                framed.eye + framed.forward
+            }
+        });
+        if eye == target {
+            bail!("--eye and --target are the same point {eye}");
+        }
+        let fov_deg = self.fov.unwrap_or(DEFAULT_FOV_DEG);
+        if !(1.0..=170.0).contains(&fov_deg) {
+            bail!("--fov {fov_deg} must be between 1 and 170 degrees");
+        }
+        let near = self.near.unwrap_or(framed.near_m);
+        let far = self.far.unwrap_or(
+            framed
+                .far_m
+                .max((eye - scene.bounds().center()).length() + scene.bounds().diagonal_length()),
+        );
+        if !(near > 0.0 && far > near) {
+            bail!("--near {near} and --far {far}: need 0 < near < far");
+        }
+        Ok(Camera::look_at(
+            eye,
+            target,
+            fov_deg.to_radians(),
+            near,
+            far,
+        ))
+    }
+}
+
+fn parse_vec3(s: &str) -> Result<Vec3, String> {
+    let parts: Vec<&str> = s.split(',').collect();
+    if parts.len() != 3 {
+        return Err(format!("expected x,y,z, got '{s}'"));
+    }
+    let mut v = [0.0f32; 3];
+    for (slot, part) in v.iter_mut().zip(parts) {
+        *slot = part
+            .trim()
+            .parse()
+            .map_err(|_| format!("'{part}' in '{s}' is not a number"))?;
+        if !slot.is_finite() {
+            return Err(format!("'{part}' in '{s}' is not finite"));
+        }
+    }
+    Ok(Vec3::from_array(v))
+}
+
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("expected WIDTHxHEIGHT, got '{s}'"))?;
+    let parse = |v: &str| {
+        v.trim()
+            .parse::<u32>()
+            .map_err(|_| format!("'{v}' in '{s}' is not a whole number"))
+    };
+    Ok((parse(w)?, parse(h)?))
+}
+
+fn parse_method(s: &str) -> Result<Method, String> {
+    s.parse()
+}
+
+fn parse_pcf(s: &str) -> Result<PcfKernel, String> {
+    s.parse()
+}
+
+/// `--methods m1,m2` or `all`.
+pub fn parse_methods(list: &str) -> anyhow::Result<Vec<Method>> {
+    if list == "all" {
+        return Ok(Method::ALL.to_vec());
+    }
+    list.split(',')
+        .map(|m| m.trim().parse::<Method>().map_err(anyhow::Error::msg))
+        .collect::<anyhow::Result<_>>()
+        .context("--methods")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn vectors_and_sizes_parse_or_name_the_problem() {
+        assert_eq!(parse_vec3("1,-2.5, 3").unwrap(), Vec3::new(1.0, -2.5, 3.0));
+        assert!(parse_vec3("1,2").unwrap_err().contains("x,y,z"));
+        assert!(parse_vec3("1,a,3").unwrap_err().contains("'a'"));
+        assert_eq!(parse_size("640x480").unwrap(), (640, 480));
+        assert!(parse_size("640").is_err());
+    }
+
+    #[test]
+    fn cli_accepts_the_documented_contract() {
+        let cli = Cli::try_parse_from([
+            "shadowlab",
+            "shot",
+            "builtin:boxes",
+            "--out",
+            "a.png",
+            "--eye",
+            "1,2,3",
+            "--target",
+            "0,0,0",
+            "--fov",
+            "50",
+            "--near",
+            "0.1",
+            "--far",
+            "500",
+            "--sun",
+            "0.3,1,-0.2",
+            "--size",
+            "320x200",
+            "--shadow-res",
+            "1024",
+            "--method",
+            "none",
+            "--overlay",
+            "light-view",
+        ])
+        .expect("documented flags parse");
+        assert!(matches!(cli.command, Some(Command::Shot(_))));
+        assert!(
+            Cli::try_parse_from(["shadowlab", "shot", "--out", "a.png", "--method", "nope"])
+                .is_err()
+        );
+        let open =
+            Cli::try_parse_from(["shadowlab", "scene.glb"]).expect("a scene path opens the window");
+        assert_eq!(open.open.scene.scene, "scene.glb");
+        assert!(parse_methods("none,bogus").is_err());
+    }
+}
+
+/// `shadowlab shot`.
+#[derive(Args, Debug)]
+pub struct ShotArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    #[command(flatten)]
+    pub view: ViewArgs,
+    /// PNG to write.
+    #[arg(long, value_name = "PNG")]
+    pub out: PathBuf,
+    /// Stats JSON to write (default: the PNG's name with .json).
+    #[arg(long, value_name = "JSON")]
+    pub stats: Option<PathBuf>,
+}
+
+/// `shadowlab bench`.
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    #[command(flatten)]
+    pub view: ViewArgs,
+    /// Measured frames along the path.
+    #[arg(long, default_value_t = 60, value_name = "N")]
+    pub frames: u32,
+    /// Frames rendered before measuring (pipelines compile, caches warm).
+    #[arg(long, default_value_t = 5, value_name = "N")]
+    pub warmup: u32,
+    /// Camera path CSV (eye_x,eye_y,eye_z,target_x,target_y,target_z per line); default: the
+    /// scene's street path or an orbit.
+    #[arg(long, value_name = "P")]
+    pub path: Option<PathBuf>,
+    /// Methods to compare: comma list or `all`.
+    #[arg(long, default_value = "all", value_name = "m1,m2")]
+    pub methods: String,
+    /// Also write the table as CSV.
+    #[arg(long, value_name = "FILE")]
+    pub csv: Option<PathBuf>,
+}
