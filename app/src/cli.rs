@@ -92,7 +92,7 @@ pub struct ViewArgs {
     /// Direction from the scene towards the sun, x,y,z.
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub sun: Option<Vec3>,
-    /// Image size WIDTHxHEIGHT in pixels.
+    /// Image size `WIDTHxHEIGHT` in pixels.
     #[arg(long, value_parser = parse_size, value_name = "WxH")]
     pub size: Option<(u32, u32)>,
     /// Shadow map resolution in texels (512 to 8192).
@@ -348,7 +348,7 @@ pub struct BenchArgs {
     /// Frames rendered before measuring (pipelines compile, caches warm).
     #[arg(long, default_value_t = 5, value_name = "N")]
     pub warmup: u32,
-    /// Camera path CSV (eye_x,eye_y,eye_z,target_x,target_y,target_z per line); default: the
+    /// Camera path CSV (`eye_x,eye_y,eye_z,target_x,target_y,target_z` per line); default: the
     /// scene's street path or an orbit.
     #[arg(long, value_name = "P")]
     pub path: Option<PathBuf>,

@@ -23,7 +23,7 @@ pub fn list_scenes() {
 }
 
 pub fn shot(args: &ShotArgs) -> anyhow::Result<()> {
-    let scene = load_scene(&args.scene.scene, args.scene.seed, &args.scene.chunking())?;
+    let scene = load_scene(&args.scene.scene, args.scene.seed, args.scene.chunking())?;
     let (width, height) = args.view.size()?;
     let camera = args.view.camera(&scene, width as f32 / height as f32)?;
     let settings = args.view.settings(&scene)?;
@@ -78,7 +78,7 @@ pub fn write_png(image: &image::RgbaImage, path: &Path) -> anyhow::Result<()> {
         .with_context(|| format!("writing {}", path.display()))
 }
 
-/// The stats JSON of DESIGN.md: scene, objects, method, counts, stages, timings_ms, and the view.
+/// The stats JSON of DESIGN.md: scene, objects, method, counts, stages, `timings_ms`, and the view.
 pub fn stats_json(
     scene: &Scene,
     settings: &FrameSettings,
@@ -145,7 +145,7 @@ struct BenchRow {
 
 pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
     let methods = parse_methods(&args.methods)?;
-    let scene = load_scene(&args.scene.scene, args.scene.seed, &args.scene.chunking())?;
+    let scene = load_scene(&args.scene.scene, args.scene.seed, args.scene.chunking())?;
     let (width, height) = args.view.size()?;
     let aspect = width as f32 / height as f32;
     let base_settings = args.view.settings(&scene)?;
@@ -220,7 +220,7 @@ fn median(mut values: Vec<f64>) -> Option<f64> {
     }
     values.sort_by(f64::total_cmp);
     let mid = values.len() / 2;
-    Some(if values.len() % 2 == 0 {
+    Some(if values.len().is_multiple_of(2) {
         (values[mid - 1] + values[mid]) * 0.5
     } else {
         values[mid]

@@ -8,7 +8,7 @@ use render_core::geom::{Aabb, Camera};
 use render_core::scene::{BUILTIN_SCENES, ChunkSettings, Scene, import_gltf, load_builtin};
 
 /// Loads `spec`: `builtin:NAME` (see `shadowlab scenes`) or a `.gltf` / `.glb` path.
-pub fn load_scene(spec: &str, seed: u64, chunking: &ChunkSettings) -> anyhow::Result<Scene> {
+pub fn load_scene(spec: &str, seed: u64, chunking: ChunkSettings) -> anyhow::Result<Scene> {
     if let Some(name) = spec.strip_prefix("builtin:") {
         return load_builtin(name, seed).with_context(|| {
             let names: Vec<_> = BUILTIN_SCENES
@@ -29,7 +29,7 @@ pub fn load_scene(spec: &str, seed: u64, chunking: &ChunkSettings) -> anyhow::Re
     if !matches!(extension.as_deref(), Some("gltf" | "glb")) {
         anyhow::bail!("{spec}: not a scene; expected builtin:NAME or a .gltf / .glb file");
     }
-    Ok(import_gltf(path, chunking)?)
+    Ok(import_gltf(path, &chunking)?)
 }
 
 /// A camera that sees the whole box, from the south-west and above: the closest distance along
@@ -74,9 +74,9 @@ pub fn frame_scene(bounds: &Aabb, aspect: f32, fov_y_rad: f32) -> Camera {
     for _ in 0..32 {
         let mid = (lo + hi) * 0.5;
         if sees_all(&camera_at(mid)) {
-            hi = mid
+            hi = mid;
         } else {
-            lo = mid
+            lo = mid;
         }
     }
     camera_at(hi)

@@ -1,1 +1,65 @@
+//! egui panels and plots of shadowlab: plain data in (scene facts, frame reports), settings and
+//! requested actions out. No GPU objects and no windowing here; the `app` crate owns those.
+//!
+//! The app calls [`theme::apply`] once, then each frame [`SidePanel::record`] with the newest
+//! report and [`SidePanel::show`] (or [`SidePanel::ui`] inside its own panel).
 
+mod format;
+pub mod history;
+mod side_panel;
+pub mod theme;
+
+pub use history::TimingHistory;
+pub use side_panel::SidePanel;
+
+use render_core::frame::FrameReport;
+use render_core::scene::SceneFacts;
+
+/// Where screenshots go and what they show.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ScreenshotSettings {
+    /// Folder the app writes screenshots into (created when missing).
+    pub folder: String,
+    /// Capture the whole window with this panel instead of the 3D view alone.
+    pub include_panel: bool,
+}
+
+impl Default for ScreenshotSettings {
+    fn default() -> Self {
+        Self {
+            folder: "screenshots-out".to_owned(),
+            include_panel: false,
+        }
+    }
+}
+
+/// What the user asked for this frame; the app carries it out.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum UiAction {
+    /// Show a file dialog and load the chosen glTF.
+    OpenFile,
+    /// Write a screenshot as [`ScreenshotSettings`] say.
+    Screenshot,
+    /// Move the camera so the whole scene is in view.
+    FrameScene,
+    /// Load the current scene again from its source.
+    ReloadScene,
+}
+
+/// Read-only facts the panel shows this frame.
+#[derive(Clone, Copy, Debug)]
+pub struct PanelInput<'a> {
+    pub scene: &'a SceneFacts,
+    /// The newest frame report; `None` before the first frame.
+    pub report: Option<&'a FrameReport>,
+    /// The light's view (shadow-map depth) as a 256x256 egui texture.
+    pub light_view: Option<egui::TextureId>,
+    /// GPU adapter description.
+    pub adapter: &'a str,
+    pub has_gpu_timestamps: bool,
+    /// File name of the last screenshot written.
+    pub last_screenshot: Option<&'a str>,
+    /// Latest error or info message, shown at the top of the panel.
+    pub message: Option<&'a str>,
+    pub fps: Option<f32>,
+}

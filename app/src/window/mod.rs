@@ -125,7 +125,7 @@ struct Running {
 impl Running {
     fn new(event_loop: &ActiveEventLoop, args: &OpenArgs) -> anyhow::Result<Self> {
         let chunking = args.scene.chunking();
-        let scene = load_scene(&args.scene.scene, args.scene.seed, &chunking)?;
+        let scene = load_scene(&args.scene.scene, args.scene.seed, chunking)?;
         let attributes = Window::default_attributes()
             .with_title(format!("shadowlab: {}", scene.name))
             .with_inner_size(winit::dpi::LogicalSize::new(1400.0, 860.0));
@@ -162,7 +162,7 @@ impl Running {
         let renderer = FrameRenderer::new(&ctx);
         let light_view_texture = surface.egui_renderer.register_native_texture(
             &ctx.device,
-            &renderer.shadow_map.light_view_view,
+            &renderer.shadow_map.light_view_view_unorm,
             wgpu::FilterMode::Linear,
         );
         let scene_gpu = SceneGpu::new(&ctx, &scene);
@@ -239,7 +239,7 @@ impl Running {
                 }
             }
             WindowEvent::MouseInput { state, button, .. } => {
-                self.on_mouse_button(*button, *state == ElementState::Pressed, response.consumed)
+                self.on_mouse_button(*button, *state == ElementState::Pressed, response.consumed);
             }
             WindowEvent::CursorMoved { position, .. } => {
                 let now = Vec2::new(position.x as f32, position.y as f32);
@@ -312,13 +312,13 @@ impl Running {
 
     /// Loads a scene; on failure the current scene stays and the message names the problem.
     fn open_scene(&mut self, spec: &str) {
-        match load_scene(spec, self.seed, &self.chunking) {
+        match load_scene(spec, self.seed, self.chunking) {
             Ok(scene) => {
                 self.scene_gpu = SceneGpu::new(&self.ctx, &scene);
                 self.facts = SceneFacts::from(&scene);
                 self.settings.sun = scene.sun;
                 self.scene = scene;
-                self.scene_spec = spec.to_owned();
+                spec.clone_into(&mut self.scene_spec);
                 self.window
                     .set_title(&format!("shadowlab: {}", self.scene.name));
                 self.frame_scene();
@@ -381,7 +381,7 @@ impl Running {
             && self.window_screenshot.is_some()
             || (self.screenshot_requested && self.screenshot_settings.include_panel);
         let capture = capture_window.then(|| self.surface.capture_texture(&self.ctx));
-        if self.surface.paint(&self.ctx, &egui_frame, capture.as_ref()) {
+        if self.surface.paint(&self.ctx, egui_frame, capture.as_ref()) {
             self.frames_presented += 1;
         }
         if self.screenshot_requested {
@@ -502,16 +502,16 @@ impl Running {
             match self.view_texture {
                 Some(id) => renderer.update_egui_texture_from_wgpu_texture(
                     &self.ctx.device,
-                    &targets.color_view,
+                    &targets.color_view_unorm,
                     wgpu::FilterMode::Linear,
                     id,
                 ),
                 None => {
                     self.view_texture = Some(renderer.register_native_texture(
                         &self.ctx.device,
-                        &targets.color_view,
+                        &targets.color_view_unorm,
                         wgpu::FilterMode::Linear,
-                    ))
+                    ));
                 }
             }
         }
@@ -524,17 +524,16 @@ impl Running {
             .last_report
             .as_ref()
             .context("no frame has been rendered yet")?;
-        let image = match window_capture {
-            Some(texture) => read_capture(&self.ctx, texture)?,
-            None => {
-                let targets = self
-                    .renderer
-                    .targets()
-                    .context("no frame has been rendered yet")?;
-                read_texture(&self.ctx, &targets.color, wgpu::TextureAspect::All)?
-                    .into_rgba_image()
-                    .context("colour target is not RGBA8")?
-            }
+        let image = if let Some(texture) = window_capture {
+            read_capture(&self.ctx, texture)?
+        } else {
+            let targets = self
+                .renderer
+                .targets()
+                .context("no frame has been rendered yet")?;
+            read_texture(&self.ctx, &targets.color, wgpu::TextureAspect::All)?
+                .into_rgba_image()
+                .context("colour target is not RGBA8")?
         };
         let stamp = std::time::SystemTime::now()
             .duration_since(std::time::UNIX_EPOCH)

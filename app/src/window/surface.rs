@@ -73,6 +73,27 @@ impl WindowSurface {
     pub fn paint(
         &mut self,
         ctx: &GpuContext,
+        mut frame: EguiFrame,
+        capture: Option<&wgpu::Texture>,
+    ) -> bool {
+        // egui's texture changes apply whether or not this frame reaches the screen.
+        for (id, deltas) in std::mem::take(&mut frame.textures_delta.set) {
+            for delta in &deltas {
+                self.egui_renderer
+                    .update_texture(&ctx.device, &ctx.queue, id, delta);
+            }
+        }
+        let presented = self.paint_jobs(ctx, &frame, capture);
+        for id in std::mem::take(&mut frame.textures_delta.free) {
+            self.egui_renderer.free_texture(&id);
+        }
+        frame.textures_delta.clear();
+        presented
+    }
+
+    fn paint_jobs(
+        &mut self,
+        ctx: &GpuContext,
         frame: &EguiFrame,
         capture: Option<&wgpu::Texture>,
     ) -> bool {
@@ -93,12 +114,6 @@ impl WindowSurface {
             size_in_pixels: [self.config.width, self.config.height],
             pixels_per_point: frame.pixels_per_point,
         };
-        for (id, deltas) in &frame.textures_delta.set {
-            for delta in deltas {
-                self.egui_renderer
-                    .update_texture(&ctx.device, &ctx.queue, *id, delta);
-            }
-        }
         let mut encoder = ctx
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -138,9 +153,6 @@ impl WindowSurface {
         ctx.queue
             .submit(user_buffers.into_iter().chain([encoder.finish()]));
         ctx.queue.present(surface_texture);
-        for id in &frame.textures_delta.free {
-            self.egui_renderer.free_texture(id);
-        }
         true
     }
 

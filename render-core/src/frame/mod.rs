@@ -491,10 +491,8 @@ impl FrameRenderer {
             query
                 .as_ref()
                 .and_then(wgpu_profiler::GpuProfilerQuery::compute_pass_timestamp_writes),
-            &targets.ids_view,
-            (targets.width, targets.height),
-            &scene_gpu.instance_buffer,
-            scene_gpu.instance_count,
+            targets,
+            scene_gpu,
             self.frame_index,
         );
         self.timer.end_pass(encoder, query);

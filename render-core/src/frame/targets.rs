@@ -6,6 +6,8 @@ pub struct ViewTargets {
     pub height: u32,
     pub color: wgpu::Texture,
     pub color_view: wgpu::TextureView,
+    /// The colour target read as plain `Rgba8Unorm` (sRGB-encoded bytes), as egui displays it.
+    pub color_view_unorm: wgpu::TextureView,
     pub ids: wgpu::Texture,
     pub ids_view: wgpu::TextureView,
     pub depth: wgpu::Texture,
@@ -42,7 +44,11 @@ impl ViewTargets {
                 usage: wgpu::TextureUsages::RENDER_ATTACHMENT
                     | wgpu::TextureUsages::COPY_SRC
                     | extra,
-                view_formats: &[],
+                view_formats: if format == COLOR_FORMAT {
+                    &[wgpu::TextureFormat::Rgba8Unorm]
+                } else {
+                    &[]
+                },
             });
             let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
             (texture, view)
@@ -52,6 +58,11 @@ impl ViewTargets {
             COLOR_FORMAT,
             wgpu::TextureUsages::TEXTURE_BINDING,
         );
+        let color_view_unorm = color.create_view(&wgpu::TextureViewDescriptor {
+            label: Some("ViewTargets::color_unorm"),
+            format: Some(wgpu::TextureFormat::Rgba8Unorm),
+            ..Default::default()
+        });
         let (ids, ids_view) = make(
             "ViewTargets::ids",
             ID_FORMAT,
@@ -72,6 +83,7 @@ impl ViewTargets {
             height,
             color,
             color_view,
+            color_view_unorm,
             ids,
             ids_view,
             depth,

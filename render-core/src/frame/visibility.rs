@@ -1,6 +1,7 @@
 //! Which objects the camera sees, from the object-id target: a flag per object and counts,
 //! computed on the GPU and read back without stalling.
 
+use super::{SceneGpu, ViewTargets};
 use crate::gpu::{AsyncReadback, GpuContext};
 
 pub(crate) const VISIBILITY_WGSL: &str = include_str!("visibility.wgsl");
@@ -98,12 +99,16 @@ impl VisibilityPass {
         ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
         timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
-        ids_view: &wgpu::TextureView,
-        size: (u32, u32),
-        instances: &wgpu::Buffer,
-        instance_count: u32,
+        targets: &ViewTargets,
+        scene_gpu: &SceneGpu,
         frame_index: u64,
     ) {
+        let (ids_view, size, instances, instance_count) = (
+            &targets.ids_view,
+            (targets.width, targets.height),
+            &scene_gpu.instance_buffer,
+            scene_gpu.instance_count,
+        );
         if instance_count > self.capacity {
             self.capacity = instance_count.next_power_of_two();
             self.visible_flags = create_flags(&ctx.device, self.capacity);

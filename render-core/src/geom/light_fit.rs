@@ -126,7 +126,7 @@ fn view_extent(
     let scene_near = depths.iter().copied().fold(f64::INFINITY, f64::min);
     let near = f64::from(camera.near_m).max(scene_near).max(1e-6);
     let far = f64::from(camera.far_m).min(scene_far);
-    if !(far > near) {
+    if far.is_nan() || far <= near {
         return None;
     }
     let aspect = if aspect.is_finite() && aspect > 0.0 {
@@ -164,7 +164,7 @@ fn pad_and_snap((min, max): Extent, resolution: u32) -> Extent {
 mod tests {
     use super::*;
 
-    /// SplitMix64: a small deterministic generator for test inputs.
+    /// `SplitMix64`: a small deterministic generator for test inputs.
     struct Rng(u64);
     impl Rng {
         fn next_f64(&mut self) -> f64 {

@@ -24,6 +24,8 @@ pub struct ShadowMapPass {
     /// The light's view as an sRGB image, for the panel inset and the `light-view` overlay.
     pub light_view: wgpu::Texture,
     pub light_view_view: wgpu::TextureView,
+    /// The inset read as plain `Rgba8Unorm` (sRGB-encoded bytes), as egui displays it.
+    pub light_view_view_unorm: wgpu::TextureView,
     light_view_bind_group: wgpu::BindGroup,
 }
 
@@ -101,9 +103,14 @@ impl ShadowMapPass {
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT
                 | wgpu::TextureUsages::TEXTURE_BINDING
                 | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
+            view_formats: &[wgpu::TextureFormat::Rgba8Unorm],
         });
         let light_view_view = light_view.create_view(&wgpu::TextureViewDescriptor::default());
+        let light_view_view_unorm = light_view.create_view(&wgpu::TextureViewDescriptor {
+            label: Some("ShadowMap::light_view_unorm"),
+            format: Some(wgpu::TextureFormat::Rgba8Unorm),
+            ..Default::default()
+        });
         let light_view_bind_group = light_view_bind_group(device, &light_view_layout, &depth_view);
         Self {
             pipeline,
@@ -114,6 +121,7 @@ impl ShadowMapPass {
             depth_view,
             light_view,
             light_view_view,
+            light_view_view_unorm,
             light_view_bind_group,
         }
     }

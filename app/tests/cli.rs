@@ -1,0 +1,293 @@
+//! The `shadowlab` binary as a user runs it: headless `shot` of the city, `bench`, `scenes`,
+//! bad input with clear messages, and the real window under a display (Xvfb in CI).
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::time::{Duration, Instant};
+
+fn shadowlab() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_shadowlab"))
+}
+
+fn out_dir(test: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(test);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir
+}
+
+fn run(cmd: &mut Command) -> Output {
+    cmd.output().expect("shadowlab runs")
+}
+
+fn text(output: &Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr)
+    )
+}
+
+#[test]
+fn shot_of_the_city_writes_a_picture_and_stats() {
+    let dir = out_dir("shot_city");
+    let png = dir.join("city.png");
+    let output = run(shadowlab()
+        .args([
+            "shot",
+            "builtin:city",
+            "--size",
+            "321x181",
+            "--overlay",
+            "light-view",
+            "--out",
+        ])
+        .arg(&png));
+    assert!(output.status.success(), "{}", text(&output));
+
+    let image = image::open(&png).expect("the PNG opens").to_rgba8();
+    assert_eq!(image.dimensions(), (321, 181));
+    let distinct: std::collections::HashSet<[u8; 4]> = image.pixels().map(|p| p.0).collect();
+    assert!(
+        distinct.len() > 100,
+        "the picture looks empty: {} colours",
+        distinct.len()
+    );
+
+    let stats: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(png.with_extension("json")).expect("stats JSON written"),
+    )
+    .expect("valid JSON");
+    assert_eq!(stats["scene"], "builtin:city");
+    assert_eq!(stats["method"], "none");
+    let objects = stats["objects"].as_u64().expect("objects");
+    assert!((7_000..=15_000).contains(&objects), "{objects} objects");
+    let counts = &stats["counts"];
+    let total = counts["casters_total"].as_u64().expect("casters_total");
+    let rendered = counts["casters_rendered"]
+        .as_u64()
+        .expect("casters_rendered");
+    assert!(rendered > 0 && rendered <= total, "{rendered} of {total}");
+    assert!(
+        counts["receivers_visible"]
+            .as_u64()
+            .expect("receivers_visible")
+            > 100
+    );
+    assert!(
+        stats["timings_ms"]["frame_wall"]
+            .as_f64()
+            .expect("frame_wall")
+            > 0.0
+    );
+    assert_eq!(stats["stages"][0]["remaining"].as_u64(), Some(total));
+}
+
+#[test]
+fn bench_prints_a_table_and_writes_csv() {
+    let dir = out_dir("bench");
+    let csv = dir.join("bench.csv");
+    let output = run(shadowlab()
+        .args([
+            "bench",
+            "builtin:city-small",
+            "--frames",
+            "3",
+            "--warmup",
+            "1",
+            "--size",
+            "160x90",
+            "--methods",
+            "all",
+            "--csv",
+        ])
+        .arg(&csv));
+    assert!(output.status.success(), "{}", text(&output));
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        stdout.contains("shadow pass ms") && stdout.lines().any(|l| l.starts_with("none")),
+        "{stdout}"
+    );
+    let table = std::fs::read_to_string(&csv).expect("CSV written");
+    let mut lines = table.lines();
+    assert!(
+        lines
+            .next()
+            .expect("header")
+            .starts_with("method,frames,frame_ms")
+    );
+    let row: Vec<&str> = lines.next().expect("one row").split(',').collect();
+    assert_eq!(row[0], "none");
+    assert_eq!(row[1], "3");
+    assert!(row[5].parse::<f64>().expect("casters drawn") > 0.0);
+}
+
+#[test]
+fn scenes_lists_the_built_ins() {
+    let output = run(shadowlab().arg("scenes"));
+    assert!(output.status.success());
+    let listing = text(&output);
+    for name in ["builtin:city ", "builtin:city-small", "builtin:boxes"] {
+        assert!(listing.contains(name), "{name} missing from:\n{listing}");
+    }
+}
+
+#[test]
+fn bad_input_gets_a_message_that_names_the_problem() {
+    let dir = out_dir("bad_input");
+    let broken = dir.join("broken.glb");
+    std::fs::write(&broken, b"glTF\x02\x00\x00\x00this is not a binary glTF").expect("write");
+    let png = dir.join("x.png");
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (
+            vec![
+                "shot".into(),
+                broken.display().to_string(),
+                "--out".into(),
+                png.display().to_string(),
+            ],
+            "broken.glb",
+        ),
+        (
+            vec![
+                "shot".into(),
+                "builtin:nope".into(),
+                "--out".into(),
+                png.display().to_string(),
+            ],
+            "builtin:city",
+        ),
+        (
+            vec![
+                "shot".into(),
+                "scene.txt".into(),
+                "--out".into(),
+                png.display().to_string(),
+            ],
+            "scene.txt",
+        ),
+        (
+            vec![
+                "shot".into(),
+                "builtin:boxes".into(),
+                "--size".into(),
+                "0x10".into(),
+                "--out".into(),
+                png.display().to_string(),
+            ],
+            "--size",
+        ),
+        (
+            vec![
+                "shot".into(),
+                "builtin:boxes".into(),
+                "--method".into(),
+                "bogus".into(),
+                "--out".into(),
+                png.display().to_string(),
+            ],
+            "bogus",
+        ),
+        (
+            vec![
+                "shot".into(),
+                "builtin:boxes".into(),
+                "--shadow-res".into(),
+                "100".into(),
+                "--out".into(),
+                png.display().to_string(),
+            ],
+            "--shadow-res",
+        ),
+        (
+            vec![
+                "shot".into(),
+                "builtin:boxes".into(),
+                "--eye".into(),
+                "1,2".into(),
+                "--out".into(),
+                png.display().to_string(),
+            ],
+            "x,y,z",
+        ),
+        (
+            vec![
+                "bench".into(),
+                "builtin:boxes".into(),
+                "--path".into(),
+                dir.join("missing.csv").display().to_string(),
+            ],
+            "missing.csv",
+        ),
+    ];
+    for (args, expected) in cases {
+        let output = run(shadowlab().args(&args));
+        assert!(!output.status.success(), "{args:?} should fail");
+        let message = text(&output);
+        assert!(
+            message.contains(expected),
+            "{args:?}: message does not name '{expected}':\n{message}"
+        );
+        assert!(
+            !message.contains("panicked"),
+            "{args:?} panicked:\n{message}"
+        );
+    }
+}
+
+/// Opens the real window (winit + wgpu surface + egui), renders frames, saves a screenshot of
+/// the whole window and closes. Needs a display: CI runs the tests under `xvfb-run`.
+#[test]
+fn window_opens_renders_and_saves_a_screenshot() {
+    let has_display =
+        std::env::var_os("DISPLAY").is_some() || std::env::var_os("WAYLAND_DISPLAY").is_some();
+    if !has_display {
+        assert!(
+            std::env::var("CI").is_err(),
+            "CI must run the window smoke test under a display (xvfb-run)"
+        );
+        eprintln!("skipped: no display; run `scripts/test.sh` to get one from xvfb-run");
+        return;
+    }
+    let dir = out_dir("window");
+    let png = dir.join("window.png");
+    let _ = std::fs::remove_file(&png);
+    let mut child = shadowlab()
+        .args([
+            "builtin:city-small",
+            "--exit-after-frames",
+            "4",
+            "--window-screenshot",
+        ])
+        .arg(&png)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("shadowlab starts");
+    let deadline = Instant::now() + Duration::from_mins(4);
+    while child.try_wait().expect("wait").is_none() {
+        if Instant::now() > deadline {
+            let _ = child.kill();
+            panic!("the window did not close within 240 s");
+        }
+        std::thread::sleep(Duration::from_millis(200));
+    }
+    let output = child.wait_with_output().expect("output");
+    assert!(output.status.success(), "{}", text(&output));
+    let image = image::open(&png)
+        .expect("window screenshot written")
+        .to_rgba8();
+    let (w, h) = image.dimensions();
+    assert!(w >= 400 && h >= 300, "window screenshot is {w}x{h}");
+    // The panel (left) and the 3D view (right) both drew something.
+    let colours = |x0: u32, x1: u32| {
+        let mut set = std::collections::HashSet::new();
+        for y in (0..h).step_by(3) {
+            for x in (x0..x1).step_by(3) {
+                set.insert(image.get_pixel(x, y).0);
+            }
+        }
+        set.len()
+    };
+    assert!(colours(0, w / 5) > 5, "the side panel looks empty");
+    assert!(colours(w / 2, w) > 50, "the 3D view looks empty");
+}

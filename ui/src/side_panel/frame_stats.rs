@@ -1,0 +1,111 @@
+//! Counts, culling stages and timings of the newest frame.
+
+use render_core::frame::FrameReport;
+
+use super::grid;
+use crate::format::{millis, thousands};
+use crate::history::TimingSample;
+use crate::{PanelInput, theme};
+
+/// Shown where a count has not come back from the GPU yet.
+const PENDING: &str = "…";
+
+pub fn ui(ui: &mut egui::Ui, input: &PanelInput<'_>, newest: Option<&TimingSample>) {
+    match input.report {
+        Some(report) => {
+            counts(ui, report);
+            stages(ui, report);
+        }
+        None => {
+            ui.label(egui::RichText::new("No frame rendered yet").color(theme::MUTED));
+        }
+    }
+    ui.add_space(theme::SECTION_GAP);
+    timings(ui, input, newest);
+}
+
+fn counts(ui: &mut egui::Ui, report: &FrameReport) {
+    let c = &report.counts;
+    grid::facts(ui, "frame_counts", |ui| {
+        grid::row(
+            ui,
+            "Casters rendered",
+            format!(
+                "{} / {}",
+                thousands(c.casters_rendered.into()),
+                thousands(c.casters_total.into())
+            ),
+        );
+        grid::row(ui, "Receivers visible", optional_count(c.receivers_visible));
+        grid::row(
+            ui,
+            "Objects drawn (camera)",
+            thousands(c.objects_drawn_camera.into()),
+        );
+        grid::row(ui, "Shadow triangles", thousands(c.triangles_shadow));
+        grid::row(ui, "Camera triangles", thousands(c.triangles_camera));
+    });
+}
+
+fn stages(ui: &mut egui::Ui, report: &FrameReport) {
+    if report.stages.is_empty() {
+        return;
+    }
+    ui.label(egui::RichText::new("Casters left after each stage").color(theme::MUTED));
+    grid::facts(ui, "frame_stages", |ui| {
+        for stage in &report.stages {
+            grid::row(ui, &stage.name, thousands(stage.remaining.into()));
+        }
+    });
+}
+
+fn timings(ui: &mut egui::Ui, input: &PanelInput<'_>, newest: Option<&TimingSample>) {
+    grid::facts(ui, "frame_timings", |ui| {
+        grid::row(
+            ui,
+            "FPS",
+            input
+                .fps
+                .map_or_else(|| PENDING.to_owned(), |f| format!("{f:.1}")),
+        );
+        grid::row(
+            ui,
+            "Frame",
+            newest.map_or_else(|| PENDING.to_owned(), |s| millis(s.frame_ms)),
+        );
+        if let Some(report) = input.report {
+            grid::row(ui, "CPU culling", millis(report.cpu.culling_ms));
+            grid::row(ui, "CPU encode+submit", millis(report.cpu.encode_submit_ms));
+            if input.has_gpu_timestamps {
+                gpu_rows(ui, report);
+            }
+        }
+    });
+    if !input.has_gpu_timestamps {
+        ui.label(
+            egui::RichText::new("GPU timestamps not available on this adapter").color(theme::MUTED),
+        );
+    }
+    grid::facts(ui, "frame_adapter", |ui| {
+        ui.label(egui::RichText::new("Adapter").color(theme::MUTED));
+        ui.add(egui::Label::new(input.adapter).wrap());
+        ui.end_row();
+    });
+}
+
+fn gpu_rows(ui: &mut egui::Ui, report: &FrameReport) {
+    if report.gpu.is_empty() {
+        grid::row(ui, "GPU", PENDING);
+        return;
+    }
+    for pass in &report.gpu {
+        grid::row(ui, &format!("GPU {}", pass.label), millis(pass.gpu_ms));
+    }
+    if let Some(total) = report.gpu_total_ms() {
+        grid::row(ui, "GPU total", millis(total));
+    }
+}
+
+fn optional_count(count: Option<u32>) -> String {
+    count.map_or_else(|| PENDING.to_owned(), |n| thousands(n.into()))
+}

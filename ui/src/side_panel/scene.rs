@@ -1,0 +1,53 @@
+//! Scene facts and the buttons that load or frame a scene.
+
+use render_core::scene::SceneFacts;
+
+use super::grid;
+use crate::UiAction;
+use crate::format::{length, point, thousands};
+
+pub fn ui(ui: &mut egui::Ui, facts: &SceneFacts, actions: &mut Vec<UiAction>) {
+    grid::facts(ui, "scene_facts", |ui| {
+        grid::row(ui, "Name", facts.name.as_str());
+        grid::row(ui, "Objects", thousands(facts.objects as u64));
+        grid::row(ui, "Meshes", thousands(facts.meshes as u64));
+        grid::row(ui, "Triangles", thousands(facts.triangles as u64));
+        grid::row(ui, "Casters", thousands(facts.casters as u64));
+        bounds_rows(ui, facts.bounds_min_m, facts.bounds_max_m);
+    });
+    ui.horizontal_wrapped(|ui| {
+        if ui
+            .button("Open glTF…")
+            .on_hover_text("Load a .gltf or .glb file")
+            .clicked()
+        {
+            actions.push(UiAction::OpenFile);
+        }
+        if ui
+            .button("Frame scene (F)")
+            .on_hover_text("Move the camera so the whole scene is in view")
+            .clicked()
+        {
+            actions.push(UiAction::FrameScene);
+        }
+        if ui
+            .button("Reload")
+            .on_hover_text("Load the scene again from its source")
+            .clicked()
+        {
+            actions.push(UiAction::ReloadScene);
+        }
+    });
+}
+
+fn bounds_rows(ui: &mut egui::Ui, min: [f32; 3], max: [f32; 3]) {
+    let finite = min.iter().chain(&max).all(|v| v.is_finite());
+    if !finite || (0..3).any(|i| min[i] > max[i]) {
+        grid::row(ui, "Bounds", "empty");
+        return;
+    }
+    grid::row(ui, "Bounds min", format!("{} m", point(min)));
+    grid::row(ui, "Bounds max", format!("{} m", point(max)));
+    let size: Vec<String> = (0..3).map(|i| length(max[i] - min[i])).collect();
+    grid::row(ui, "Size", format!("{} m", size.join(" × ")));
+}

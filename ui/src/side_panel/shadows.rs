@@ -1,0 +1,77 @@
+//! Shadow-map settings: on/off, method, resolution, biases, PCF and overlays.
+
+use render_core::frame::{FrameSettings, Method, PcfKernel};
+
+use super::grid;
+
+/// Shadow-map sizes offered, texels per side.
+pub const RESOLUTIONS: [u32; 5] = [512, 1024, 2048, 4096, 8192];
+
+const METHOD_HELP: &str = "How shadow casters are chosen; the names match DESIGN.md and the papers";
+const RESOLUTION_HELP: &str =
+    "Shadow map width and height in texels: sharper shadows for more memory and fill";
+const DEPTH_BIAS_HELP: &str = "Constant offset along the light direction that stops surfaces \
+    from shadowing themselves (acne); too much detaches shadows from their casters";
+const SLOPE_BIAS_HELP: &str = "Extra offset that grows with the surface's depth slope, for \
+    surfaces the light grazes";
+const NORMAL_OFFSET_HELP: &str = "Moves the shadow lookup along the surface normal by this many \
+    shadow texels, removing acne on steep surfaces with less detachment than depth bias";
+const PCF_HELP: &str = "Percentage-closer filtering: averages the shadow test over this many \
+    texels around the lookup, softening shadow edges";
+
+pub fn ui(ui: &mut egui::Ui, settings: &mut FrameSettings) {
+    let shadow = &mut settings.shadow;
+    ui.checkbox(&mut shadow.shadows_enabled, "Shadows enabled");
+    grid::facts(ui, "shadow_settings", |ui| {
+        grid::labelled(ui, "Method", METHOD_HELP, |ui| {
+            egui::ComboBox::from_id_salt("shadow_method")
+                .selected_text(settings.method.name())
+                .show_ui(ui, |ui| {
+                    for method in Method::ALL {
+                        ui.selectable_value(&mut settings.method, method, method.name());
+                    }
+                })
+                .response
+        });
+        grid::labelled(ui, "Resolution", RESOLUTION_HELP, |ui| {
+            egui::ComboBox::from_id_salt("shadow_resolution")
+                .selected_text(shadow.resolution.to_string())
+                .show_ui(ui, |ui| {
+                    for resolution in RESOLUTIONS {
+                        ui.selectable_value(
+                            &mut shadow.resolution,
+                            resolution,
+                            resolution.to_string(),
+                        );
+                    }
+                })
+                .response
+        });
+        grid::labelled(ui, "Depth bias", DEPTH_BIAS_HELP, |ui| {
+            ui.add(
+                egui::Slider::new(&mut shadow.depth_bias_m, 0.0..=1.0)
+                    .logarithmic(true)
+                    .smallest_positive(1e-4)
+                    .suffix(" m"),
+            )
+        });
+        grid::labelled(ui, "Slope bias", SLOPE_BIAS_HELP, |ui| {
+            ui.add(egui::Slider::new(&mut shadow.slope_bias, 0.0..=5.0))
+        });
+        grid::labelled(ui, "Normal offset", NORMAL_OFFSET_HELP, |ui| {
+            ui.add(egui::Slider::new(&mut shadow.normal_offset_texels, 0.0..=4.0).suffix(" texels"))
+        });
+        grid::labelled(ui, "PCF kernel", PCF_HELP, |ui| {
+            egui::ComboBox::from_id_salt("shadow_pcf")
+                .selected_text(shadow.pcf.name())
+                .show_ui(ui, |ui| {
+                    for kernel in PcfKernel::ALL {
+                        ui.selectable_value(&mut shadow.pcf, kernel, kernel.name());
+                    }
+                })
+                .response
+        });
+    });
+    ui.checkbox(&mut settings.overlays.light_view, "Light view in corner")
+        .on_hover_text("Draw the shadow map's depth over the top-left corner of the 3D view");
+}

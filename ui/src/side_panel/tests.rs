@@ -1,0 +1,390 @@
+//! The side panel driven through `egui_kittest`: what it shows, what clicks do, and one image
+//! snapshot. Goldens live in `ui/tests/snapshots/`; a missing or different one fails the test.
+//! Regenerate them with `UPDATE_SNAPSHOTS=1 cargo test -p ui` and review the new images.
+
+use egui::accesskit::Role;
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable as _;
+use render_core::frame::{
+    CpuTimings, FrameCounts, FrameReport, FrameSettings, LightFacts, PcfKernel, Stage, pass_label,
+};
+use render_core::gpu::PassTiming;
+use render_core::scene::{SceneFacts, Sun};
+
+use super::SidePanel;
+use crate::{PanelInput, ScreenshotSettings, UiAction};
+
+const WIDTH: f32 = 300.0;
+const HEIGHT: f32 = 1700.0;
+
+/// What the app would hold: settings, the panel, and the facts it feeds in.
+struct Lab {
+    panel: SidePanel,
+    settings: FrameSettings,
+    screenshot: ScreenshotSettings,
+    scene: SceneFacts,
+    report: FrameReport,
+    message: Option<String>,
+    has_gpu_timestamps: bool,
+    light_view: Option<egui::TextureHandle>,
+    /// Draw through [`SidePanel::show`] (panel + scrolling) instead of [`SidePanel::ui`].
+    in_own_panel: bool,
+    actions: Vec<UiAction>,
+}
+
+fn scene() -> SceneFacts {
+    SceneFacts {
+        name: "builtin:city".to_owned(),
+        objects: 1234,
+        meshes: 12,
+        triangles: 1_234_567,
+        casters: 1200,
+        bounds_min_m: [-50.0, 0.0, -40.0],
+        bounds_max_m: [50.0, 42.5, 40.0],
+    }
+}
+
+fn pass(label: &str, gpu_ms: f64) -> PassTiming {
+    PassTiming {
+        label: label.to_owned(),
+        gpu_ms,
+    }
+}
+
+fn report(frame_index: u64) -> FrameReport {
+    // A gentle, deterministic wobble so the plot has shape.
+    let wobble = (frame_index % 7) as f64 * 0.1;
+    FrameReport {
+        frame_index,
+        width: 1280,
+        height: 720,
+        counts: FrameCounts {
+            casters_total: 1200,
+            casters_rendered: 873,
+            receivers_visible: None,
+            objects_visible: None,
+            objects_drawn_camera: 640,
+            triangles_shadow: 456_789,
+            triangles_camera: 345_678,
+        },
+        stages: vec![Stage {
+            name: "light frustum".to_owned(),
+            remaining: 873,
+        }],
+        cpu: CpuTimings {
+            culling_ms: 0.42,
+            encode_submit_ms: 1.25,
+        },
+        gpu: vec![
+            pass(pass_label::CAMERA_PREPASS, 0.8 + wobble),
+            pass(pass_label::SHADOW_MAP, 2.1 + wobble),
+            pass(pass_label::SHADING, 1.4),
+        ],
+        gpu_frame_index: frame_index.checked_sub(2),
+        light: LightFacts {
+            texel_size_m: [0.049, 0.049],
+            depth_range_m: 142.0,
+            covers_whole_scene: true,
+        },
+    }
+}
+
+impl Lab {
+    fn new() -> Self {
+        let mut panel = SidePanel::new();
+        for i in 0..60 {
+            let r = report(i);
+            panel.record(i as f64 / 6.0, &r, 16.0 + (i % 5) as f64);
+        }
+        Self {
+            panel,
+            settings: FrameSettings::default(),
+            screenshot: ScreenshotSettings::default(),
+            scene: scene(),
+            report: report(60),
+            message: None,
+            has_gpu_timestamps: true,
+            light_view: None,
+            in_own_panel: false,
+            actions: Vec::new(),
+        }
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui) {
+        let light_view = self
+            .light_view
+            .get_or_insert_with(|| {
+                ui.ctx()
+                    .load_texture("light_view", gradient(), egui::TextureOptions::NEAREST)
+            })
+            .id();
+        let input = PanelInput {
+            scene: &self.scene,
+            report: Some(&self.report),
+            light_view: Some(light_view),
+            adapter: "llvmpipe (LLVM 19.1.7, 256 bits) (Vulkan)",
+            has_gpu_timestamps: self.has_gpu_timestamps,
+            last_screenshot: Some("shot-0001.png"),
+            message: self.message.as_deref(),
+            fps: Some(59.9),
+        };
+        let actions = if self.in_own_panel {
+            self.panel
+                .show(ui, &mut self.settings, &mut self.screenshot, &input)
+        } else {
+            self.panel
+                .ui(ui, &mut self.settings, &mut self.screenshot, &input)
+        };
+        self.actions.extend(actions);
+    }
+}
+
+/// A stand-in for the shadow map: bright near the top-left, dark far away.
+fn gradient() -> egui::ColorImage {
+    let size = 64;
+    let pixels = (0..size * size)
+        .map(|i| {
+            let (x, y) = (i % size, i / size);
+            let v = 255 - ((x + y) * 255 / (2 * size - 2)) as u8;
+            egui::Color32::from_gray(v)
+        })
+        .collect();
+    egui::ColorImage::new([size, size], pixels)
+}
+
+fn harness(lab: Lab) -> Harness<'static, Lab> {
+    let mut harness = Harness::builder()
+        .with_size(egui::vec2(WIDTH, HEIGHT))
+        .with_context_setup(crate::theme::apply)
+        .build_ui_state(|ui, lab: &mut Lab| lab.ui(ui), lab);
+    harness.run();
+    harness
+}
+
+#[test]
+fn scene_facts_and_counts_are_shown() {
+    let harness = harness(Lab::new());
+    for label in [
+        "Objects",
+        "1,234",
+        "Triangles",
+        "1,234,567",
+        "builtin:city",
+        "(-50.00, 0.00, -40.00) m",
+        "100 × 42.5 × 80.0 m",
+        "873 / 1,200",
+        "Receivers visible",
+        "…",
+        "456,789",
+        "345,678",
+        "light frustum",
+        "GPU shadow map",
+        "0.049 × 0.049 m",
+        "142 m",
+        "shot-0001.png",
+        "llvmpipe (LLVM 19.1.7, 256 bits) (Vulkan)",
+    ] {
+        assert!(
+            harness.query_by_label(label).is_some(),
+            "no label {label:?} in the panel"
+        );
+    }
+}
+
+#[test]
+fn received_count_replaces_the_pending_mark() {
+    let mut lab = Lab::new();
+    lab.report.counts.receivers_visible = Some(4321);
+    let harness = harness(lab);
+    assert!(harness.query_by_label("4,321").is_some());
+    assert!(harness.query_by_label("…").is_none());
+}
+
+#[test]
+fn buttons_return_actions() {
+    let mut harness = harness(Lab::new());
+    for (button, action) in [
+        ("Screenshot (F12)", UiAction::Screenshot),
+        ("Open glTF…", UiAction::OpenFile),
+        ("Frame scene (F)", UiAction::FrameScene),
+        ("Reload", UiAction::ReloadScene),
+    ] {
+        harness.state_mut().actions.clear();
+        harness.get_by_role_and_label(Role::Button, button).click();
+        harness.run();
+        assert_eq!(
+            harness.state().actions,
+            [action],
+            "after clicking {button:?}"
+        );
+    }
+}
+
+#[test]
+fn show_puts_a_scrolling_panel_on_the_left() {
+    let mut lab = Lab::new();
+    lab.in_own_panel = true;
+    let mut harness = Harness::builder()
+        .with_size(egui::vec2(900.0, 500.0))
+        .with_context_setup(crate::theme::apply)
+        .build_ui_state(|ui, lab: &mut Lab| lab.ui(ui), lab);
+    harness.run();
+
+    let scene_name = harness.get_by_label("builtin:city").rect();
+    assert!(scene_name.left() < crate::theme::SIDE_PANEL_WIDTH);
+    let button = harness.get_by_role_and_label(Role::Button, "Screenshot (F12)");
+    assert!(button.rect().top() > 500.0, "the button starts out of view");
+    button.scroll_to_me();
+    harness.run();
+    let button = harness.get_by_role_and_label(Role::Button, "Screenshot (F12)");
+    assert!(button.rect().bottom() <= 500.0, "scrolled into view");
+    button.click();
+    harness.run();
+    assert_eq!(harness.state().actions, [UiAction::Screenshot]);
+}
+
+#[test]
+fn no_clicks_no_actions_and_no_setting_changes() {
+    let mut harness = harness(Lab::new());
+    harness.run_steps(5);
+    let lab = harness.state();
+    assert!(lab.actions.is_empty());
+    assert_eq!(lab.settings, FrameSettings::default());
+    assert_eq!(lab.screenshot, ScreenshotSettings::default());
+}
+
+#[test]
+fn pcf_kernel_combo_edits_settings() {
+    let mut harness = harness(Lab::new());
+    harness
+        .get_by_role_and_label(Role::ComboBox, "PCF kernel")
+        .click();
+    harness.run();
+    harness
+        .get_by_role(Role::ListBox)
+        .get_by_label("5x5")
+        .click();
+    harness.run();
+    assert_eq!(harness.state().settings.shadow.pcf, PcfKernel::K5x5);
+}
+
+#[test]
+fn resolution_combo_edits_settings() {
+    let mut harness = harness(Lab::new());
+    harness
+        .get_by_role_and_label(Role::ComboBox, "Resolution")
+        .click();
+    harness.run();
+    harness
+        .get_by_role(Role::ListBox)
+        .get_by_label("4096")
+        .click();
+    harness.run();
+    assert_eq!(harness.state().settings.shadow.resolution, 4096);
+}
+
+#[test]
+fn checkboxes_edit_settings() {
+    let mut harness = harness(Lab::new());
+    harness.get_by_label("Shadows enabled").click();
+    harness.get_by_label("Light view in corner").click();
+    harness.get_by_label("Include panel").click();
+    harness.run();
+    let lab = harness.state();
+    assert!(!lab.settings.shadow.shadows_enabled);
+    assert!(lab.settings.overlays.light_view);
+    assert!(lab.screenshot.include_panel);
+}
+
+#[test]
+fn sun_sliders_edit_the_sun_and_idle_frames_keep_it_exact() {
+    let mut lab = Lab::new();
+    lab.settings.sun = Sun::from_azimuth_elevation_deg(123.4, 20.0);
+    let before = lab.settings.sun;
+    let mut harness = harness(lab);
+    harness.run_steps(5);
+    assert_eq!(
+        harness.state().settings.sun,
+        before,
+        "idle frames rewrote the sun"
+    );
+
+    // Up to the zenith, where the direction alone has no azimuth, and back down:
+    // the azimuth the user set survives.
+    harness
+        .get_by_role_and_label(Role::Slider, "Elevation")
+        .set_value_accesskit(90.0);
+    harness.run();
+    let at_zenith = harness.state().settings.sun;
+    assert!(at_zenith.direction_to_sun.y > 0.999_999);
+    harness.run_steps(5);
+    assert_eq!(harness.state().settings.sun, at_zenith);
+
+    harness
+        .get_by_role_and_label(Role::Slider, "Elevation")
+        .set_value_accesskit(30.0);
+    harness.run();
+    let (azimuth, elevation_deg) = harness.state().settings.sun.azimuth_elevation_deg();
+    assert!(
+        (elevation_deg - 30.0).abs() < 1e-3,
+        "elevation {elevation_deg}"
+    );
+    assert!((azimuth - 123.4).abs() < 1e-3, "azimuth {azimuth}");
+
+    harness
+        .get_by_role_and_label(Role::Slider, "Azimuth")
+        .set_value_accesskit(200.0);
+    harness.run();
+    let (azimuth, _) = harness.state().settings.sun.azimuth_elevation_deg();
+    assert!((azimuth - 200.0).abs() < 1e-3, "azimuth {azimuth}");
+}
+
+#[test]
+fn message_is_shown_only_when_present() {
+    let text = "scene.glb: not a valid glTF (unexpected end of file)";
+    let mut harness = harness(Lab::new());
+    assert!(
+        harness
+            .query_by_label_contains("not a valid glTF")
+            .is_none()
+    );
+    harness.state_mut().message = Some(text.to_owned());
+    harness.run();
+    assert!(harness.query_by_label(text).is_some());
+}
+
+#[test]
+fn missing_gpu_timestamps_are_explained() {
+    let mut lab = Lab::new();
+    lab.has_gpu_timestamps = false;
+    let harness = harness(lab);
+    assert!(
+        harness
+            .query_by_label("GPU timestamps not available on this adapter")
+            .is_some()
+    );
+    assert!(harness.query_by_label("GPU shadow map").is_none());
+}
+
+#[test]
+fn record_keeps_only_the_last_ten_seconds() {
+    let mut panel = SidePanel::new();
+    let r = report(0);
+    // 30 s at 60 fps.
+    for i in 0..1800 {
+        panel.record(f64::from(i) / 60.0, &r, 16.7);
+    }
+    let history = panel.history();
+    assert!(history.span_s() <= crate::TimingHistory::WINDOW_S);
+    assert!(history.len() <= 601, "{} samples", history.len());
+    assert!(history.len() >= 600, "{} samples", history.len());
+    assert_eq!(history.pass_series().len(), 3);
+}
+
+/// The whole panel, rendered with wgpu (lavapipe on CPU-only machines:
+/// `WGPU_BACKEND=vulkan XDG_RUNTIME_DIR=$(mktemp -d) cargo test -p ui`).
+#[test]
+fn side_panel_snapshot() {
+    let mut harness = harness(Lab::new());
+    harness.snapshot("side_panel");
+}
