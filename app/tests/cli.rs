@@ -122,6 +122,26 @@ fn bench_prints_a_table_and_writes_csv() {
 }
 
 #[test]
+fn no_adapter_says_how_to_get_one() {
+    // No Metal adapter exists on Linux, so this asks for an adapter that is not there.
+    if cfg!(target_os = "macos") {
+        return;
+    }
+    let png = out_dir("no_adapter").join("x.png");
+    let output = run(shadowlab()
+        .env("WGPU_BACKEND", "metal")
+        .args(["shot", "builtin:boxes", "--out"])
+        .arg(&png));
+    assert!(!output.status.success());
+    let message = text(&output);
+    assert!(
+        message.contains("no GPU adapter") && message.contains("mesa-vulkan-drivers"),
+        "{message}"
+    );
+    assert!(!png.exists());
+}
+
+#[test]
 fn scenes_lists_the_built_ins() {
     let output = run(shadowlab().arg("scenes"));
     assert!(output.status.success());

@@ -132,3 +132,19 @@ pub fn ray_hits_box(p: Vec3, direction_to_sun: Vec3, min: Vec3, max: Vec3) -> bo
     let t_far = t0.max(t1).min_element();
     t_far >= t_near.max(0.0)
 }
+
+/// Whether ground point `p` is in the shadow of the box `[min, max]`, or `None` when it lies in
+/// the band where the answer changes if the box grows or shrinks by `margin_m` (the PCF border).
+pub fn expected_shadow(
+    p: Vec3,
+    direction_to_sun: Vec3,
+    min: Vec3,
+    max: Vec3,
+    margin_m: f32,
+) -> Option<bool> {
+    let origin = p + Vec3::Y * 1e-3;
+    let margin = Vec3::splat(margin_m);
+    let grown = ray_hits_box(origin, direction_to_sun, min - margin, max + margin);
+    let shrunk = ray_hits_box(origin, direction_to_sun, min + margin, max - margin);
+    (grown == shrunk).then_some(grown)
+}

@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Regenerates the pictures in screenshots/ that README.md shows. Headless, on any adapter.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+source scripts/env.sh
+run() { cargo run --release --quiet -- "$@"; }
+run shot builtin:city --size 1280x720 --shadow-res 2048 \
+    --eye=-250,90,160 --target=-90,0,40 --overlay light-view \
+    --out screenshots/city.png --stats screenshots/city.json
+run shot builtin:city --size 1280x720 --shadow-res 2048 \
+    --eye=-330,3.5,8 --target=-200,12,8 \
+    --out screenshots/city-street.png --stats screenshots/city-street.json
+if command -v xvfb-run >/dev/null 2>&1 || [ -n "${DISPLAY:-}" ]; then
+    wrap=(); [ -z "${DISPLAY:-}" ] && wrap=(xvfb-run -a -s "-screen 0 1600x1000x24")
+    "${wrap[@]}" cargo run --release --quiet -- builtin:city --exit-after-frames 8 --window-screenshot screenshots/window.png
+fi

@@ -1,0 +1,116 @@
+//! Whole-frame consistency: GPU counts against the read-back targets, and hard placements.
+
+use std::collections::HashSet;
+
+use glam::{Mat4, Vec3};
+use render_core::frame::FrameSettings;
+use render_core::geom::Camera;
+use render_core::scene::{Scene, Sun, load_builtin};
+use shadowlab_tests::{box_on_plane, render, world_position};
+
+#[test]
+fn visible_counts_match_the_object_id_target() {
+    let scene = load_builtin("boxes", 0).expect("boxes exists");
+    let camera = Camera::look_at(
+        Vec3::new(-25.0, 18.0, 25.0),
+        Vec3::ZERO,
+        50f32.to_radians(),
+        0.1,
+        200.0,
+    );
+    let settings = FrameSettings {
+        sun: scene.sun,
+        ..FrameSettings::default()
+    };
+    let (report, capture) = render(&scene, &camera, &settings, 301, 203);
+    let ids: HashSet<u32> = capture.ids.iter().copied().filter(|&id| id != 0).collect();
+    let receivers = ids
+        .iter()
+        .filter(|&&id| scene.instances[id as usize - 1].receives_shadow)
+        .count();
+    assert!(ids.len() >= 4, "the boxes should be visible: {ids:?}");
+    assert_eq!(report.counts.objects_visible, Some(ids.len() as u32));
+    assert_eq!(report.counts.receivers_visible, Some(receivers as u32));
+    assert_eq!(report.counts.casters_total, scene.caster_count() as u32);
+    assert_eq!(
+        report.counts.casters_rendered,
+        scene.caster_count() as u32,
+        "every caster of this small scene is in the light frustum"
+    );
+    // Sky and geometry are both present and the depth of geometry is inside (0, 1].
+    assert!(capture.ids.contains(&0));
+    for (id, depth) in capture.ids.iter().zip(&capture.depth) {
+        if *id != 0 {
+            assert!(
+                *depth > 0.0 && *depth <= 1.0,
+                "depth {depth} of object {id}"
+            );
+        }
+    }
+}
+
+/// Moves every instance of `scene` by `offset`.
+fn translated(scene: &Scene, offset: Vec3) -> Scene {
+    let mut instances = scene.instances.clone();
+    for inst in &mut instances {
+        inst.world_from_local = Mat4::from_translation(offset) * inst.world_from_local;
+        inst.aabb_in_world = scene.meshes[inst.mesh as usize]
+            .aabb_in_local
+            .transformed(&inst.world_from_local);
+    }
+    Scene::new("test:far-away", scene.meshes.clone(), instances, scene.sun)
+}
+
+#[test]
+fn shadows_hold_100_km_from_the_origin() {
+    let sun = Sun::from_azimuth_elevation_deg(30.0, 50.0);
+    let offset = Vec3::new(100_000.0, 0.0, -60_000.0);
+    let scene = translated(&box_on_plane(30.0, Vec3::splat(4.0), 0.0, sun), offset);
+    let camera = Camera::look_at(
+        offset + Vec3::new(0.0, 25.0, 30.0),
+        offset,
+        55f32.to_radians(),
+        0.1,
+        500.0,
+    );
+    let settings = FrameSettings {
+        sun,
+        ..FrameSettings::default()
+    };
+    let (report, capture) = render(&scene, &camera, &settings, 256, 256);
+    assert!(!report.light.covers_whole_scene);
+    let texel = report.light.texel_size_m[0].max(report.light.texel_size_m[1]);
+    let (min, max) = (
+        offset + Vec3::new(-2.0, 0.0, -2.0),
+        offset + Vec3::new(2.0, 4.0, 2.0),
+    );
+    let (mut shadowed, mut wrong, mut checked) = (0, 0, 0);
+    for y in 0..capture.height {
+        for x in 0..capture.width {
+            let i = (y * capture.width + x) as usize;
+            if capture.ids[i] != 1 {
+                continue;
+            }
+            let p = world_position(&capture, &camera, x, y).expect("ground has depth");
+            let Some(expected) =
+                shadowlab_tests::expected_shadow(p, sun.direction_to_sun, min, max, texel * 3.0)
+            else {
+                continue;
+            };
+            checked += 1;
+            let dark = capture.shadow[i] == 0;
+            let lit = capture.shadow[i] == 255;
+            shadowed += usize::from(expected && dark);
+            wrong += usize::from(if expected { !dark } else { !lit });
+        }
+    }
+    assert!(checked > 20_000, "{checked} ground pixels checked");
+    assert!(
+        shadowed > 200,
+        "the box's shadow is missing 100 km out ({shadowed} px)"
+    );
+    assert_eq!(
+        wrong, 0,
+        "{wrong} of {checked} ground pixels have the wrong shadow 100 km out"
+    );
+}
