@@ -142,6 +142,46 @@ fn no_adapter_says_how_to_get_one() {
 }
 
 #[test]
+fn gltf_scene_and_path_from_assets_load_and_render() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let scene = root.join("assets/scenes/courtyard.gltf");
+    let png = out_dir("courtyard").join("courtyard.png");
+    let output = run(shadowlab()
+        .arg("shot")
+        .arg(&scene)
+        .args([
+            "--size",
+            "200x120",
+            "--eye=-40,30,-45",
+            "--target=0,2,0",
+            "--out",
+        ])
+        .arg(&png));
+    assert!(output.status.success(), "{}", text(&output));
+    let stats: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(png.with_extension("json")).expect("stats"))
+            .expect("JSON");
+    // 16 ground chunks, 8 pillars (one shared mesh), the roof ring and the tower.
+    assert_eq!(stats["objects"], 26);
+    assert!(
+        stats["counts"]["receivers_visible"]
+            .as_u64()
+            .expect("count")
+            > 10
+    );
+    let path = root.join("assets/paths/courtyard-walk.csv");
+    let output = run(shadowlab()
+        .arg("bench")
+        .arg(&scene)
+        .args([
+            "--frames", "2", "--warmup", "0", "--size", "96x64", "--path",
+        ])
+        .arg(&path));
+    assert!(output.status.success(), "{}", text(&output));
+    assert!(text(&output).contains("path '"), "{}", text(&output));
+}
+
+#[test]
 fn scenes_lists_the_built_ins() {
     let output = run(shadowlab().arg("scenes"));
     assert!(output.status.success());
