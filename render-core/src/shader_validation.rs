@@ -38,15 +38,18 @@ fn every_wgsl_file_validates() {
         files.len() >= 5,
         "expected the crate's shaders, found {files:?}"
     );
-    let common = crate::frame::COMMON_WGSL;
     for path in files {
         let source = std::fs::read_to_string(&path).expect("shader is readable");
         let name = path.display().to_string();
-        // Files that use the shared declarations are validated as the renderer composes them.
-        if source.contains("Prepended with frame/common.wgsl") {
-            validate(&name, &format!("{common}\n{source}"));
-        } else {
-            validate(&name, &source);
-        }
+        // Files that use shared declarations are validated as the renderer composes them.
+        let composed =
+            if source.contains("Prepended with frame/instance.wgsl and frame/common.wgsl") {
+                format!("{}\n{source}", crate::frame::scene_prelude())
+            } else if source.contains("Prepended with frame/instance.wgsl") {
+                format!("{}\n{source}", crate::frame::INSTANCE_WGSL)
+            } else {
+                source
+            };
+        validate(&name, &composed);
     }
 }

@@ -1,5 +1,5 @@
 // The camera passes: a depth + object-id prepass, then shading with the shadow map.
-// Prepended with frame/common.wgsl.
+// Prepended with frame/instance.wgsl and frame/common.wgsl.
 
 @group(1) @binding(0) var shadow_map: texture_depth_2d;
 

@@ -1,5 +1,5 @@
-// Declarations shared by the camera and shadow passes.
-// Keep in sync with frame/gpu_data.rs (FrameUniforms, InstanceData, Vertex).
+// Frame uniforms and scene bindings shared by the camera and shadow passes.
+// Prepended with frame/instance.wgsl. Keep in sync with frame/gpu_data.rs (FrameUniforms).
 
 struct FrameUniforms {
     clip_from_world: mat4x4<f32>,
@@ -13,15 +13,6 @@ struct FrameUniforms {
     params: vec4<u32>,
 }
 
-struct InstanceData {
-    world_from_local: mat4x4<f32>,
-    normal_from_local: array<vec4<f32>, 3>,
-    base_color: vec4<f32>,
-    flags: vec4<u32>,
-}
-
-const FLAG_CASTER: u32 = 1u;
-const FLAG_RECEIVER: u32 = 2u;
 
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;
 @group(0) @binding(1) var<storage, read> instances: array<InstanceData>;

@@ -41,7 +41,14 @@ use scene_gpu::{DrawList, VERTEX_LAYOUT};
 use targets::{COLOR_FORMAT, DEPTH_FORMAT, ID_FORMAT, SHADOW_FACTOR_FORMAT};
 use visibility::VisibilityPass;
 
+pub(crate) const INSTANCE_WGSL: &str = include_str!("instance.wgsl");
 pub(crate) const COMMON_WGSL: &str = include_str!("common.wgsl");
+
+/// The declarations every scene pass starts with: the instance layout, then frame uniforms and
+/// scene bindings.
+pub(crate) fn scene_prelude() -> String {
+    format!("{INSTANCE_WGSL}\n{COMMON_WGSL}")
+}
 pub(crate) const CAMERA_WGSL: &str = include_str!("camera.wgsl");
 
 /// Linear sky colour behind the scene.
@@ -129,7 +136,7 @@ impl FrameRenderer {
         });
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("Frame::camera_shader"),
-            source: wgpu::ShaderSource::Wgsl(format!("{COMMON_WGSL}\n{CAMERA_WGSL}").into()),
+            source: wgpu::ShaderSource::Wgsl(format!("{}\n{CAMERA_WGSL}", scene_prelude()).into()),
         });
         let prepass_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("Frame::prepass_layout"),
@@ -169,7 +176,7 @@ impl FrameRenderer {
         let shadow_map = ShadowMapPass::new(
             device,
             &frame_layout,
-            COMMON_WGSL,
+            &scene_prelude(),
             ShadowSettings::default().resolution,
         );
         let shade_bind_group = shade_bind_group(device, &shade_layout, &shadow_map.depth_view);

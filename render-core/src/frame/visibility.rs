@@ -32,7 +32,9 @@ impl VisibilityPass {
         let device = &ctx.device;
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("Visibility::shader"),
-            source: wgpu::ShaderSource::Wgsl(VISIBILITY_WGSL.into()),
+            source: wgpu::ShaderSource::Wgsl(
+                format!("{}\n{VISIBILITY_WGSL}", super::INSTANCE_WGSL).into(),
+            ),
         });
         let storage = |binding, read_only| wgpu::BindGroupLayoutEntry {
             binding,

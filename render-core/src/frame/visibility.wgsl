@@ -1,14 +1,6 @@
 // Visible objects from the camera's object ids: one flag per object, and a count of visible
-// receivers. Keep the InstanceData layout in sync with frame/common.wgsl.
+// receivers. Prepended with frame/instance.wgsl.
 
-struct InstanceData {
-    world_from_local: mat4x4<f32>,
-    normal_from_local: array<vec4<f32>, 3>,
-    base_color: vec4<f32>,
-    flags: vec4<u32>,
-}
-
-const FLAG_RECEIVER: u32 = 2u;
 
 struct Counters {
     visible_objects: atomic<u32>,

@@ -30,14 +30,15 @@ pub struct ShadowMapPass {
 }
 
 impl ShadowMapPass {
-    /// `frame_layout` is the camera passes' group 0 (frame uniforms and instances).
+    /// `frame_layout` is the camera passes' group 0 (frame uniforms and instances), declared by
+    /// the WGSL in `scene_prelude`.
     pub fn new(
         device: &wgpu::Device,
         frame_layout: &wgpu::BindGroupLayout,
-        common_wgsl: &str,
+        scene_prelude: &str,
         resolution: u32,
     ) -> Self {
-        let source = format!("{common_wgsl}\n{SHADOW_DEPTH_WGSL}");
+        let source = format!("{scene_prelude}\n{SHADOW_DEPTH_WGSL}");
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("ShadowMap::shader"),
             source: wgpu::ShaderSource::Wgsl(source.into()),

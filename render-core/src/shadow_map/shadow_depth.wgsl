@@ -1,4 +1,4 @@
-// Depth-only rendering of casters into the shadow map. Prepended with frame/common.wgsl.
+// Depth-only rendering of casters into the shadow map. Prepended with frame/instance.wgsl and frame/common.wgsl.
 
 @vertex
 fn vs_shadow(@location(0) position: vec3<f32>, @builtin(instance_index) instance: u32) -> @builtin(position) vec4<f32> {
