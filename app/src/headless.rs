@@ -13,7 +13,7 @@ use render_core::gpu::GpuContext;
 use render_core::scene::{BUILTIN_SCENES, CameraPath, Scene, SceneFacts};
 use serde_json::json;
 
-use crate::cli::{BenchArgs, ShotArgs, parse_methods};
+use crate::cli::{BenchArgs, SceneArgs, ShotArgs, ViewArgs, parse_methods};
 use crate::scene_source::load_scene;
 
 pub fn list_scenes() {
@@ -22,33 +22,76 @@ pub fn list_scenes() {
     }
 }
 
+/// A scene on the GPU with a renderer, for headless frames at one size.
+struct Session {
+    scene: Scene,
+    ctx: GpuContext,
+    scene_gpu: SceneGpu,
+    renderer: FrameRenderer,
+    width: u32,
+    height: u32,
+}
+
+impl Session {
+    fn open(scene_args: &SceneArgs, view: &ViewArgs) -> anyhow::Result<Self> {
+        let scene = load_scene(&scene_args.scene, scene_args.seed, scene_args.chunking())?;
+        let (width, height) = view.size()?;
+        let ctx = GpuContext::headless()?;
+        let scene_gpu = SceneGpu::new(&ctx, &scene);
+        let renderer = FrameRenderer::new(&ctx);
+        Ok(Self {
+            scene,
+            ctx,
+            scene_gpu,
+            renderer,
+            width,
+            height,
+        })
+    }
+
+    fn aspect(&self) -> f32 {
+        self.width as f32 / self.height as f32
+    }
+
+    /// Renders one frame, waits for the GPU, and returns the report with its wall-clock time.
+    fn frame(
+        &mut self,
+        camera: &Camera,
+        settings: &FrameSettings,
+    ) -> anyhow::Result<(f64, FrameReport)> {
+        let input = FrameInput {
+            camera,
+            width: self.width,
+            height: self.height,
+            settings,
+        };
+        let started = Instant::now();
+        let report =
+            self.renderer
+                .render_and_wait(&self.ctx, &self.scene, &self.scene_gpu, &input)?;
+        Ok((started.elapsed().as_secs_f64() * 1000.0, report))
+    }
+}
+
 pub fn shot(args: &ShotArgs) -> anyhow::Result<()> {
-    let scene = load_scene(&args.scene.scene, args.scene.seed, args.scene.chunking())?;
-    let (width, height) = args.view.size()?;
-    let camera = args.view.camera(&scene, width as f32 / height as f32)?;
-    let settings = args.view.settings(&scene)?;
-    let ctx = GpuContext::headless()?;
-    let scene_gpu = SceneGpu::new(&ctx, &scene);
-    let mut renderer = FrameRenderer::new(&ctx);
-    let input = FrameInput {
-        camera: &camera,
-        width,
-        height,
-        settings: &settings,
-    };
-    let started = Instant::now();
-    let report = renderer.render_and_wait(&ctx, &scene, &scene_gpu, &input)?;
-    let wall_ms = started.elapsed().as_secs_f64() * 1000.0;
+    let mut session = Session::open(&args.scene, &args.view)?;
+    let camera = args.view.camera(&session.scene, session.aspect())?;
+    let settings = args.view.settings(&session.scene)?;
+    let (wall_ms, report) = session.frame(&camera, &settings)?;
+    let (scene, ctx, width, height) = (&session.scene, &session.ctx, session.width, session.height);
     let capture = FrameCapture::read(
-        &ctx,
-        renderer.targets().context("no targets after a frame")?,
+        ctx,
+        session
+            .renderer
+            .targets()
+            .context("no targets after a frame")?,
     )?;
     write_png(&capture.color, &args.out)?;
     let stats_path = args
         .stats
         .clone()
         .unwrap_or_else(|| args.out.with_extension("json"));
-    let stats = stats_json(&scene, &settings, &camera, &report, &ctx, wall_ms);
+    let stats = stats_json(scene, &settings, &camera, &report, ctx, wall_ms);
     std::fs::write(&stats_path, serde_json::to_string_pretty(&stats)?)
         .with_context(|| format!("writing {}", stats_path.display()))?;
     println!(
@@ -145,31 +188,27 @@ struct BenchRow {
 
 pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
     let methods = parse_methods(&args.methods)?;
-    let scene = load_scene(&args.scene.scene, args.scene.seed, args.scene.chunking())?;
-    let (width, height) = args.view.size()?;
-    let aspect = width as f32 / height as f32;
-    let base_settings = args.view.settings(&scene)?;
+    let mut session = Session::open(&args.scene, &args.view)?;
+    let base_settings = args.view.settings(&session.scene)?;
     let path = match &args.path {
         Some(p) => CameraPath::load(p)?,
-        None => CameraPath::default_for(&scene),
+        None => CameraPath::default_for(&session.scene),
     };
-    let template = args.view.camera(&scene, aspect)?;
+    let template = args.view.camera(&session.scene, session.aspect())?;
     let frames = args.frames.max(1);
-    let ctx = GpuContext::headless()?;
-    let scene_gpu = SceneGpu::new(&ctx, &scene);
-    let facts = SceneFacts::from(&scene);
+    let facts = SceneFacts::from(&session.scene);
     eprintln!(
         "bench {}: {} objects, {} triangles, {}x{}, shadow map {}, path '{}', {} frames after {} warm-up, on {}",
         facts.name,
         facts.objects,
         facts.triangles,
-        width,
-        height,
+        session.width,
+        session.height,
         base_settings.shadow.resolution,
         path.name,
         frames,
         args.warmup,
-        ctx.adapter_description()
+        session.ctx.adapter_description()
     );
     let mut rows = Vec::new();
     for method in methods {
@@ -177,7 +216,8 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
             method,
             ..base_settings
         };
-        let mut renderer = FrameRenderer::new(&ctx);
+        // A fresh renderer per method, so no method inherits another's state.
+        session.renderer = FrameRenderer::new(&session.ctx);
         let mut reports = Vec::new();
         for frame in 0..args.warmup + frames {
             let u = frame.saturating_sub(args.warmup) as f32 / (frames.max(2) - 1) as f32;
@@ -189,17 +229,9 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
                 template.near_m,
                 template.far_m,
             );
-            let input = FrameInput {
-                camera: &camera,
-                width,
-                height,
-                settings: &settings,
-            };
-            let started = Instant::now();
-            let report = renderer.render_and_wait(&ctx, &scene, &scene_gpu, &input)?;
-            let wall_ms = started.elapsed().as_secs_f64() * 1000.0;
+            let measured = session.frame(&camera, &settings)?;
             if frame >= args.warmup {
-                reports.push((wall_ms, report));
+                reports.push(measured);
             }
         }
         rows.push(summarise(method.name(), &reports));
