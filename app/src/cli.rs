@@ -45,9 +45,10 @@ pub struct OpenArgs {
     /// Smoke test: close the window after this many frames.
     #[arg(long, value_name = "N")]
     pub exit_after_frames: Option<u64>,
-    /// Smoke test: write a screenshot of the whole window (3D view and panel) before closing.
-    #[arg(long, value_name = "PNG", requires = "exit_after_frames")]
-    pub window_screenshot: Option<PathBuf>,
+    /// Smoke test: before closing, take a screenshot of the whole window (as F12 with
+    /// "include panel" does) into this folder: a PNG and its stats JSON.
+    #[arg(long, value_name = "DIR", requires = "exit_after_frames")]
+    pub screenshot_dir: Option<PathBuf>,
 }
 
 #[derive(Args, Debug, Clone)]

@@ -309,16 +309,17 @@ fn window_opens_renders_and_saves_a_screenshot() {
         return;
     }
     let dir = out_dir("window");
-    let png = dir.join("window.png");
-    let _ = std::fs::remove_file(&png);
+    for entry in std::fs::read_dir(&dir).expect("dir").flatten() {
+        let _ = std::fs::remove_file(entry.path());
+    }
     let mut child = shadowlab()
         .args([
             "builtin:city-small",
             "--exit-after-frames",
             "4",
-            "--window-screenshot",
+            "--screenshot-dir",
         ])
-        .arg(&png)
+        .arg(&dir)
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::piped())
         .spawn()
@@ -327,13 +328,33 @@ fn window_opens_renders_and_saves_a_screenshot() {
     while child.try_wait().expect("wait").is_none() {
         if Instant::now() > deadline {
             let _ = child.kill();
-            panic!("the window did not close within 240 s");
+            panic!("the window did not close within 4 minutes");
         }
         std::thread::sleep(Duration::from_millis(200));
     }
     let output = child.wait_with_output().expect("output");
     assert!(output.status.success(), "{}", text(&output));
-    let image = image::open(&png)
+    // The screenshot went through the same path as F12: a PNG and its stats JSON.
+    let files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .expect("dir")
+        .flatten()
+        .map(|e| e.path())
+        .collect();
+    let png = files
+        .iter()
+        .find(|p| p.extension().is_some_and(|e| e == "png"))
+        .unwrap_or_else(|| panic!("no PNG in {files:?}"));
+    assert!(
+        text(&output).contains(&png.display().to_string()),
+        "the file name is reported: {}",
+        text(&output)
+    );
+    let stats: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(png.with_extension("json")).expect("stats JSON beside the PNG"),
+    )
+    .expect("JSON");
+    assert_eq!(stats["scene"], "builtin:city-small");
+    let image = image::open(png)
         .expect("window screenshot written")
         .to_rgba8();
     let (w, h) = image.dimensions();

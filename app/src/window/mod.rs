@@ -70,10 +70,7 @@ impl ApplicationHandler for App<'_> {
         let Some(running) = &mut self.running else {
             return;
         };
-        if let Err(e) = running.on_window_event(event_loop, &event) {
-            self.error = Some(e);
-            event_loop.exit();
-        }
+        running.on_window_event(event_loop, &event);
     }
 
     fn about_to_wait(&mut self, _event_loop: &ActiveEventLoop) {
@@ -116,7 +113,8 @@ struct Running {
     screenshot_requested: bool,
     frames_presented: u64,
     exit_after_frames: Option<u64>,
-    window_screenshot: Option<PathBuf>,
+    /// The smoke test's screenshot is still to be taken.
+    exit_screenshot_pending: bool,
     started: Instant,
     last_frame: Instant,
     fps: Option<f32>,
@@ -197,7 +195,13 @@ impl Running {
             alt_held: false,
             cursor_px: None,
             side_panel: ui::SidePanel::new(),
-            screenshot_settings: ui::ScreenshotSettings::default(),
+            screenshot_settings: match &args.screenshot_dir {
+                Some(dir) => ui::ScreenshotSettings {
+                    folder: dir.display().to_string(),
+                    include_panel: true,
+                },
+                None => ui::ScreenshotSettings::default(),
+            },
             view_texture: None,
             light_view_texture,
             view_rect: egui::Rect::NOTHING,
@@ -209,24 +213,20 @@ impl Running {
             screenshot_requested: false,
             frames_presented: 0,
             exit_after_frames: args.exit_after_frames,
-            window_screenshot: args.window_screenshot.clone(),
+            exit_screenshot_pending: args.screenshot_dir.is_some(),
             started: now,
             last_frame: now,
             fps: None,
         })
     }
 
-    fn on_window_event(
-        &mut self,
-        event_loop: &ActiveEventLoop,
-        event: &WindowEvent,
-    ) -> anyhow::Result<()> {
+    fn on_window_event(&mut self, event_loop: &ActiveEventLoop, event: &WindowEvent) {
         let response = self.egui_state.on_window_event(&self.window, event);
         match event {
             WindowEvent::CloseRequested => event_loop.exit(),
             WindowEvent::Resized(size) => self.surface.resize(&self.ctx, size.width, size.height),
             WindowEvent::DroppedFile(path) => self.open_scene(&path.display().to_string()),
-            WindowEvent::RedrawRequested => self.redraw(event_loop)?,
+            WindowEvent::RedrawRequested => self.redraw(event_loop),
             WindowEvent::ModifiersChanged(m) => {
                 self.alt_held = m.state().alt_key();
                 self.keys.fast = m.state().shift_key();
@@ -258,7 +258,6 @@ impl Running {
             }
             _ => {}
         }
-        Ok(())
     }
 
     fn on_key(&mut self, code: KeyCode, pressed: bool) {
@@ -363,7 +362,7 @@ impl Running {
         }
     }
 
-    fn redraw(&mut self, event_loop: &ActiveEventLoop) -> anyhow::Result<()> {
+    fn redraw(&mut self, event_loop: &ActiveEventLoop) {
         let now = Instant::now();
         let dt = now.duration_since(self.last_frame).as_secs_f32();
         self.last_frame = now;
@@ -375,35 +374,36 @@ impl Running {
 
         let egui_frame = self.run_egui();
         self.draw_view();
-        let capture_window = self
+        let last_frame = self
             .exit_after_frames
-            .is_some_and(|n| self.frames_presented + 1 >= n)
-            && self.window_screenshot.is_some()
-            || (self.screenshot_requested && self.screenshot_settings.include_panel);
-        let capture = capture_window.then(|| self.surface.capture_texture(&self.ctx));
-        if self.surface.paint(&self.ctx, egui_frame, capture.as_ref()) {
-            self.frames_presented += 1;
+            .is_some_and(|n| self.frames_presented + 1 >= n);
+        if last_frame && self.exit_screenshot_pending {
+            self.screenshot_requested = true;
         }
+        let capture = (self.screenshot_requested && self.screenshot_settings.include_panel)
+            .then(|| self.surface.capture_texture(&self.ctx));
+        if !self.surface.paint(&self.ctx, egui_frame, capture.as_ref()) {
+            // Nothing reached the screen (minimised, occluded): keep any request for next frame.
+            return;
+        }
+        self.frames_presented += 1;
         if self.screenshot_requested {
             self.screenshot_requested = false;
+            self.exit_screenshot_pending = false;
             if let Err(e) = self.save_screenshot(capture.as_ref()) {
+                log::error!("screenshot failed: {e:#}");
                 self.message = Some(format!("Screenshot failed: {e:#}"));
             }
         }
         if let Some(n) = self.exit_after_frames
             && self.frames_presented >= n
+            && !self.exit_screenshot_pending
         {
-            if let (Some(path), Some(texture)) = (&self.window_screenshot, &capture) {
-                write_png(&read_capture(&self.ctx, texture)?, path)?;
-                println!(
-                    "wrote {} after {} frames",
-                    path.display(),
-                    self.frames_presented
-                );
+            if let Some(png) = &self.last_screenshot {
+                println!("{png} written after {} frames", self.frames_presented);
             }
             event_loop.exit();
         }
-        Ok(())
     }
 
     /// Runs the egui pass: side panel and the 3D view's place. Acts on what the user asked.
