@@ -12,5 +12,9 @@ run shot builtin:city --size 1280x720 --shadow-res 2048 \
     --out screenshots/city-street.png --stats screenshots/city-street.json
 if command -v xvfb-run >/dev/null 2>&1 || [ -n "${DISPLAY:-}" ]; then
     wrap=(); [ -z "${DISPLAY:-}" ] && wrap=(xvfb-run -a -s "-screen 0 1600x1000x24")
-    "${wrap[@]}" cargo run --release --quiet -- builtin:city --exit-after-frames 8 --window-screenshot screenshots/window.png
+    shots=$(mktemp -d)
+    "${wrap[@]}" cargo run --release --quiet -- builtin:city --eye=-250,90,160 --target=-90,0,40 \
+        --exit-after-frames 8 --screenshot-dir "$shots"
+    mv "$shots"/*.png screenshots/window.png
+    rm -rf "$shots"
 fi
