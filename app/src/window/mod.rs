@@ -363,6 +363,14 @@ impl Running {
     }
 
     fn redraw(&mut self, event_loop: &ActiveEventLoop) {
+        // Minimised or zero-sized: nothing to draw into; try again when the window has area.
+        let size = self.window.inner_size();
+        if size.width == 0 || size.height == 0 {
+            return;
+        }
+        if (size.width, size.height) != (self.surface.config.width, self.surface.config.height) {
+            self.surface.resize(&self.ctx, size.width, size.height);
+        }
         let now = Instant::now();
         let dt = now.duration_since(self.last_frame).as_secs_f32();
         self.last_frame = now;

@@ -155,6 +155,8 @@ pub struct DrawList {
     buffer: wgpu::Buffer,
     capacity: u32,
     args: Vec<wgpu::util::DrawIndexedIndirectArgs>,
+    /// `args` as bytes for the upload, kept to avoid a per-frame allocation.
+    bytes: Vec<u8>,
     pub triangles: u64,
 }
 
@@ -165,6 +167,7 @@ impl DrawList {
             buffer: Self::create_buffer(ctx, label, 64),
             capacity: 64,
             args: Vec::new(),
+            bytes: Vec::new(),
             triangles: 0,
         }
     }
@@ -206,12 +209,11 @@ impl DrawList {
             self.buffer = Self::create_buffer(ctx, self.label, self.capacity);
         }
         if !self.args.is_empty() {
-            let bytes: Vec<u8> = self
-                .args
-                .iter()
-                .flat_map(|a| a.as_bytes().iter().copied())
-                .collect();
-            ctx.queue.write_buffer(&self.buffer, 0, &bytes);
+            self.bytes.clear();
+            for a in &self.args {
+                self.bytes.extend_from_slice(a.as_bytes());
+            }
+            ctx.queue.write_buffer(&self.buffer, 0, &self.bytes);
         }
     }
 
