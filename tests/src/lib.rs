@@ -148,3 +148,21 @@ pub fn expected_shadow(
     let shrunk = ray_hits_box(origin, direction_to_sun, min + margin, max - margin);
     (grown == shrunk).then_some(grown)
 }
+
+/// The pixels that show object `id` (instance index + 1), as `(pixel index, world position)`.
+pub fn pixels_of<'a>(
+    capture: &'a FrameCapture,
+    camera: &'a Camera,
+    id: u32,
+) -> impl Iterator<Item = (usize, Vec3)> + 'a {
+    (0..capture.height)
+        .flat_map(move |y| (0..capture.width).map(move |x| (x, y)))
+        .filter_map(move |(x, y)| {
+            let i = (y * capture.width + x) as usize;
+            if capture.ids[i] == id {
+                world_position(capture, camera, x, y).map(|p| (i, p))
+            } else {
+                None
+            }
+        })
+}

@@ -4,7 +4,7 @@ use glam::Vec3;
 use render_core::frame::{FrameSettings, PcfKernel};
 use render_core::geom::Camera;
 use render_core::scene::Sun;
-use shadowlab_tests::{box_on_plane, expected_shadow, render, world_position};
+use shadowlab_tests::{box_on_plane, expected_shadow, pixels_of, render};
 
 const GROUND: u32 = 1; // instance 0 + 1
 const BOX_HALF: f32 = 1.0;
@@ -33,26 +33,19 @@ fn sun_at_zenith_shadows_exactly_the_ground_under_the_box() {
     let texel = report.light.texel_size_m[0].max(report.light.texel_size_m[1]);
     let border = texel * (settings.shadow.pcf.width() as f32 * 0.5 + 1.0);
     let (mut inside, mut outside, mut wrong) = (0, 0, Vec::new());
-    for y in 0..capture.height {
-        for x in 0..capture.width {
-            let i = (y * capture.width + x) as usize;
-            if capture.ids[i] != GROUND {
-                continue;
+    for (i, p) in pixels_of(&capture, &camera, GROUND) {
+        let distance_outside = (p.x.abs() - BOX_HALF).max(p.z.abs() - BOX_HALF);
+        let lit = capture.shadow[i] == 255;
+        let dark = capture.shadow[i] == 0;
+        if distance_outside < -border {
+            inside += 1;
+            if !dark {
+                wrong.push((i, p, capture.shadow[i]));
             }
-            let p = world_position(&capture, &camera, x, y).expect("ground pixel has depth");
-            let distance_outside = (p.x.abs() - BOX_HALF).max(p.z.abs() - BOX_HALF);
-            let lit = capture.shadow[i] == 255;
-            let dark = capture.shadow[i] == 0;
-            if distance_outside < -border {
-                inside += 1;
-                if !dark {
-                    wrong.push((x, y, p, capture.shadow[i]));
-                }
-            } else if distance_outside > border {
-                outside += 1;
-                if !lit {
-                    wrong.push((x, y, p, capture.shadow[i]));
-                }
+        } else if distance_outside > border {
+            outside += 1;
+            if !lit {
+                wrong.push((i, p, capture.shadow[i]));
             }
         }
     }
@@ -93,33 +86,26 @@ fn grazing_sun_casts_a_long_shadow_without_acne() {
         let box_max = Vec3::new(BOX_HALF, 2.0 * BOX_HALF, BOX_HALF);
         let (mut lit_expected, mut acne, mut far_shadow) = (0u32, 0u32, 0u32);
         let (mut shadow_expected, mut lost) = (0u32, 0u32);
-        for y in 0..capture.height {
-            for x in 0..capture.width {
-                let i = (y * capture.width + x) as usize;
-                if capture.ids[i] != GROUND {
-                    continue;
+        for (i, p) in pixels_of(&capture, &camera, GROUND) {
+            // Skip the penumbra band: rays that pass within the PCF border of the box's edges.
+            let border = texel * (pcf.width() as f32 + 1.0);
+            let Some(expected_shadow) =
+                expected_shadow(p, sun.direction_to_sun, box_min, box_max, border)
+            else {
+                continue;
+            };
+            if expected_shadow {
+                shadow_expected += 1;
+                if capture.shadow[i] == 255 {
+                    lost += 1;
                 }
-                let p = world_position(&capture, &camera, x, y).expect("ground pixel has depth");
-                // Skip the penumbra band: rays that pass within the PCF border of the box's edges.
-                let border = texel * (pcf.width() as f32 + 1.0);
-                let Some(expected_shadow) =
-                    expected_shadow(p, sun.direction_to_sun, box_min, box_max, border)
-                else {
-                    continue;
-                };
-                if expected_shadow {
-                    shadow_expected += 1;
-                    if capture.shadow[i] == 255 {
-                        lost += 1;
-                    }
-                    if capture.shadow[i] == 0 && p.x < -20.0 {
-                        far_shadow += 1;
-                    }
-                } else {
-                    lit_expected += 1;
-                    if capture.shadow[i] < 255 {
-                        acne += 1;
-                    }
+                if capture.shadow[i] == 0 && p.x < -20.0 {
+                    far_shadow += 1;
+                }
+            } else {
+                lit_expected += 1;
+                if capture.shadow[i] < 255 {
+                    acne += 1;
                 }
             }
         }

@@ -72,12 +72,10 @@ pub struct FrameInput<'a> {
 /// draw lists and bind groups that depend on them.
 pub struct FrameRenderer {
     frame_layout: wgpu::BindGroupLayout,
-    shade_layout: wgpu::BindGroupLayout,
     prepass_pipeline: wgpu::RenderPipeline,
     shade_pipeline: wgpu::RenderPipeline,
     uniform_buffer: wgpu::Buffer,
     frame_bind_group: Option<(u64, wgpu::BindGroup)>,
-    shade_bind_group: wgpu::BindGroup,
     pub shadow_map: ShadowMapPass,
     visibility: VisibilityPass,
     camera_list: DrawList,
@@ -121,19 +119,12 @@ impl FrameRenderer {
                 },
             ],
         });
-        let shade_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("Frame::shade_layout"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::FRAGMENT,
-                ty: wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Depth,
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
-                },
-                count: None,
-            }],
-        });
+        let shadow_map = ShadowMapPass::new(
+            device,
+            &frame_layout,
+            &scene_prelude(),
+            ShadowSettings::default().resolution,
+        );
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("Frame::camera_shader"),
             source: wgpu::ShaderSource::Wgsl(format!("{}\n{CAMERA_WGSL}", scene_prelude()).into()),
@@ -146,7 +137,7 @@ impl FrameRenderer {
         let shade_pipeline_layout =
             device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some("Frame::shade_layout"),
-                bind_group_layouts: &[Some(&frame_layout), Some(&shade_layout)],
+                bind_group_layouts: &[Some(&frame_layout), Some(&shadow_map.depth_layout)],
                 immediate_size: 0,
             });
         let prepass_pipeline = camera_pipeline(
@@ -173,21 +164,12 @@ impl FrameRenderer {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let shadow_map = ShadowMapPass::new(
-            device,
-            &frame_layout,
-            &scene_prelude(),
-            ShadowSettings::default().resolution,
-        );
-        let shade_bind_group = shade_bind_group(device, &shade_layout, &shadow_map.depth_view);
         Self {
             frame_layout,
-            shade_layout,
             prepass_pipeline,
             shade_pipeline,
             uniform_buffer,
             frame_bind_group: None,
-            shade_bind_group,
             shadow_map,
             visibility: VisibilityPass::new(ctx),
             camera_list: DrawList::new(ctx, "Frame::camera_draws"),
@@ -333,10 +315,7 @@ impl FrameRenderer {
             ShadowSettings::MIN_RESOLUTION,
             ShadowSettings::MAX_RESOLUTION.min(ctx.device.limits().max_texture_dimension_2d),
         );
-        if self.shadow_map.ensure_resolution(&ctx.device, resolution) {
-            self.shade_bind_group =
-                shade_bind_group(&ctx.device, &self.shade_layout, &self.shadow_map.depth_view);
-        }
+        self.shadow_map.ensure_resolution(&ctx.device, resolution);
         if self
             .frame_bind_group
             .as_ref()
@@ -562,7 +541,7 @@ impl FrameRenderer {
             });
             pass.set_pipeline(&self.shade_pipeline);
             pass.set_bind_group(0, self.frame_bind_group(), &[]);
-            pass.set_bind_group(1, &self.shade_bind_group, &[]);
+            pass.set_bind_group(1, &self.shadow_map.depth_bind_group, &[]);
             self.camera_list
                 .draw(&mut pass, scene_gpu, self.indirect_first_instance);
         }
@@ -587,21 +566,6 @@ impl FrameRenderer {
             );
         }
     }
-}
-
-fn shade_bind_group(
-    device: &wgpu::Device,
-    layout: &wgpu::BindGroupLayout,
-    shadow_view: &wgpu::TextureView,
-) -> wgpu::BindGroup {
-    device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("Frame::shade_bind_group"),
-        layout,
-        entries: &[wgpu::BindGroupEntry {
-            binding: 0,
-            resource: wgpu::BindingResource::TextureView(shadow_view),
-        }],
-    })
 }
 
 fn camera_pipeline(

@@ -17,7 +17,9 @@ pub(crate) const LIGHT_VIEW_WGSL: &str = include_str!("light_view.wgsl");
 pub struct ShadowMapPass {
     pipeline: wgpu::RenderPipeline,
     light_view_pipeline: wgpu::RenderPipeline,
-    light_view_layout: wgpu::BindGroupLayout,
+    /// The depth texture for fragment shaders (group layout): used by the light's view inset
+    /// and by the camera's shading pass.
+    pub depth_layout: wgpu::BindGroupLayout,
     pub resolution: u32,
     pub depth: wgpu::Texture,
     pub depth_view: wgpu::TextureView,
@@ -26,7 +28,8 @@ pub struct ShadowMapPass {
     pub light_view_view: wgpu::TextureView,
     /// The inset read as plain `Rgba8Unorm` (sRGB-encoded bytes), as egui displays it.
     pub light_view_view_unorm: wgpu::TextureView,
-    light_view_bind_group: wgpu::BindGroup,
+    /// The current depth texture bound with [`ShadowMapPass::depth_layout`].
+    pub depth_bind_group: wgpu::BindGroup,
 }
 
 impl ShadowMapPass {
@@ -75,8 +78,8 @@ impl ShadowMapPass {
             cache: None,
         });
 
-        let light_view_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("ShadowMap::light_view_layout"),
+        let depth_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("ShadowMap::depth_layout"),
             entries: &[wgpu::BindGroupLayoutEntry {
                 binding: 0,
                 visibility: wgpu::ShaderStages::FRAGMENT,
@@ -88,7 +91,7 @@ impl ShadowMapPass {
                 count: None,
             }],
         });
-        let light_view_pipeline = fullscreen_pipeline(device, &light_view_layout);
+        let light_view_pipeline = fullscreen_pipeline(device, &depth_layout);
         let (depth, depth_view) = create_depth(device, resolution);
         let light_view = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("ShadowMap::light_view"),
@@ -112,33 +115,31 @@ impl ShadowMapPass {
             format: Some(wgpu::TextureFormat::Rgba8Unorm),
             ..Default::default()
         });
-        let light_view_bind_group = light_view_bind_group(device, &light_view_layout, &depth_view);
+        let depth_bind_group = depth_bind_group(device, &depth_layout, &depth_view);
         Self {
             pipeline,
             light_view_pipeline,
-            light_view_layout,
+            depth_layout,
             resolution,
             depth,
             depth_view,
             light_view,
             light_view_view,
             light_view_view_unorm,
-            light_view_bind_group,
+            depth_bind_group,
         }
     }
 
-    /// Recreates the depth texture when `resolution` differs; returns true when it did.
-    pub fn ensure_resolution(&mut self, device: &wgpu::Device, resolution: u32) -> bool {
+    /// Recreates the depth texture (and its bind group) when `resolution` differs.
+    pub fn ensure_resolution(&mut self, device: &wgpu::Device, resolution: u32) {
         if resolution == self.resolution {
-            return false;
+            return;
         }
         let (depth, depth_view) = create_depth(device, resolution);
-        self.light_view_bind_group =
-            light_view_bind_group(device, &self.light_view_layout, &depth_view);
+        self.depth_bind_group = depth_bind_group(device, &self.depth_layout, &depth_view);
         self.depth = depth;
         self.depth_view = depth_view;
         self.resolution = resolution;
-        true
     }
 
     /// Clears the map and draws `casters` into it.
@@ -210,7 +211,7 @@ impl ShadowMapPass {
             pass.set_viewport(x, y, w, h, 0.0, 1.0);
         }
         pass.set_pipeline(&self.light_view_pipeline);
-        pass.set_bind_group(0, &self.light_view_bind_group, &[]);
+        pass.set_bind_group(0, &self.depth_bind_group, &[]);
         pass.draw(0..3, 0..1);
     }
 }
@@ -237,13 +238,13 @@ fn create_depth(device: &wgpu::Device, resolution: u32) -> (wgpu::Texture, wgpu:
     (depth, view)
 }
 
-fn light_view_bind_group(
+fn depth_bind_group(
     device: &wgpu::Device,
     layout: &wgpu::BindGroupLayout,
     depth_view: &wgpu::TextureView,
 ) -> wgpu::BindGroup {
     device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("ShadowMap::light_view_bind_group"),
+        label: Some("ShadowMap::depth_bind_group"),
         layout,
         entries: &[wgpu::BindGroupEntry {
             binding: 0,
