@@ -76,7 +76,10 @@ impl Session {
 pub fn shot(args: &ShotArgs) -> anyhow::Result<()> {
     let mut session = Session::open(&args.scene, &args.view)?;
     let camera = args.view.camera(&session.scene, session.aspect())?;
-    let settings = args.view.settings(&session.scene)?;
+    let settings = FrameSettings {
+        measure: true,
+        ..args.view.settings(&session.scene)?
+    };
     let (wall_ms, report) = session.frame(&camera, &settings)?;
     let (scene, ctx, width, height) = (&session.scene, &session.ctx, session.width, session.height);
     let capture = FrameCapture::read(
@@ -155,12 +158,15 @@ pub fn stats_json(
         "counts": {
             "casters_total": report.counts.casters_total,
             "casters_rendered": report.counts.casters_rendered,
+            "casters_oracle": report.counts.casters_oracle,
             "receivers_visible": report.counts.receivers_visible,
             "objects_visible": report.counts.objects_visible,
             "objects_drawn_camera": report.counts.objects_drawn_camera,
             "triangles_shadow": report.counts.triangles_shadow,
             "triangles_camera": report.counts.triangles_camera,
         },
+        "tightness": report.tightness(),
+        "error": report.error,
         "stages": report.stages,
         "timings_ms": {
             "frame_wall": wall_ms,
@@ -184,6 +190,10 @@ struct BenchRow {
     casters_drawn: f64,
     shadow_triangles: f64,
     casters_total: u32,
+    casters_oracle: f64,
+    tightness: Option<f64>,
+    /// Worst frame's missing + extra shadow pixels.
+    error_px_max: u32,
 }
 
 pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
@@ -229,9 +239,20 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
                 template.near_m,
                 template.far_m,
             );
-            let measured = session.frame(&camera, &settings)?;
+            // Timed without measurement passes, then the same view again measured for error
+            // and oracle, so the measurement never shows in the times.
+            let (wall_ms, mut report) = session.frame(&camera, &settings)?;
+            let (_, measured) = session.frame(
+                &camera,
+                &FrameSettings {
+                    measure: true,
+                    ..settings
+                },
+            )?;
+            report.counts.casters_oracle = measured.counts.casters_oracle;
+            report.error = measured.error;
             if frame >= args.warmup {
-                reports.push(measured);
+                reports.push((wall_ms, report));
             }
         }
         rows.push(summarise(method.name(), &reports));
@@ -272,60 +293,96 @@ fn summarise(method: &str, reports: &[(f64, FrameReport)]) -> BenchRow {
         casters_drawn: collect(&|(_, r)| Some(f64::from(r.counts.casters_rendered))).unwrap_or(0.0),
         shadow_triangles: collect(&|(_, r)| Some(r.counts.triangles_shadow as f64)).unwrap_or(0.0),
         casters_total: reports.first().map_or(0, |(_, r)| r.counts.casters_total),
+        casters_oracle: collect(&|(_, r)| r.counts.casters_oracle.map(f64::from)).unwrap_or(0.0),
+        tightness: collect(&|(_, r)| r.tightness()),
+        error_px_max: reports
+            .iter()
+            .filter_map(|(_, r)| r.error.map(|e| e.missing_shadow_px + e.extra_shadow_px))
+            .max()
+            .unwrap_or(0),
     }
 }
 
-fn fmt_ms(v: Option<f64>) -> String {
-    v.map_or_else(|| "n/a".into(), |v| format!("{v:.2}"))
+const COLUMNS: [&str; 10] = [
+    "method",
+    "frames",
+    "frame ms",
+    "GPU frame ms",
+    "shadow pass ms",
+    "casters drawn",
+    "oracle",
+    "tightness",
+    "shadow triangles",
+    "error px (max)",
+];
+
+fn row_cells(r: &BenchRow) -> [String; 10] {
+    let opt =
+        |v: Option<f64>, digits: usize| v.map_or_else(|| "n/a".into(), |v| format!("{v:.digits$}"));
+    [
+        r.method.clone(),
+        r.frames.to_string(),
+        format!("{:.2}", r.frame_ms),
+        opt(r.gpu_frame_ms, 2),
+        opt(r.shadow_pass_ms, 2),
+        format!("{:.0}", r.casters_drawn),
+        format!("{:.0}", r.casters_oracle),
+        opt(r.tightness, 2),
+        format!("{:.0}", r.shadow_triangles),
+        r.error_px_max.to_string(),
+    ]
 }
 
 fn format_table(rows: &[BenchRow]) -> String {
+    let cells: Vec<[String; 10]> = rows.iter().map(row_cells).collect();
+    let widths: Vec<usize> = (0..COLUMNS.len())
+        .map(|c| {
+            cells
+                .iter()
+                .map(|r| r[c].len())
+                .chain([COLUMNS[c].len()])
+                .max()
+                .unwrap_or(0)
+        })
+        .collect();
     let mut out = String::new();
-    let _ = writeln!(
-        out,
-        "{:<16} {:>7} {:>10} {:>12} {:>14} {:>14} {:>16} {:>14}",
-        "method",
-        "frames",
-        "frame ms",
-        "GPU frame ms",
-        "shadow pass ms",
-        "casters drawn",
-        "shadow triangles",
-        "casters total"
-    );
-    for r in rows {
-        let _ = writeln!(
-            out,
-            "{:<16} {:>7} {:>10.2} {:>12} {:>14} {:>14.0} {:>16.0} {:>14}",
-            r.method,
-            r.frames,
-            r.frame_ms,
-            fmt_ms(r.gpu_frame_ms),
-            fmt_ms(r.shadow_pass_ms),
-            r.casters_drawn,
-            r.shadow_triangles,
-            r.casters_total
-        );
+    for line in std::iter::once(COLUMNS.map(str::to_owned)).chain(cells) {
+        let padded: Vec<String> = line
+            .iter()
+            .zip(&widths)
+            .enumerate()
+            .map(|(c, (cell, w))| {
+                if c == 0 {
+                    format!("{cell:<w$}")
+                } else {
+                    format!("{cell:>w$}")
+                }
+            })
+            .collect();
+        let _ = writeln!(out, "{}", padded.join("  "));
     }
     out
 }
 
 fn format_csv(rows: &[BenchRow]) -> String {
     let mut out = String::from(
-        "method,frames,frame_ms,gpu_frame_ms,shadow_pass_ms,casters_drawn,shadow_triangles,casters_total\n",
+        "method,frames,frame_ms,gpu_frame_ms,shadow_pass_ms,casters_drawn,casters_oracle,tightness,shadow_triangles,error_px_max,casters_total\n",
     );
     let opt = |v: Option<f64>| v.map_or_else(String::new, |v| format!("{v:.4}"));
     for r in rows {
         let _ = writeln!(
             out,
-            "{},{},{:.4},{},{},{},{},{}",
+            "{},{},{:.4},{},{},{},{},{},{},{},{}",
             r.method,
             r.frames,
             r.frame_ms,
             opt(r.gpu_frame_ms),
             opt(r.shadow_pass_ms),
             r.casters_drawn,
+            r.casters_oracle,
+            opt(r.tightness),
             r.shadow_triangles,
+            r.error_px_max,
             r.casters_total
         );
     }

@@ -115,10 +115,22 @@ fn bench_prints_a_table_and_writes_csv() {
             .expect("header")
             .starts_with("method,frames,frame_ms")
     );
-    let row: Vec<&str> = lines.next().expect("one row").split(',').collect();
-    assert_eq!(row[0], "none");
-    assert_eq!(row[1], "3");
-    assert!(row[5].parse::<f64>().expect("casters drawn") > 0.0);
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(
+        rows.iter().map(|r| r[0]).collect::<Vec<_>>(),
+        ["none", "vfc"],
+        "one row per method"
+    );
+    for row in &rows {
+        assert_eq!(row[1], "3");
+        let drawn: f64 = row[5].parse().expect("casters drawn");
+        let oracle: f64 = row[6].parse().expect("oracle casters");
+        assert!(drawn > 0.0 && oracle > 0.0 && oracle <= drawn, "{row:?}");
+        assert_eq!(
+            row[9], "0",
+            "conservative methods have no error pixels: {row:?}"
+        );
+    }
 }
 
 #[test]

@@ -4,6 +4,7 @@
 pub mod frame;
 pub mod geom;
 pub mod gpu;
+pub mod metrics;
 pub mod scene;
 pub mod shadow_map;
 

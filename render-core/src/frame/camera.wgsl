@@ -2,6 +2,20 @@
 // Prepended with frame/instance.wgsl and frame/common.wgsl.
 
 @group(1) @binding(0) var shadow_map: texture_depth_2d;
+// Measurement (metrics/mod.rs): the reference map of every caster, its caster ids, the oracle
+// flags and the counters. Used only when frame.params.z != 0.
+@group(1) @binding(1) var reference_map: texture_depth_2d;
+@group(1) @binding(2) var reference_ids: texture_2d<u32>;
+@group(1) @binding(3) var<storage, read_write> oracle: array<atomic<u32>>;
+@group(1) @binding(4) var<storage, read_write> measured: Measured;
+
+// Keep in sync with metrics/mod.rs (COUNTERS_SIZE, take_latest).
+struct Measured {
+    visible_px: atomic<u32>,
+    missing_px: atomic<u32>,
+    extra_px: atomic<u32>,
+    oracle_casters: atomic<u32>,
+}
 
 struct VsOut {
     @builtin(position) @invariant clip: vec4<f32>,
@@ -37,7 +51,8 @@ struct ShadeOut {
 
 // Fraction of kernel taps that see the light, comparing each tap with the receiver's plane
 // extended to that tap's texel centre (receiver-plane depth bias), plus constant and slope terms.
-fn shadow_factor(world_pos: vec3<f32>, geometric_normal: vec3<f32>) -> f32 {
+// With `mark_oracle`, every shadowed tap marks the reference caster that won its texel.
+fn shadow_factor(map: texture_depth_2d, world_pos: vec3<f32>, geometric_normal: vec3<f32>, mark_oracle: bool) -> f32 {
     let texel_m = vec2<f32>(frame.light_right.w, frame.light_up.w);
     let range_m = max(frame.light_dir.w, 1e-6);
     let size = frame.shadow.w;
@@ -71,8 +86,15 @@ fn shadow_factor(world_pos: vec3<f32>, geometric_normal: vec3<f32>) -> f32 {
             }
             let delta = vec2<f32>(t) + 0.5 - p;
             let receiver = ndc.z + dot(ddepth_per_texel, delta);
-            let stored = textureLoad(shadow_map, t, 0);
-            lit += select(0.0, 1.0, receiver - bias <= stored);
+            let stored = textureLoad(map, t, 0);
+            let tap_lit = receiver - bias <= stored;
+            lit += select(0.0, 1.0, tap_lit);
+            if (mark_oracle && !tap_lit) {
+                let caster = textureLoad(reference_ids, t, 0).x;
+                if (caster != 0u && atomicOr(&oracle[caster - 1u], 1u) == 0u) {
+                    atomicAdd(&measured.oracle_casters, 1u);
+                }
+            }
         }
     }
     return lit / f32(k * k);
@@ -91,7 +113,16 @@ fn fs_shade(in: VsOut) -> ShadeOut {
     let receives = (data.flags.x & FLAG_RECEIVER) != 0u;
     var visibility = 1.0;
     if (frame.params.y != 0u && receives) {
-        visibility = shadow_factor(in.world_pos, geometric);
+        visibility = shadow_factor(shadow_map, in.world_pos, geometric, false);
+        if (frame.params.z != 0u) {
+            let reference = shadow_factor(reference_map, in.world_pos, geometric, true);
+            atomicAdd(&measured.visible_px, 1u);
+            if (reference < visibility) {
+                atomicAdd(&measured.missing_px, 1u);
+            } else if (reference > visibility) {
+                atomicAdd(&measured.extra_px, 1u);
+            }
+        }
     }
     let l = frame.direction_to_sun.xyz;
     let diffuse = max(dot(n, l), 0.0) * frame.direction_to_sun.w * visibility;

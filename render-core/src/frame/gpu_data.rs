@@ -49,7 +49,8 @@ pub struct FrameUniforms {
     /// x: constant depth bias (m); y: slope bias (texels); z: normal offset (texels);
     /// w: shadow map size in texels.
     pub shadow: [f32; 4],
-    /// x: PCF kernel width in texels (1, 2, 3 or 5); y: 1 when shadows are on; z, w: padding.
+    /// x: PCF kernel width in texels (1, 2, 3 or 5); y: 1 when shadows are on; z: 1 when the
+    /// frame measures error and oracle against the reference map; w: padding.
     pub params: [u32; 4],
 }
 const _: () = assert!(size_of::<FrameUniforms>() == 240);

@@ -34,8 +34,9 @@ pub use visibility::VisibilityCounts;
 
 use crate::geom::{Camera, Frustum, LightFrustum, fit_directional_light};
 use crate::gpu::{FrameTimer, GpuContext, PassTiming};
+use crate::metrics::{MeasureResources, Measured};
 use crate::scene::Scene;
-use crate::shadow_map::{LIGHT_VIEW_SIZE, ShadowMapPass};
+use crate::shadow_map::{LIGHT_VIEW_SIZE, MapKind, ShadowMapPass};
 use gpu_data::FrameUniforms;
 use scene_gpu::{DrawList, VERTEX_LAYOUT};
 use targets::{COLOR_FORMAT, DEPTH_FORMAT, ID_FORMAT, SHADOW_FACTOR_FORMAT};
@@ -80,6 +81,16 @@ pub struct FrameRenderer {
     visibility: VisibilityPass,
     camera_list: DrawList,
     caster_list: DrawList,
+    /// Every caster, for the reference map when measuring.
+    reference_list: DrawList,
+    measure: MeasureResources,
+    latest_measured: Option<Measured>,
+    /// Whether the last frame measured; older measurements are not reported after a switch.
+    measuring: bool,
+    /// Casters left out of the method's map (what-if experiments); the reference keeps them.
+    excluded_casters: Vec<u32>,
+    /// Every caster of the scene `scene_casters.0`, sorted.
+    scene_casters: (u64, Vec<u32>),
     targets: Option<ViewTargets>,
     timer: FrameTimer,
     frame_index: u64,
@@ -119,6 +130,7 @@ impl FrameRenderer {
                 },
             ],
         });
+        let measure = MeasureResources::new(device);
         let shadow_map = ShadowMapPass::new(
             device,
             &frame_layout,
@@ -137,7 +149,7 @@ impl FrameRenderer {
         let shade_pipeline_layout =
             device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some("Frame::shade_layout"),
-                bind_group_layouts: &[Some(&frame_layout), Some(&shadow_map.depth_layout)],
+                bind_group_layouts: &[Some(&frame_layout), Some(&measure.layout)],
                 immediate_size: 0,
             });
         let prepass_pipeline = camera_pipeline(
@@ -174,6 +186,12 @@ impl FrameRenderer {
             visibility: VisibilityPass::new(ctx),
             camera_list: DrawList::new(ctx, "Frame::camera_draws"),
             caster_list: DrawList::new(ctx, "Frame::caster_draws"),
+            reference_list: DrawList::new(ctx, "Frame::reference_draws"),
+            measure,
+            latest_measured: None,
+            measuring: false,
+            scene_casters: (0, Vec::new()),
+            excluded_casters: Vec::new(),
             targets: None,
             timer: FrameTimer::new(ctx),
             frame_index: 0,
@@ -222,7 +240,15 @@ impl FrameRenderer {
             self.shadow_map.resolution,
         );
         let culling_started = Instant::now();
-        let counts = self.prepare_draw_lists(ctx, scene, scene_gpu, input.camera, aspect, &light);
+        let (counts, stages) = self.prepare_draw_lists(
+            ctx,
+            scene,
+            scene_gpu,
+            input.camera,
+            aspect,
+            &light,
+            settings,
+        );
         let culling_ms = culling_started.elapsed().as_secs_f64() * 1000.0;
         self.write_uniforms(ctx, input.camera, aspect, settings, &light);
 
@@ -234,12 +260,20 @@ impl FrameRenderer {
         self.draw_camera_prepass(&mut encoder, scene_gpu);
         self.mark_visible(ctx, &mut encoder, scene_gpu);
         self.draw_shadow_map(&mut encoder, scene_gpu);
-        self.draw_shading(&mut encoder, scene_gpu);
+        if settings.measure {
+            self.draw_reference_map(&mut encoder, scene_gpu);
+        }
+        self.draw_shading(ctx, &mut encoder, scene_gpu);
+        if settings.measure {
+            self.measure.copy_counts(&mut encoder, self.frame_index);
+        }
+        self.measuring = settings.measure;
         self.draw_overlays(&mut encoder, settings);
         self.timer.resolve(&mut encoder);
         ctx.queue.submit([encoder.finish()]);
         self.timer.end_frame();
         self.visibility.after_submit();
+        self.measure.after_submit();
         self.gpu_frames_in_flight.push_back(self.frame_index);
 
         let mut report = FrameReport {
@@ -247,16 +281,7 @@ impl FrameRenderer {
             width,
             height,
             counts,
-            stages: vec![
-                Stage {
-                    name: "scene casters".into(),
-                    remaining: scene.caster_count() as u32,
-                },
-                Stage {
-                    name: "light frustum".into(),
-                    remaining: self.caster_list.len(),
-                },
-            ],
+            stages,
             cpu: CpuTimings {
                 culling_ms,
                 encode_submit_ms: 0.0,
@@ -293,6 +318,14 @@ impl FrameRenderer {
         if let Some((frame, timings)) = &self.latest_gpu {
             report.gpu.clone_from(timings);
             report.gpu_frame_index = Some(*frame);
+        }
+        if let Some(m) = self.measure.take_latest() {
+            self.latest_measured = Some(m);
+        }
+        if let Some(m) = self.latest_measured.filter(|_| self.measuring) {
+            report.counts.casters_oracle = Some(m.casters_oracle);
+            report.error = Some(m.error);
+            report.measured_frame_index = Some(m.frame_index);
         }
         if let Some(v) = self.latest_visibility {
             report.counts.receivers_visible = Some(v.receivers_visible);
@@ -339,8 +372,13 @@ impl FrameRenderer {
         }
     }
 
-    /// Light-frustum culling of casters and view-frustum culling of the camera passes, on the
-    /// CPU through the scene's BVH.
+    /// The casters the method draws (on the CPU through the scene's BVH for now), every
+    /// caster for the reference map when measuring, and view-frustum culling of the camera
+    /// passes. Returns the counts and the caster stages in order.
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "one preparation step, all of its inputs"
+    )]
     fn prepare_draw_lists(
         &mut self,
         ctx: &GpuContext,
@@ -349,19 +387,47 @@ impl FrameRenderer {
         camera: &Camera,
         aspect: f32,
         light: &LightFrustum,
-    ) -> FrameCounts {
-        let light_frustum = Frustum::from_clip_from_world(&light.light_clip_from_world);
-        self.scratch.clear();
-        scene.bvh().query_frustum(&light_frustum, &mut self.scratch);
+        settings: &FrameSettings,
+    ) -> (FrameCounts, Vec<Stage>) {
+        if self.scene_casters.0 != scene_gpu.id {
+            let casters = (0..scene.instances.len() as u32)
+                .filter(|&i| scene.instances[i as usize].casts_shadow)
+                .collect();
+            self.scene_casters = (scene_gpu.id, casters);
+        }
+        let all = &self.scene_casters.1;
+        let mut stages = vec![Stage {
+            name: "scene casters".into(),
+            remaining: all.len() as u32,
+        }];
         self.casters.clear();
-        self.casters.extend(
-            self.scratch
-                .iter()
-                .copied()
-                .filter(|&i| scene.instances[i as usize].casts_shadow),
-        );
-        self.casters.sort_unstable();
+        match settings.method {
+            Method::None => self.casters.extend_from_slice(all),
+            Method::Vfc => {
+                let light_frustum = Frustum::from_clip_from_world(&light.light_clip_from_world);
+                self.scratch.clear();
+                scene.bvh().query_frustum(&light_frustum, &mut self.scratch);
+                self.casters.extend(
+                    self.scratch
+                        .iter()
+                        .copied()
+                        .filter(|&i| scene.instances[i as usize].casts_shadow),
+                );
+                self.casters.sort_unstable();
+                stages.push(Stage {
+                    name: "light frustum".into(),
+                    remaining: self.casters.len() as u32,
+                });
+            }
+        }
+        if !self.excluded_casters.is_empty() {
+            let excluded = &self.excluded_casters;
+            self.casters.retain(|i| excluded.binary_search(i).is_err());
+        }
         self.caster_list.upload(ctx, scene_gpu, &self.casters);
+        if settings.measure {
+            self.reference_list.upload(ctx, scene_gpu, all);
+        }
 
         let camera_frustum = Frustum::from_clip_from_world(&camera.clip_from_world(aspect));
         self.scratch.clear();
@@ -370,14 +436,38 @@ impl FrameRenderer {
             .query_frustum(&camera_frustum, &mut self.scratch);
         self.scratch.sort_unstable();
         self.camera_list.upload(ctx, scene_gpu, &self.scratch);
-        FrameCounts {
-            casters_total: scene.caster_count() as u32,
+        let counts = FrameCounts {
+            casters_total: all.len() as u32,
             casters_rendered: self.caster_list.len(),
             objects_drawn_camera: self.camera_list.len(),
             triangles_shadow: self.caster_list.triangles,
             triangles_camera: self.camera_list.triangles,
             ..FrameCounts::default()
-        }
+        };
+        (counts, stages)
+    }
+
+    /// Leaves these instances out of the method's shadow map from the next frame on, while the
+    /// reference map keeps them: shows what a caster contributes, and lets tests check that the
+    /// error measure sees a missing caster.
+    pub fn exclude_casters(&mut self, instances: &[u32]) {
+        self.excluded_casters = instances.to_vec();
+        self.excluded_casters.sort_unstable();
+    }
+
+    /// The instances drawn into the method's shadow map in the last frame, sorted.
+    pub fn drawn_casters(&self) -> &[u32] {
+        &self.casters
+    }
+
+    /// The oracle flag of every instance from the last measured frame. Blocks: for tests and
+    /// reports, never the window loop.
+    pub fn read_oracle(
+        &self,
+        ctx: &GpuContext,
+        scene_gpu: &SceneGpu,
+    ) -> Result<Vec<bool>, crate::gpu::GpuError> {
+        self.measure.read_oracle(ctx, scene_gpu.instance_count)
     }
 
     fn write_uniforms(
@@ -405,7 +495,12 @@ impl FrameRenderer {
                 shadow.normal_offset_texels,
                 self.shadow_map.resolution as f32,
             ],
-            params: [shadow.pcf.width(), u32::from(shadow.shadows_enabled), 0, 0],
+            params: [
+                shadow.pcf.width(),
+                u32::from(shadow.shadows_enabled),
+                u32::from(settings.measure),
+                0,
+            ],
         };
         debug_assert!(
             Vec3::from(uniforms.light_dir[..3].try_into().unwrap_or([0.0; 3])).is_finite()
@@ -485,7 +580,21 @@ impl FrameRenderer {
     }
 
     fn draw_shadow_map(&self, encoder: &mut wgpu::CommandEncoder, scene_gpu: &SceneGpu) {
-        let query = self.timer.begin_pass(pass_label::SHADOW_MAP, encoder);
+        self.draw_casters(encoder, scene_gpu, MapKind::Method);
+    }
+
+    /// The reference map for measuring: every caster, with ids. Timed as its own pass so
+    /// reports can leave it out of the method's cost.
+    fn draw_reference_map(&self, encoder: &mut wgpu::CommandEncoder, scene_gpu: &SceneGpu) {
+        self.draw_casters(encoder, scene_gpu, MapKind::Reference);
+    }
+
+    fn draw_casters(&self, encoder: &mut wgpu::CommandEncoder, scene_gpu: &SceneGpu, map: MapKind) {
+        let (label, casters) = match map {
+            MapKind::Method => (pass_label::SHADOW_MAP, &self.caster_list),
+            MapKind::Reference => (pass_label::REFERENCE_MAP, &self.reference_list),
+        };
+        let query = self.timer.begin_pass(label, encoder);
         self.shadow_map.draw_casters(
             encoder,
             query
@@ -493,13 +602,23 @@ impl FrameRenderer {
                 .and_then(wgpu_profiler::GpuProfilerQuery::render_pass_timestamp_writes),
             self.frame_bind_group(),
             scene_gpu,
-            &self.caster_list,
+            casters,
             self.indirect_first_instance,
+            map,
         );
         self.timer.end_pass(encoder, query);
     }
 
-    fn draw_shading(&self, encoder: &mut wgpu::CommandEncoder, scene_gpu: &SceneGpu) {
+    fn draw_shading(
+        &mut self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        scene_gpu: &SceneGpu,
+    ) {
+        let measure_group = self
+            .measure
+            .prepare(ctx, encoder, &self.shadow_map, scene_gpu)
+            .clone();
         let targets = self.targets_ref();
         let query = self.timer.begin_pass(pass_label::SHADING, encoder);
         {
@@ -541,7 +660,7 @@ impl FrameRenderer {
             });
             pass.set_pipeline(&self.shade_pipeline);
             pass.set_bind_group(0, self.frame_bind_group(), &[]);
-            pass.set_bind_group(1, &self.shadow_map.depth_bind_group, &[]);
+            pass.set_bind_group(1, &measure_group, &[]);
             self.camera_list
                 .draw(&mut pass, scene_gpu, self.indirect_first_instance);
         }

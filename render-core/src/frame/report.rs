@@ -3,6 +3,7 @@
 use serde::Serialize;
 
 use crate::gpu::PassTiming;
+use crate::metrics::ShadowError;
 
 /// Object and triangle counts of one frame.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
@@ -11,6 +12,8 @@ pub struct FrameCounts {
     pub casters_total: u32,
     /// Objects drawn into the shadow map.
     pub casters_rendered: u32,
+    /// Casters a shadow map identical where it is read needs (when measuring).
+    pub casters_oracle: Option<u32>,
     /// Visible objects that receive shadows; `None` until the GPU count has come back.
     pub receivers_visible: Option<u32>,
     /// Visible objects of any kind.
@@ -56,6 +59,9 @@ pub struct FrameReport {
     pub gpu: Vec<PassTiming>,
     pub gpu_frame_index: Option<u64>,
     pub light: LightFacts,
+    /// Shadow error against the reference map (when measuring), of frame `measured_frame_index`.
+    pub error: Option<ShadowError>,
+    pub measured_frame_index: Option<u64>,
 }
 
 /// Pass labels, shared by the renderer and readers of [`FrameReport::gpu`].
@@ -63,6 +69,8 @@ pub mod pass_label {
     pub const CAMERA_PREPASS: &str = "camera depth+id";
     pub const VISIBILITY: &str = "visible objects";
     pub const SHADOW_MAP: &str = "shadow map";
+    /// Measurement only: the reference map of every caster. Not part of a method's cost.
+    pub const REFERENCE_MAP: &str = "reference map (measure)";
     pub const SHADING: &str = "shading";
     pub const OVERLAYS: &str = "overlays";
 }
@@ -73,8 +81,19 @@ impl FrameReport {
         self.gpu.iter().find(|t| t.label == label).map(|t| t.gpu_ms)
     }
 
-    /// Sum of all measured GPU pass times.
+    /// Sum of the GPU pass times of the frame itself, leaving out measurement passes.
     pub fn gpu_total_ms(&self) -> Option<f64> {
-        (!self.gpu.is_empty()).then(|| self.gpu.iter().map(|t| t.gpu_ms).sum())
+        let passes = || {
+            self.gpu
+                .iter()
+                .filter(|t| t.label != pass_label::REFERENCE_MAP)
+        };
+        (passes().count() > 0).then(|| passes().map(|t| t.gpu_ms).sum())
+    }
+
+    /// Casters drawn per oracle caster (1 is the floor for a method without error).
+    pub fn tightness(&self) -> Option<f64> {
+        let oracle = self.counts.casters_oracle?;
+        (oracle > 0).then(|| f64::from(self.counts.casters_rendered) / f64::from(oracle))
     }
 }

@@ -98,17 +98,21 @@ impl Default for ShadowSettings {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Method {
-    /// Every caster in the light frustum is drawn (the reference for error).
+    /// No caster culling: every caster is drawn and the rasteriser clips what lies outside the
+    /// light frustum. The reference for error.
     #[default]
     None,
+    /// Light frustum culling only.
+    Vfc,
 }
 
 impl Method {
-    pub const ALL: [Self; 1] = [Self::None];
+    pub const ALL: [Self; 2] = [Self::None, Self::Vfc];
 
     pub fn name(self) -> &'static str {
         match self {
             Self::None => "none",
+            Self::Vfc => "vfc",
         }
     }
 }
@@ -159,4 +163,7 @@ pub struct FrameSettings {
     pub sun: Sun,
     pub method: Method,
     pub overlays: Overlays,
+    /// Also render the reference shadow map (every caster, with ids) and measure the shadow
+    /// error against it and the oracle caster set. Costs a second shadow pass.
+    pub measure: bool,
 }

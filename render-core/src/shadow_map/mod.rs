@@ -16,6 +16,7 @@ pub(crate) const LIGHT_VIEW_WGSL: &str = include_str!("light_view.wgsl");
 /// Long-lived pipelines plus the current depth texture and inset.
 pub struct ShadowMapPass {
     pipeline: wgpu::RenderPipeline,
+    id_pipeline: wgpu::RenderPipeline,
     light_view_pipeline: wgpu::RenderPipeline,
     /// The depth texture for fragment shaders (group layout): used by the light's view inset
     /// and by the camera's shading pass.
@@ -30,6 +31,51 @@ pub struct ShadowMapPass {
     pub light_view_view_unorm: wgpu::TextureView,
     /// The current depth texture bound with [`ShadowMapPass::depth_layout`].
     pub depth_bind_group: wgpu::BindGroup,
+    /// The reference map for measurements: every caster, depth and caster ids.
+    pub reference: ReferenceMap,
+}
+
+/// Depth and caster ids (instance index + 1, 0 where nothing was drawn) of the reference map.
+pub struct ReferenceMap {
+    pub depth: wgpu::Texture,
+    pub depth_view: wgpu::TextureView,
+    pub ids: wgpu::Texture,
+    pub ids_view: wgpu::TextureView,
+}
+
+/// Which shadow map a pass draws into.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MapKind {
+    /// The map the selected method renders and the picture uses.
+    Method,
+    /// Every caster, with ids: what error and the oracle are measured against.
+    Reference,
+}
+
+/// Caster ids of the reference map.
+pub const CASTER_ID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
+
+impl ReferenceMap {
+    fn new(device: &wgpu::Device, resolution: u32) -> Self {
+        let (depth, depth_view) = create_texture(
+            device,
+            "ShadowMap::reference_depth",
+            SHADOW_FORMAT,
+            resolution,
+        );
+        let (ids, ids_view) = create_texture(
+            device,
+            "ShadowMap::reference_ids",
+            CASTER_ID_FORMAT,
+            resolution,
+        );
+        Self {
+            depth,
+            depth_view,
+            ids,
+            ids_view,
+        }
+    }
 }
 
 impl ShadowMapPass {
@@ -51,32 +97,8 @@ impl ShadowMapPass {
             bind_group_layouts: &[Some(frame_layout)],
             immediate_size: 0,
         });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("ShadowMap::pipeline"),
-            layout: Some(&layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_shadow"),
-                compilation_options: wgpu::PipelineCompilationOptions::default(),
-                buffers: &[Some(VERTEX_LAYOUT)],
-            },
-            primitive: wgpu::PrimitiveState {
-                // Both faces: imported meshes may be open or single-sided.
-                cull_mode: None,
-                ..Default::default()
-            },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: SHADOW_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: wgpu::StencilState::default(),
-                bias: wgpu::DepthBiasState::default(),
-            }),
-            multisample: wgpu::MultisampleState::default(),
-            fragment: None,
-            multiview_mask: None,
-            cache: None,
-        });
+        let pipeline = caster_pipeline(device, &layout, &module, false);
+        let id_pipeline = caster_pipeline(device, &layout, &module, true);
 
         let depth_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("ShadowMap::depth_layout"),
@@ -118,6 +140,7 @@ impl ShadowMapPass {
         let depth_bind_group = depth_bind_group(device, &depth_layout, &depth_view);
         Self {
             pipeline,
+            id_pipeline,
             light_view_pipeline,
             depth_layout,
             resolution,
@@ -127,6 +150,7 @@ impl ShadowMapPass {
             light_view_view,
             light_view_view_unorm,
             depth_bind_group,
+            reference: ReferenceMap::new(device, resolution),
         }
     }
 
@@ -137,12 +161,15 @@ impl ShadowMapPass {
         }
         let (depth, depth_view) = create_depth(device, resolution);
         self.depth_bind_group = depth_bind_group(device, &self.depth_layout, &depth_view);
+        self.reference = ReferenceMap::new(device, resolution);
         self.depth = depth;
         self.depth_view = depth_view;
         self.resolution = resolution;
     }
 
-    /// Clears the map and draws `casters` into it.
+    /// Clears a map and draws `casters` into it: the method's map (depth only) or the
+    /// reference map (depth and caster ids).
+    #[expect(clippy::too_many_arguments, reason = "one pass, all of its inputs")]
     pub fn draw_casters(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -151,12 +178,33 @@ impl ShadowMapPass {
         scene_gpu: &SceneGpu,
         casters: &DrawList,
         indirect_first_instance: bool,
+        map: MapKind,
     ) {
+        let (depth_view, ids_view) = match map {
+            MapKind::Method => (&self.depth_view, None),
+            MapKind::Reference => (&self.reference.depth_view, Some(&self.reference.ids_view)),
+        };
+        let id_attachment = ids_view.map(|view| wgpu::RenderPassColorAttachment {
+            view,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                store: wgpu::StoreOp::Store,
+            },
+        });
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("ShadowMap::draw_casters"),
-            color_attachments: &[],
+            label: Some(match map {
+                MapKind::Method => "ShadowMap::draw_casters",
+                MapKind::Reference => "ShadowMap::draw_reference",
+            }),
+            color_attachments: if id_attachment.is_some() {
+                std::slice::from_ref(&id_attachment)
+            } else {
+                &[]
+            },
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &self.depth_view,
+                view: depth_view,
                 depth_ops: Some(wgpu::Operations {
                     load: wgpu::LoadOp::Clear(1.0),
                     store: wgpu::StoreOp::Store,
@@ -167,7 +215,11 @@ impl ShadowMapPass {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_pipeline(&self.pipeline);
+        pass.set_pipeline(if ids_view.is_some() {
+            &self.id_pipeline
+        } else {
+            &self.pipeline
+        });
         pass.set_bind_group(0, frame_bind_group, &[]);
         casters.draw(&mut pass, scene_gpu, indirect_first_instance);
     }
@@ -216,10 +268,15 @@ impl ShadowMapPass {
     }
 }
 
-fn create_depth(device: &wgpu::Device, resolution: u32) -> (wgpu::Texture, wgpu::TextureView) {
+fn create_texture(
+    device: &wgpu::Device,
+    label: &str,
+    format: wgpu::TextureFormat,
+    resolution: u32,
+) -> (wgpu::Texture, wgpu::TextureView) {
     let resolution = resolution.clamp(1, device.limits().max_texture_dimension_2d);
-    let depth = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("ShadowMap::depth"),
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
         size: wgpu::Extent3d {
             width: resolution,
             height: resolution,
@@ -228,14 +285,63 @@ fn create_depth(device: &wgpu::Device, resolution: u32) -> (wgpu::Texture, wgpu:
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
-        format: SHADOW_FORMAT,
+        format,
         usage: wgpu::TextureUsages::RENDER_ATTACHMENT
             | wgpu::TextureUsages::TEXTURE_BINDING
             | wgpu::TextureUsages::COPY_SRC,
         view_formats: &[],
     });
-    let view = depth.create_view(&wgpu::TextureViewDescriptor::default());
-    (depth, view)
+    let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+    (texture, view)
+}
+
+fn create_depth(device: &wgpu::Device, resolution: u32) -> (wgpu::Texture, wgpu::TextureView) {
+    create_texture(device, "ShadowMap::depth", SHADOW_FORMAT, resolution)
+}
+
+/// Casters into a shadow map: depth only, or (`with_ids`) depth and caster ids.
+fn caster_pipeline(
+    device: &wgpu::Device,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    with_ids: bool,
+) -> wgpu::RenderPipeline {
+    let id_target = [Some(CASTER_ID_FORMAT.into())];
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(if with_ids {
+            "ShadowMap::id_pipeline"
+        } else {
+            "ShadowMap::pipeline"
+        }),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs_shadow"),
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            buffers: &[Some(VERTEX_LAYOUT)],
+        },
+        primitive: wgpu::PrimitiveState {
+            // Both faces: imported meshes may be open or single-sided.
+            cull_mode: None,
+            ..Default::default()
+        },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: SHADOW_FORMAT,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(wgpu::CompareFunction::Less),
+            stencil: wgpu::StencilState::default(),
+            bias: wgpu::DepthBiasState::default(),
+        }),
+        multisample: wgpu::MultisampleState::default(),
+        fragment: with_ids.then(|| wgpu::FragmentState {
+            module,
+            entry_point: Some("fs_shadow_id"),
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            targets: &id_target,
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
 }
 
 fn depth_bind_group(

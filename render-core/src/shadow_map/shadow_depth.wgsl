@@ -1,6 +1,21 @@
-// Depth-only rendering of casters into the shadow map. Prepended with frame/instance.wgsl and frame/common.wgsl.
+// Casters into the shadow map: depth only, or depth and caster id (instance index + 1) for the
+// reference map that error and oracle are measured against.
+// Prepended with frame/instance.wgsl and frame/common.wgsl.
+
+struct ShadowOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) @interpolate(flat) instance: u32,
+}
 
 @vertex
-fn vs_shadow(@location(0) position: vec3<f32>, @builtin(instance_index) instance: u32) -> @builtin(position) vec4<f32> {
-    return frame.light_clip_from_world * vec4<f32>(world_position(instance, position), 1.0);
+fn vs_shadow(@location(0) position: vec3<f32>, @builtin(instance_index) instance: u32) -> ShadowOut {
+    var out: ShadowOut;
+    out.clip = frame.light_clip_from_world * vec4<f32>(world_position(instance, position), 1.0);
+    out.instance = instance;
+    return out;
+}
+
+@fragment
+fn fs_shadow_id(in: ShadowOut) -> @location(0) u32 {
+    return in.instance + 1u;
 }

@@ -36,6 +36,22 @@ fn counts(ui: &mut egui::Ui, report: &FrameReport) {
                 thousands(c.casters_total.into())
             ),
         );
+        if let Some(oracle) = c.casters_oracle {
+            grid::row(ui, "Oracle casters", thousands(oracle.into()));
+            let tightness = report
+                .tightness()
+                .map_or_else(|| PENDING.to_owned(), |t| format!("{t:.2}"));
+            grid::row(ui, "Tightness (drawn / oracle)", tightness);
+        }
+        if let Some(e) = report.error {
+            grid::row(
+                ui,
+                "Missing shadow px",
+                thousands(e.missing_shadow_px.into()),
+            );
+            grid::row(ui, "Extra shadow px", thousands(e.extra_shadow_px.into()));
+            grid::row(ui, "Receiver px compared", thousands(e.visible_px.into()));
+        }
         grid::row(ui, "Receivers visible", optional_count(c.receivers_visible));
         grid::row(
             ui,

@@ -4,6 +4,10 @@ use render_core::frame::{FrameSettings, Method, PcfKernel};
 
 use super::grid;
 
+const MEASURE_HELP: &str = "Also render the reference shadow map of every caster, then count the visible pixels \
+     whose shadow differs from it and the casters a correct map needs (the oracle). Costs a \
+     second shadow pass.";
+
 /// Shadow-map sizes offered, texels per side.
 pub const RESOLUTIONS: [u32; 5] = [512, 1024, 2048, 4096, 8192];
 
@@ -74,4 +78,6 @@ pub fn ui(ui: &mut egui::Ui, settings: &mut FrameSettings) {
     });
     ui.checkbox(&mut settings.overlays.light_view, "Light view in corner")
         .on_hover_text("Draw the shadow map's depth over the top-left corner of the 3D view");
+    ui.checkbox(&mut settings.measure, "Measure error and oracle")
+        .on_hover_text(MEASURE_HELP);
 }

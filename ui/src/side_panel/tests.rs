@@ -9,13 +9,14 @@ use render_core::frame::{
     CpuTimings, FrameCounts, FrameReport, FrameSettings, LightFacts, PcfKernel, Stage, pass_label,
 };
 use render_core::gpu::PassTiming;
+use render_core::metrics::ShadowError;
 use render_core::scene::{SceneFacts, Sun};
 
 use super::SidePanel;
 use crate::{PanelInput, ScreenshotSettings, UiAction};
 
 const WIDTH: f32 = 300.0;
-const HEIGHT: f32 = 1700.0;
+const HEIGHT: f32 = 1900.0;
 
 /// What the app would hold: settings, the panel, and the facts it feeds in.
 struct Lab {
@@ -61,6 +62,7 @@ fn report(frame_index: u64) -> FrameReport {
         counts: FrameCounts {
             casters_total: 1200,
             casters_rendered: 873,
+            casters_oracle: Some(291),
             receivers_visible: None,
             objects_visible: None,
             objects_drawn_camera: 640,
@@ -86,6 +88,12 @@ fn report(frame_index: u64) -> FrameReport {
             depth_range_m: 142.0,
             covers_whole_scene: true,
         },
+        error: Some(ShadowError {
+            missing_shadow_px: 12,
+            extra_shadow_px: 3,
+            visible_px: 65_432,
+        }),
+        measured_frame_index: frame_index.checked_sub(1),
     }
 }
 
@@ -284,15 +292,27 @@ fn resolution_combo_edits_settings() {
 }
 
 #[test]
+fn oracle_tightness_and_error_are_shown_when_measured() {
+    let harness = harness(Lab::new());
+    harness.get_by_label("291");
+    harness.get_by_label("3.00");
+    harness.get_by_label("Missing shadow px");
+    harness.get_by_label("Extra shadow px");
+    harness.get_by_label("65,432");
+}
+
+#[test]
 fn checkboxes_edit_settings() {
     let mut harness = harness(Lab::new());
     harness.get_by_label("Shadows enabled").click();
     harness.get_by_label("Light view in corner").click();
     harness.get_by_label("Include panel").click();
+    harness.get_by_label("Measure error and oracle").click();
     harness.run();
     let lab = harness.state();
     assert!(!lab.settings.shadow.shadows_enabled);
     assert!(lab.settings.overlays.light_view);
+    assert!(lab.settings.measure);
     assert!(lab.screenshot.include_panel);
 }
 

@@ -1,0 +1,240 @@
+//! The error measure and the oracle: conservative methods give zero error and draw every oracle
+//! caster; a missing caster shows up as missing shadow; the oracle leaves out casters whose
+//! shadow nobody sees.
+
+use glam::{Mat4, Vec3};
+use render_core::frame::{
+    FrameInput, FrameRenderer, FrameReport, FrameSettings, Method, PcfKernel, SceneGpu,
+};
+use render_core::geom::Camera;
+use render_core::scene::{Instance, Scene, Sun, load_builtin};
+use shadowlab_tests::{box_mesh, box_on_plane, gpu};
+
+/// Renders one measured frame and returns the report, the drawn casters and the oracle flags.
+fn measured(
+    scene: &Scene,
+    camera: &Camera,
+    settings: &FrameSettings,
+    exclude: &[u32],
+) -> (FrameReport, Vec<u32>, Vec<bool>) {
+    let ctx = gpu();
+    let scene_gpu = SceneGpu::new(ctx, scene);
+    let mut renderer = FrameRenderer::new(ctx);
+    renderer.exclude_casters(exclude);
+    let settings = FrameSettings {
+        measure: true,
+        ..*settings
+    };
+    let input = FrameInput {
+        camera,
+        width: 256,
+        height: 192,
+        settings: &settings,
+    };
+    let report = renderer
+        .render_and_wait(ctx, scene, &scene_gpu, &input)
+        .expect("frame");
+    let oracle = renderer.read_oracle(ctx, &scene_gpu).expect("oracle flags");
+    (report, renderer.drawn_casters().to_vec(), oracle)
+}
+
+fn assert_conservative(name: &str, scene: &Scene, camera: &Camera, settings: &FrameSettings) {
+    let mut rendered = Vec::new();
+    for method in Method::ALL {
+        let settings = FrameSettings {
+            method,
+            ..*settings
+        };
+        let (report, drawn, oracle) = measured(scene, camera, &settings, &[]);
+        let error = report.error.expect("measured frames report error");
+        assert!(
+            error.visible_px > 0,
+            "{name}/{}: no visible receiver pixels",
+            method.name()
+        );
+        assert_eq!(
+            (error.missing_shadow_px, error.extra_shadow_px),
+            (0, 0),
+            "{name}/{}: error pixels",
+            method.name()
+        );
+        let oracle_count = oracle.iter().filter(|&&o| o).count() as u32;
+        assert_eq!(
+            report.counts.casters_oracle,
+            Some(oracle_count),
+            "{name}: oracle count and flags agree"
+        );
+        for (i, _) in oracle.iter().enumerate().filter(|(_, o)| **o) {
+            assert!(
+                drawn.binary_search(&(i as u32)).is_ok(),
+                "{name}/{}: oracle caster {} was not drawn",
+                method.name(),
+                scene.instances[i].name
+            );
+        }
+        rendered.push(report.counts.casters_rendered);
+    }
+    // none draws every caster; vfc at most as many.
+    assert_eq!(rendered[0], scene.caster_count() as u32, "{name}");
+    assert!(
+        rendered[1] <= rendered[0],
+        "{name}: vfc drew more than none"
+    );
+}
+
+#[test]
+fn conservative_methods_have_zero_error_and_draw_the_oracle() {
+    let city = load_builtin("city-small", 0).expect("city-small");
+    let street = Camera::look_at(
+        Vec3::new(-40.0, 3.5, 2.0),
+        Vec3::new(60.0, 8.0, 2.0),
+        60f32.to_radians(),
+        0.1,
+        2000.0,
+    );
+    let above = Camera::look_at(
+        Vec3::new(-150.0, 120.0, 150.0),
+        Vec3::ZERO,
+        60f32.to_radians(),
+        0.1,
+        2000.0,
+    );
+    for (name, camera, sun) in [
+        ("street", street, city.sun),
+        ("above", above, city.sun),
+        (
+            "grazing",
+            street,
+            Sun::from_azimuth_elevation_deg(20.0, 1.0),
+        ),
+        ("zenith", above, Sun::from_direction(Vec3::Y)),
+    ] {
+        let settings = FrameSettings {
+            sun,
+            ..FrameSettings::default()
+        };
+        assert_conservative(name, &city, &camera, &settings);
+    }
+    let boxes = load_builtin("boxes", 0).expect("boxes");
+    let view = Camera::look_at(
+        Vec3::new(-25.0, 18.0, 25.0),
+        Vec3::ZERO,
+        50f32.to_radians(),
+        0.1,
+        200.0,
+    );
+    for pcf in PcfKernel::ALL {
+        let mut settings = FrameSettings {
+            sun: boxes.sun,
+            ..FrameSettings::default()
+        };
+        settings.shadow.pcf = pcf;
+        assert_conservative(pcf.name(), &boxes, &view, &settings);
+    }
+}
+
+#[test]
+fn a_missing_caster_shows_as_missing_shadow() {
+    let sun = Sun::from_direction(Vec3::Y);
+    let scene = box_on_plane(20.0, Vec3::splat(2.0), 1.5, sun);
+    let camera = Camera::look_at(
+        Vec3::new(0.0, 4.0, 12.0),
+        Vec3::ZERO,
+        50f32.to_radians(),
+        0.1,
+        100.0,
+    );
+    let settings = FrameSettings {
+        sun,
+        ..FrameSettings::default()
+    };
+    let (full, _, oracle) = measured(&scene, &camera, &settings, &[]);
+    assert_eq!(full.error.map(|e| e.missing_shadow_px), Some(0));
+    assert!(
+        oracle[1],
+        "the box shadows visible ground, so it is in the oracle"
+    );
+    let (without_box, drawn, _) = measured(&scene, &camera, &settings, &[1]);
+    assert_eq!(drawn, vec![0]);
+    let error = without_box.error.expect("measured");
+    assert!(
+        error.missing_shadow_px > 100,
+        "the box's shadow is missing but only {} px counted",
+        error.missing_shadow_px
+    );
+    assert_eq!(error.extra_shadow_px, 0);
+}
+
+#[test]
+fn the_oracle_leaves_out_a_caster_whose_shadow_falls_on_hidden_ground() {
+    // A wall hides a box and the ground around it; the sun from +X throws the box's shadow onto
+    // that hidden ground. A second box stands in front of the wall, its shadow in view.
+    let sun = Sun::from_direction(Vec3::new(1.0, 1.0, 0.0));
+    let ground = box_mesh("ground", Vec3::new(100.0, 0.5, 100.0));
+    let cube = box_mesh("box", Vec3::splat(1.0));
+    let wall = box_mesh("wall", Vec3::new(20.0, 5.0, 0.5));
+    let instances = vec![
+        Instance::new(
+            "ground",
+            0,
+            &ground,
+            Mat4::from_translation(Vec3::new(0.0, -0.5, 0.0)),
+        ),
+        Instance::new(
+            "seen",
+            1,
+            &cube,
+            Mat4::from_translation(Vec3::new(5.0, 1.0, -20.0)),
+        ),
+        Instance::new(
+            "hidden",
+            1,
+            &cube,
+            Mat4::from_translation(Vec3::new(0.0, 1.0, 0.0)),
+        ),
+        Instance::new(
+            "wall",
+            2,
+            &wall,
+            Mat4::from_translation(Vec3::new(0.0, 5.0, -10.0)),
+        ),
+    ];
+    let scene = Scene::new("test:oracle", vec![ground, cube, wall], instances, sun);
+    let camera = Camera::look_at(
+        Vec3::new(0.0, 2.0, -30.0),
+        Vec3::new(0.0, 2.0, 0.0),
+        60f32.to_radians(),
+        0.1,
+        300.0,
+    );
+    let settings = FrameSettings {
+        sun,
+        method: Method::Vfc,
+        ..FrameSettings::default()
+    };
+    let (report, drawn, oracle) = measured(&scene, &camera, &settings, &[]);
+    assert!(
+        oracle[1],
+        "the box in front of the wall shadows visible ground"
+    );
+    assert!(
+        !oracle[2],
+        "the hidden box's shadow falls only on hidden ground"
+    );
+    assert!(
+        drawn.contains(&2),
+        "vfc keeps the hidden box: it is inside the light frustum"
+    );
+    let oracle_count = report.counts.casters_oracle.expect("measured");
+    assert!(
+        oracle_count < report.counts.casters_rendered,
+        "{oracle_count} oracle casters"
+    );
+    assert!(report.tightness().expect("tightness") > 1.0);
+    assert_eq!(
+        report
+            .error
+            .map(|e| (e.missing_shadow_px, e.extra_shadow_px)),
+        Some((0, 0))
+    );
+}
