@@ -4,7 +4,8 @@
 
 use glam::{Mat4, Vec3};
 use render_core::frame::{
-    FrameInput, FrameRenderer, FrameReport, FrameSettings, Method, PcfKernel, SceneGpu,
+    FrameCapture, FrameInput, FrameRenderer, FrameReport, FrameSettings, Method, PcfKernel,
+    SceneGpu,
 };
 use render_core::geom::Camera;
 use render_core::scene::{Instance, Scene, Sun, load_builtin};
@@ -17,6 +18,17 @@ fn measured(
     settings: &FrameSettings,
     exclude: &[u32],
 ) -> (FrameReport, Vec<u32>, Vec<bool>) {
+    let (report, drawn, oracle, _) = measured_with_capture(scene, camera, settings, exclude);
+    (report, drawn, oracle)
+}
+
+/// As [`measured`], plus the frame's targets.
+fn measured_with_capture(
+    scene: &Scene,
+    camera: &Camera,
+    settings: &FrameSettings,
+    exclude: &[u32],
+) -> (FrameReport, Vec<u32>, Vec<bool>, FrameCapture) {
     let ctx = gpu();
     let scene_gpu = SceneGpu::new(ctx, scene);
     let mut renderer = FrameRenderer::new(ctx);
@@ -35,7 +47,8 @@ fn measured(
         .render_and_wait(ctx, scene, &scene_gpu, &input)
         .expect("frame");
     let oracle = renderer.read_oracle(ctx, &scene_gpu).expect("oracle flags");
-    (report, renderer.drawn_casters().to_vec(), oracle)
+    let capture = FrameCapture::read(ctx, renderer.targets().expect("targets")).expect("readback");
+    (report, renderer.drawn_casters().to_vec(), oracle, capture)
 }
 
 fn assert_conservative(name: &str, scene: &Scene, camera: &Camera, settings: &FrameSettings) {
@@ -154,7 +167,10 @@ fn a_missing_caster_shows_as_missing_shadow() {
         oracle[1],
         "the box shadows visible ground, so it is in the oracle"
     );
-    let (without_box, drawn, _) = measured(&scene, &camera, &settings, &[1]);
+    let mut with_heat_map = settings;
+    with_heat_map.overlays.error = true;
+    let (without_box, drawn, _, capture) =
+        measured_with_capture(&scene, &camera, &with_heat_map, &[1]);
     assert_eq!(drawn, vec![0]);
     let error = without_box.error.expect("measured");
     assert!(
@@ -163,6 +179,26 @@ fn a_missing_caster_shows_as_missing_shadow() {
         error.missing_shadow_px
     );
     assert_eq!(error.extra_shadow_px, 0);
+    // The per-pixel factors agree with the counts, and the heat map paints those pixels red.
+    let darker_in_reference = capture
+        .shadow
+        .iter()
+        .zip(&capture.reference_shadow)
+        .filter(|(m, r)| r < m)
+        .count() as u32;
+    assert_eq!(darker_in_reference, error.missing_shadow_px);
+    let red = capture
+        .color
+        .pixels()
+        .filter(|p| {
+            i32::from(p.0[0]) > i32::from(p.0[1]) + 60 && i32::from(p.0[0]) > i32::from(p.0[2]) + 60
+        })
+        .count() as u32;
+    assert!(
+        red >= error.missing_shadow_px * 9 / 10,
+        "{red} red pixels for {} missing",
+        error.missing_shadow_px
+    );
 }
 
 #[test]

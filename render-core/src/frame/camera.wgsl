@@ -112,10 +112,12 @@ fn fs_shade(in: VsOut) -> ShadeOut {
     let data = instances[in.instance];
     let receives = (data.flags.x & FLAG_RECEIVER) != 0u;
     var visibility = 1.0;
+    var reference = 1.0;
     if (frame.params.y != 0u && receives) {
         visibility = shadow_factor(shadow_map, in.world_pos, geometric, false);
+        reference = visibility;
         if (frame.params.z != 0u) {
-            let reference = shadow_factor(reference_map, in.world_pos, geometric, true);
+            reference = shadow_factor(reference_map, in.world_pos, geometric, true);
             atomicAdd(&measured.visible_px, 1u);
             if (reference < visibility) {
                 atomicAdd(&measured.missing_px, 1u);
@@ -131,6 +133,6 @@ fn fs_shade(in: VsOut) -> ShadeOut {
     let sun = vec3<f32>(1.0, 0.95, 0.85);
     var out: ShadeOut;
     out.color = vec4<f32>(data.base_color.rgb * (ambient + sun * diffuse), 1.0);
-    out.shadow = vec4<f32>(visibility, 0.0, 0.0, 1.0);
+    out.shadow = vec4<f32>(visibility, reference, 0.0, 1.0);
     return out;
 }

@@ -15,8 +15,10 @@ pub struct FrameCapture {
     pub ids: Vec<u32>,
     /// Reversed depth: 1 at the near plane, 0 at the far plane and for sky.
     pub depth: Vec<f32>,
-    /// Fraction of shadow taps that see the sun, 0..=255.
+    /// Fraction of shadow taps that see the sun in the method's map, 0..=255.
     pub shadow: Vec<u8>,
+    /// The same from the reference map (equal to `shadow` unless the frame measured).
+    pub reference_shadow: Vec<u8>,
 }
 
 impl FrameCapture {
@@ -27,13 +29,15 @@ impl FrameCapture {
                 what: "colour target".into(),
                 reason: "not 4 bytes per texel".into(),
             })?;
+        let shadow = read_texture(ctx, &targets.shadow, wgpu::TextureAspect::All)?.bytes;
         Ok(Self {
             width: targets.width,
             height: targets.height,
             color,
             ids: read_texture(ctx, &targets.ids, wgpu::TextureAspect::All)?.to_u32(),
             depth: read_texture(ctx, &targets.depth, wgpu::TextureAspect::DepthOnly)?.to_f32(),
-            shadow: read_texture(ctx, &targets.shadow, wgpu::TextureAspect::All)?.bytes,
+            shadow: shadow.iter().step_by(2).copied().collect(),
+            reference_shadow: shadow.iter().skip(1).step_by(2).copied().collect(),
         })
     }
 }

@@ -7,7 +7,7 @@
 //! mark_visible                                  visible objects and receivers from the ids
 //! draw_shadow_map                               casters into the shadow map
 //! draw_shading                                  diffuse + ambient with PCF shadows
-//! draw_overlays                                 the light's view inset
+//! draw_overlays                                 light's view inset, error heat map
 //! ```
 //!
 //! The window and the headless CLI both call [`FrameRenderer::render`]; the window only
@@ -34,7 +34,7 @@ pub use visibility::VisibilityCounts;
 
 use crate::geom::{Camera, Frustum, LightFrustum, fit_directional_light};
 use crate::gpu::{FrameTimer, GpuContext, PassTiming};
-use crate::metrics::{MeasureResources, Measured};
+use crate::metrics::{HeatMapOverlay, MeasureResources, Measured};
 use crate::scene::Scene;
 use crate::shadow_map::{LIGHT_VIEW_SIZE, MapKind, ShadowMapPass};
 use gpu_data::FrameUniforms;
@@ -84,6 +84,7 @@ pub struct FrameRenderer {
     /// Every caster, for the reference map when measuring.
     reference_list: DrawList,
     measure: MeasureResources,
+    heat_map: HeatMapOverlay,
     latest_measured: Option<Measured>,
     /// Whether the last frame measured; older measurements are not reported after a switch.
     measuring: bool,
@@ -188,6 +189,7 @@ impl FrameRenderer {
             caster_list: DrawList::new(ctx, "Frame::caster_draws"),
             reference_list: DrawList::new(ctx, "Frame::reference_draws"),
             measure,
+            heat_map: HeatMapOverlay::new(device),
             latest_measured: None,
             measuring: false,
             scene_casters: (0, Vec::new()),
@@ -268,7 +270,7 @@ impl FrameRenderer {
             self.measure.copy_counts(&mut encoder, self.frame_index);
         }
         self.measuring = settings.measure;
-        self.draw_overlays(&mut encoder, settings);
+        self.draw_overlays(ctx, &mut encoder, settings);
         self.timer.resolve(&mut encoder);
         ctx.queue.submit([encoder.finish()]);
         self.timer.end_frame();
@@ -668,9 +670,18 @@ impl FrameRenderer {
     }
 
     /// The light's view inset is always rendered (the panel shows it); the `light-view`
-    /// overlay also draws it into the top-left corner of the colour target.
-    fn draw_overlays(&self, encoder: &mut wgpu::CommandEncoder, settings: &FrameSettings) {
+    /// overlay also draws it into the top-left corner of the colour target, and the `error`
+    /// overlay tints pixels whose shadow differs from the reference.
+    fn draw_overlays(
+        &self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        settings: &FrameSettings,
+    ) {
         self.shadow_map.draw_light_view(encoder);
+        if settings.overlays.error && settings.measure {
+            self.heat_map.draw(&ctx.device, encoder, self.targets_ref());
+        }
         if settings.overlays.light_view {
             let targets = self.targets_ref();
             let side = (LIGHT_VIEW_SIZE as f32)

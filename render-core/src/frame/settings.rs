@@ -135,15 +135,19 @@ impl FromStr for Method {
 pub struct Overlays {
     /// The light's view (shadow-map depth) in the top-left corner.
     pub light_view: bool,
+    /// Pixels whose shadow differs from the reference: red missing, blue extra. Needs
+    /// [`FrameSettings::measure`].
+    pub error: bool,
 }
 
 impl Overlays {
-    pub const NAMES: [&'static str; 1] = ["light-view"];
+    pub const NAMES: [&'static str; 2] = ["light-view", "error"];
 
     /// Turns on the overlay called `name`.
     pub fn enable(&mut self, name: &str) -> Result<(), String> {
         match name {
             "light-view" => self.light_view = true,
+            "error" => self.error = true,
             _ => {
                 return Err(format!(
                     "unknown overlay '{name}' (available: {})",

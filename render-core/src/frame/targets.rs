@@ -22,8 +22,9 @@ pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrg
 pub const ID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 /// Reversed depth (1 near, 0 far); copyable for tests.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
-/// Fraction of shadow taps that see the sun, per pixel (1 for sky and non-receivers).
-pub const SHADOW_FACTOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
+/// Fraction of shadow taps that see the sun, per pixel (1 for sky and non-receivers): red from
+/// the method's map, green from the reference map when measuring (else the same as red).
+pub const SHADOW_FACTOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg8Unorm;
 
 impl ViewTargets {
     /// Targets of at least 1x1 texels.
@@ -76,7 +77,7 @@ impl ViewTargets {
         let (shadow, shadow_view) = make(
             "ViewTargets::shadow",
             SHADOW_FACTOR_FORMAT,
-            wgpu::TextureUsages::empty(),
+            wgpu::TextureUsages::TEXTURE_BINDING,
         );
         Self {
             width,

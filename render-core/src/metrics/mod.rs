@@ -6,6 +6,10 @@
 //! shadowed PCF tap: the oracle. This module owns the buffers it writes (long-lived, resized
 //! with the scene) and reads the counts back without stalling.
 
+mod heat_map;
+
+pub use heat_map::HeatMapOverlay;
+
 use serde::Serialize;
 
 use crate::frame::SceneGpu;

@@ -8,6 +8,9 @@ const MEASURE_HELP: &str = "Also render the reference shadow map of every caster
      whose shadow differs from it and the casters a correct map needs (the oracle). Costs a \
      second shadow pass.";
 
+const ERROR_OVERLAY_HELP: &str = "Tint pixels whose shadow differs from the reference: red where \
+     shadow is missing, blue where it is extra";
+
 /// Shadow-map sizes offered, texels per side.
 pub const RESOLUTIONS: [u32; 5] = [512, 1024, 2048, 4096, 8192];
 
@@ -80,4 +83,8 @@ pub fn ui(ui: &mut egui::Ui, settings: &mut FrameSettings) {
         .on_hover_text("Draw the shadow map's depth over the top-left corner of the 3D view");
     ui.checkbox(&mut settings.measure, "Measure error and oracle")
         .on_hover_text(MEASURE_HELP);
+    ui.add_enabled_ui(settings.measure, |ui| {
+        ui.checkbox(&mut settings.overlays.error, "Error heat map")
+            .on_hover_text(ERROR_OVERLAY_HELP);
+    });
 }

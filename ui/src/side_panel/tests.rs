@@ -309,10 +309,16 @@ fn checkboxes_edit_settings() {
     harness.get_by_label("Include panel").click();
     harness.get_by_label("Measure error and oracle").click();
     harness.run();
+    harness.get_by_label("Error heat map").click();
+    harness.run();
     let lab = harness.state();
     assert!(!lab.settings.shadow.shadows_enabled);
     assert!(lab.settings.overlays.light_view);
     assert!(lab.settings.measure);
+    assert!(
+        lab.settings.overlays.error,
+        "the heat map is enabled once measuring is on"
+    );
     assert!(lab.screenshot.include_panel);
 }
 
