@@ -334,6 +334,10 @@ pub struct ShotArgs {
     /// Stats JSON to write (default: the PNG's name with .json).
     #[arg(long, value_name = "JSON")]
     pub stats: Option<PathBuf>,
+    /// Add `objects_detail` to the stats: per object its name, whether it is visible, what
+    /// happened to it in the shadow pass, and whether it is in the oracle set.
+    #[arg(long)]
+    pub detail: bool,
 }
 
 /// `shadowlab bench`.

@@ -94,7 +94,10 @@ pub fn shot(args: &ShotArgs) -> anyhow::Result<()> {
         .stats
         .clone()
         .unwrap_or_else(|| args.out.with_extension("json"));
-    let stats = stats_json(scene, &settings, &camera, &report, ctx, wall_ms);
+    let mut stats = stats_json(scene, &settings, &camera, &report, ctx, wall_ms);
+    if args.detail {
+        stats["objects_detail"] = objects_detail(&session, &report)?;
+    }
     std::fs::write(&stats_path, serde_json::to_string_pretty(&stats)?)
         .with_context(|| format!("writing {}", stats_path.display()))?;
     println!(
@@ -122,6 +125,33 @@ pub fn write_png(image: &image::RgbaImage, path: &Path) -> anyhow::Result<()> {
     image
         .save(path)
         .with_context(|| format!("writing {}", path.display()))
+}
+
+/// One entry per object: glTF node name, `visible`, `shadow_map` (`rendered` or the stage that
+/// culled it) and `oracle`.
+fn objects_detail(session: &Session, report: &FrameReport) -> anyhow::Result<serde_json::Value> {
+    let visible = session
+        .renderer
+        .read_visible(&session.ctx, &session.scene_gpu)?;
+    let oracle = session
+        .renderer
+        .read_oracle(&session.ctx, &session.scene_gpu)?;
+    let outcomes = session.renderer.caster_outcomes();
+    let entries: Vec<serde_json::Value> = session
+        .scene
+        .instances
+        .iter()
+        .enumerate()
+        .map(|(i, inst)| {
+            json!({
+                "name": inst.name,
+                "visible": visible[i],
+                "shadow_map": outcomes[i].describe(&report.stages),
+                "oracle": oracle[i],
+            })
+        })
+        .collect();
+    Ok(serde_json::Value::Array(entries))
 }
 
 /// The stats JSON of DESIGN.md: scene, objects, method, counts, stages, `timings_ms`, and the view.

@@ -83,6 +83,67 @@ fn shot_of_the_city_writes_a_picture_and_stats() {
 }
 
 #[test]
+fn shot_detail_reports_every_object() {
+    let png = out_dir("detail").join("street.png");
+    let args = [
+        "shot",
+        "builtin:city-small",
+        "--method",
+        "vfc",
+        "--detail",
+        "--size",
+        "160x100",
+        "--eye=-40,3.5,2",
+        "--target=60,8,2",
+        "--out",
+    ];
+    let output = run(shadowlab().args(args).arg(&png));
+    assert!(output.status.success(), "{}", text(&output));
+    let stats: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(png.with_extension("json")).expect("stats"))
+            .expect("JSON");
+    let detail = stats["objects_detail"].as_array().expect("objects_detail");
+    assert_eq!(
+        detail.len() as u64,
+        stats["objects"].as_u64().expect("objects")
+    );
+    let count = |pred: &dyn Fn(&serde_json::Value) -> bool| {
+        detail.iter().filter(|o| pred(o)).count() as u64
+    };
+    assert_eq!(
+        count(&|o| o["shadow_map"] == "rendered"),
+        stats["counts"]["casters_rendered"]
+            .as_u64()
+            .expect("rendered")
+    );
+    assert_eq!(
+        count(&|o| o["visible"] == true),
+        stats["counts"]["objects_visible"]
+            .as_u64()
+            .expect("visible")
+    );
+    assert_eq!(
+        count(&|o| o["oracle"] == true),
+        stats["counts"]["casters_oracle"].as_u64().expect("oracle")
+    );
+    assert!(
+        count(&|o| o["shadow_map"] == "light frustum") > 0,
+        "street level culls some casters by the light frustum"
+    );
+    assert!(
+        detail
+            .iter()
+            .all(|o| o["oracle"] == false || o["shadow_map"] == "rendered"),
+        "every oracle caster is rendered"
+    );
+    assert!(
+        detail
+            .iter()
+            .any(|o| o["name"].as_str().is_some_and(|n| n.starts_with("ground_")))
+    );
+}
+
+#[test]
 fn bench_prints_a_table_and_writes_csv() {
     let dir = out_dir("bench");
     let csv = dir.join("bench.csv");

@@ -58,8 +58,34 @@ fn assert_conservative(name: &str, scene: &Scene, camera: &Camera, settings: &Fr
             method,
             ..*settings
         };
-        let (report, drawn, oracle) = measured(scene, camera, &settings, &[]);
-        let error = report.error.expect("measured frames report error");
+        let (report, drawn, oracle, capture) = measured_with_capture(scene, camera, &settings, &[]);
+        let error = report
+            .error
+            .unwrap_or_else(|| panic!("{name}/{}: no error reported: {report:?}", method.name()));
+        // Exactly the visible receiver pixels are compared: hidden fragments must not count.
+        let receiver_px = capture
+            .ids
+            .iter()
+            .filter(|&&id| id != 0 && scene.instances[id as usize - 1].receives_shadow)
+            .count() as u32;
+        assert_eq!(
+            error.visible_px,
+            receiver_px,
+            "{name}/{}: compared pixels",
+            method.name()
+        );
+        for (i, _) in oracle.iter().enumerate().filter(|(_, o)| **o) {
+            let shadows_something = capture
+                .shadow
+                .iter()
+                .zip(&capture.ids)
+                .any(|(f, &id)| *f < 255 && id != 0);
+            assert!(
+                shadows_something,
+                "{name}: oracle caster {} but no shadowed pixel",
+                scene.instances[i].name
+            );
+        }
         assert!(
             error.visible_px > 0,
             "{name}/{}: no visible receiver pixels",

@@ -100,6 +100,10 @@ fn shadow_factor(map: texture_depth_2d, world_pos: vec3<f32>, geometric_normal: 
     return lit / f32(k * k);
 }
 
+// The depth test must run before this shader: its counters and oracle marks are side effects
+// that hidden fragments must not have. FrameRenderer removes the attribute (and measurement)
+// on devices without SHADER_EARLY_DEPTH_TEST.
+@early_depth_test(force)
 @fragment
 fn fs_shade(in: VsOut) -> ShadeOut {
     let to_eye = frame.eye_world.xyz - in.world_pos;

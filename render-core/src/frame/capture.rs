@@ -1,5 +1,7 @@
 //! Headless frames: render, wait for the GPU, and read the targets back.
 
+use std::time::{Duration, Instant};
+
 use super::{FrameInput, FrameRenderer, FrameReport, SceneGpu, ViewTargets};
 use crate::gpu::{GpuContext, GpuError, read_texture};
 use crate::scene::Scene;
@@ -43,8 +45,9 @@ impl FrameCapture {
 }
 
 impl FrameRenderer {
-    /// Renders `input`, waits for the GPU, and returns the report with this frame's GPU times
-    /// and visible counts.
+    /// Renders `input`, waits for the GPU, and returns the report with this frame's GPU times,
+    /// visible counts and measurements. Readbacks are mapped by whichever thread polls the
+    /// device, so it keeps polling until this frame's results are in (ten seconds at most).
     pub fn render_and_wait(
         &mut self,
         ctx: &GpuContext,
@@ -53,8 +56,24 @@ impl FrameRenderer {
         input: &FrameInput<'_>,
     ) -> Result<FrameReport, GpuError> {
         let mut report = self.render(ctx, scene, scene_gpu, input);
-        ctx.wait_idle()?;
-        self.collect_finished(ctx, &mut report);
-        Ok(report)
+        let deadline = Instant::now() + Duration::from_secs(10);
+        loop {
+            ctx.wait_idle()?;
+            self.collect_finished(ctx, &mut report);
+            let frame = self.frame_index;
+            let visible = self
+                .latest_visibility
+                .is_some_and(|v| v.frame_index == frame);
+            let measured =
+                !self.measuring || self.latest_measured.is_some_and(|m| m.frame_index == frame);
+            if visible && measured {
+                return Ok(report);
+            }
+            if Instant::now() > deadline {
+                log::warn!("frame {frame}: GPU counts did not come back within 10 s");
+                return Ok(report);
+            }
+            std::thread::sleep(Duration::from_millis(1));
+        }
     }
 }

@@ -26,7 +26,9 @@ use std::time::Instant;
 use glam::Vec3;
 
 pub use capture::FrameCapture;
-pub use report::{CpuTimings, FrameCounts, FrameReport, LightFacts, Stage, pass_label};
+pub use report::{
+    CasterOutcome, CpuTimings, FrameCounts, FrameReport, LightFacts, Stage, pass_label,
+};
 pub use scene_gpu::SceneGpu;
 pub use settings::{FrameSettings, Method, Overlays, PcfKernel, ShadowSettings};
 pub use targets::ViewTargets;
@@ -44,6 +46,17 @@ use visibility::VisibilityPass;
 
 pub(crate) const INSTANCE_WGSL: &str = include_str!("instance.wgsl");
 pub(crate) const COMMON_WGSL: &str = include_str!("common.wgsl");
+
+/// The camera passes' shader; without forced early depth tests the shading pass cannot
+/// measure, so the attribute is dropped there (and measurement is switched off).
+fn camera_shader_source(early_depth_test: bool) -> String {
+    let body = if early_depth_test {
+        CAMERA_WGSL.to_owned()
+    } else {
+        CAMERA_WGSL.replace("@early_depth_test(force)", "")
+    };
+    format!("{}\n{body}", scene_prelude())
+}
 
 /// The declarations every scene pass starts with: the instance layout, then frame uniforms and
 /// scene bindings.
@@ -88,6 +101,10 @@ pub struct FrameRenderer {
     latest_measured: Option<Measured>,
     /// Whether the last frame measured; older measurements are not reported after a switch.
     measuring: bool,
+    /// What happened to each instance in the last frame's shadow pass.
+    outcomes: Vec<CasterOutcome>,
+    /// Whether the device can measure error and oracle exactly (see `camera.wgsl`).
+    measurement_available: bool,
     /// Casters left out of the method's map (what-if experiments); the reference keeps them.
     excluded_casters: Vec<u32>,
     /// Every caster of the scene `scene_casters.0`, sorted.
@@ -106,6 +123,15 @@ pub struct FrameRenderer {
 impl FrameRenderer {
     pub fn new(ctx: &GpuContext) -> Self {
         let device = &ctx.device;
+        let measurement_available = ctx
+            .features()
+            .contains(wgpu::Features::SHADER_EARLY_DEPTH_TEST);
+        if !measurement_available {
+            log::warn!(
+                "this adapter cannot force early depth tests (SHADER_EARLY_DEPTH_TEST), so shadow error \
+                 and oracle are not measured"
+            );
+        }
         let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("Frame::frame_layout"),
             entries: &[
@@ -140,7 +166,7 @@ impl FrameRenderer {
         );
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("Frame::camera_shader"),
-            source: wgpu::ShaderSource::Wgsl(format!("{}\n{CAMERA_WGSL}", scene_prelude()).into()),
+            source: wgpu::ShaderSource::Wgsl(camera_shader_source(measurement_available).into()),
         });
         let prepass_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("Frame::prepass_layout"),
@@ -194,6 +220,8 @@ impl FrameRenderer {
             measuring: false,
             scene_casters: (0, Vec::new()),
             excluded_casters: Vec::new(),
+            measurement_available,
+            outcomes: Vec::new(),
             targets: None,
             timer: FrameTimer::new(ctx),
             frame_index: 0,
@@ -229,7 +257,16 @@ impl FrameRenderer {
         let started = Instant::now();
         self.frame_index += 1;
         let (width, height) = (input.width.max(1), input.height.max(1));
-        let settings = input.settings;
+        let measured_settings;
+        let settings = if input.settings.measure && !self.measurement_available {
+            measured_settings = FrameSettings {
+                measure: false,
+                ..*input.settings
+            };
+            &measured_settings
+        } else {
+            input.settings
+        };
         self.prepare_targets(ctx, width, height);
         self.prepare_scene_bindings(ctx, scene_gpu, settings.shadow.resolution);
 
@@ -430,6 +467,8 @@ impl FrameRenderer {
         if settings.measure {
             self.reference_list.upload(ctx, scene_gpu, all);
         }
+        let casters_total = all.len() as u32;
+        self.record_outcomes(scene.instances.len(), stages.len());
 
         let camera_frustum = Frustum::from_clip_from_world(&camera.clip_from_world(aspect));
         self.scratch.clear();
@@ -439,7 +478,7 @@ impl FrameRenderer {
         self.scratch.sort_unstable();
         self.camera_list.upload(ctx, scene_gpu, &self.scratch);
         let counts = FrameCounts {
-            casters_total: all.len() as u32,
+            casters_total,
             casters_rendered: self.caster_list.len(),
             objects_drawn_camera: self.camera_list.len(),
             triangles_shadow: self.caster_list.triangles,
@@ -455,6 +494,45 @@ impl FrameRenderer {
     pub fn exclude_casters(&mut self, instances: &[u32]) {
         self.excluded_casters = instances.to_vec();
         self.excluded_casters.sort_unstable();
+    }
+
+    /// Per instance: rendered, culled at a stage, excluded, or not a caster. The method's only
+    /// culling stage so far is its last one.
+    fn record_outcomes(&mut self, instance_count: usize, stage_count: usize) {
+        self.outcomes.clear();
+        self.outcomes
+            .resize(instance_count, CasterOutcome::NotACaster);
+        let last_stage = stage_count.saturating_sub(1);
+        for &i in &self.scene_casters.1 {
+            self.outcomes[i as usize] = CasterOutcome::Culled { stage: last_stage };
+        }
+        for &i in &self.excluded_casters {
+            if let Some(o) = self.outcomes.get_mut(i as usize) {
+                *o = CasterOutcome::Excluded;
+            }
+        }
+        for &i in &self.casters {
+            self.outcomes[i as usize] = CasterOutcome::Rendered;
+        }
+    }
+
+    /// What happened to each instance in the last frame's shadow pass.
+    pub fn caster_outcomes(&self) -> &[CasterOutcome] {
+        &self.outcomes
+    }
+
+    /// Which instances some pixel of the last frame shows. Blocks: for tests and reports.
+    pub fn read_visible(
+        &self,
+        ctx: &GpuContext,
+        scene_gpu: &SceneGpu,
+    ) -> Result<Vec<bool>, crate::gpu::GpuError> {
+        crate::gpu::read_flags(
+            ctx,
+            &self.visibility.visible_flags,
+            scene_gpu.instance_count,
+            "visible flags",
+        )
     }
 
     /// The instances drawn into the method's shadow map in the last frame, sorted.

@@ -24,6 +24,33 @@ pub struct FrameCounts {
     pub triangles_camera: u64,
 }
 
+/// What happened to an object in a frame's shadow pass.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CasterOutcome {
+    NotACaster,
+    Rendered,
+    /// Culled by the stage with this index in [`FrameReport::stages`].
+    Culled {
+        stage: usize,
+    },
+    /// Left out on request (`FrameRenderer::exclude_casters`).
+    Excluded,
+}
+
+impl CasterOutcome {
+    /// `rendered`, the culling stage's name, `excluded` or `not a caster`, as reports write it.
+    pub fn describe(self, stages: &[Stage]) -> String {
+        match self {
+            Self::NotACaster => "not a caster".into(),
+            Self::Rendered => "rendered".into(),
+            Self::Culled { stage } => stages
+                .get(stage)
+                .map_or_else(|| format!("stage {stage}"), |s| s.name.clone()),
+            Self::Excluded => "excluded".into(),
+        }
+    }
+}
+
 /// One caster-culling stage and how many casters remain after it.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Stage {

@@ -74,6 +74,46 @@ pub fn read_texture(
     })
 }
 
+/// Copies the first `size` bytes of `buffer` (which needs `COPY_SRC`) to the CPU and waits.
+/// For tests and reports, never the window loop.
+pub fn read_buffer(
+    ctx: &GpuContext,
+    buffer: &wgpu::Buffer,
+    size: u64,
+    what: &str,
+) -> Result<Vec<u8>, GpuError> {
+    let staging = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("readback::buffer"),
+        size,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut encoder = ctx
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("readback::buffer"),
+        });
+    encoder.copy_buffer_to_buffer(buffer, 0, &staging, 0, size);
+    ctx.queue.submit([encoder.finish()]);
+    map_and_copy(ctx, &staging, what)
+}
+
+/// Reads `count` `u32` flags from the start of `buffer` as booleans (non-zero is true).
+pub fn read_flags(
+    ctx: &GpuContext,
+    buffer: &wgpu::Buffer,
+    count: u32,
+    what: &str,
+) -> Result<Vec<bool>, GpuError> {
+    let bytes = read_buffer(ctx, buffer, u64::from(count.max(1)) * 4, what)?;
+    let words: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes);
+    Ok(words
+        .into_iter()
+        .take(count as usize)
+        .map(|w| w != 0)
+        .collect())
+}
+
 /// Maps a `MAP_READ` buffer, waits, and returns its contents.
 pub fn map_and_copy(
     ctx: &GpuContext,

@@ -13,7 +13,7 @@ pub use heat_map::HeatMapOverlay;
 use serde::Serialize;
 
 use crate::frame::SceneGpu;
-use crate::gpu::{AsyncReadback, GpuContext, GpuError, map_and_copy};
+use crate::gpu::{AsyncReadback, GpuContext, GpuError, read_flags};
 use crate::shadow_map::ShadowMapPass;
 
 /// Shadow error of one frame, in pixels.
@@ -187,27 +187,7 @@ impl MeasureResources {
         ctx: &GpuContext,
         instance_count: u32,
     ) -> Result<Vec<bool>, GpuError> {
-        let size = u64::from(instance_count.max(1)) * 4;
-        let staging = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("Measure::oracle_readback"),
-            size,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let mut encoder = ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("Measure::read_oracle"),
-            });
-        encoder.copy_buffer_to_buffer(&self.oracle_flags, 0, &staging, 0, size);
-        ctx.queue.submit([encoder.finish()]);
-        let words: Vec<u32> =
-            bytemuck::pod_collect_to_vec(&map_and_copy(ctx, &staging, "oracle flags")?);
-        Ok(words
-            .into_iter()
-            .take(instance_count as usize)
-            .map(|w| w != 0)
-            .collect())
+        read_flags(ctx, &self.oracle_flags, instance_count, "oracle flags")
     }
 }
 
