@@ -107,3 +107,60 @@ fn shadows_hold_100_km_from_the_origin() {
         "{wrong} of {checked} ground pixels have the wrong shadow 100 km out"
     );
 }
+
+#[test]
+fn casters_overlay_tints_objects_by_their_shadow_pass_outcome() {
+    use render_core::frame::{FrameCapture, FrameInput, FrameRenderer, SceneGpu};
+    let sun = Sun::from_azimuth_elevation_deg(30.0, 60.0);
+    let scene = box_on_plane(20.0, Vec3::splat(4.0), 0.0, sun);
+    let camera = Camera::look_at(
+        Vec3::new(0.0, 8.0, 14.0),
+        Vec3::ZERO,
+        50f32.to_radians(),
+        0.1,
+        100.0,
+    );
+    let mut settings = FrameSettings {
+        sun,
+        ..FrameSettings::default()
+    };
+    settings.overlays.casters = true;
+    let ctx = shadowlab_tests::gpu();
+    let scene_gpu = SceneGpu::new(ctx, &scene);
+    let mut renderer = FrameRenderer::new(ctx);
+    renderer.exclude_casters(&[1]);
+    let input = FrameInput {
+        camera: &camera,
+        width: 200,
+        height: 150,
+        settings: &settings,
+    };
+    renderer
+        .render_and_wait(ctx, &scene, &scene_gpu, &input)
+        .expect("frame");
+    let capture = FrameCapture::read(ctx, renderer.targets().expect("targets")).expect("readback");
+    let dominant = |id: u32, test: &dyn Fn([i32; 3]) -> bool| {
+        let pixels: Vec<[i32; 3]> = capture
+            .ids
+            .iter()
+            .zip(capture.color.pixels())
+            .filter(|(i, _)| **i == id)
+            .map(|(_, p)| [p.0[0].into(), p.0[1].into(), p.0[2].into()])
+            .collect();
+        assert!(
+            pixels.len() > 200,
+            "object {id} covers {} pixels",
+            pixels.len()
+        );
+        pixels.iter().filter(|c| test(**c)).count() * 10 >= pixels.len() * 9
+    };
+    // The ground was rendered into the shadow map: green. The box was excluded: purple.
+    assert!(
+        dominant(1, &|[r, g, b]| g > r + 20 && g > b + 20),
+        "ground is not tinted green"
+    );
+    assert!(
+        dominant(2, &|[r, g, b]| b > g + 20 && r > g),
+        "the excluded box is not tinted purple"
+    );
+}

@@ -9,6 +9,22 @@
 @group(1) @binding(3) var<storage, read_write> oracle: array<atomic<u32>>;
 @group(1) @binding(4) var<storage, read_write> measured: Measured;
 
+// Per object: 0 not a caster, 1 rendered, 2 excluded, 3 + k culled by stage k
+// (frame/gpu_data.rs, outcome_code). Read for the `casters` overlay.
+@group(2) @binding(0) var<storage, read> outcomes: array<u32>;
+
+const OVERLAY_CASTERS: u32 = 1u;
+
+fn outcome_tint(code: u32) -> vec4<f32> {
+    switch code {
+        case 0u: { return vec4<f32>(0.0); }
+        case 1u: { return vec4<f32>(0.15, 0.85, 0.25, 0.55); }
+        case 2u: { return vec4<f32>(0.6, 0.2, 0.9, 0.6); }
+        case 3u, 4u: { return vec4<f32>(1.0, 0.55, 0.05, 0.6); }
+        default: { return vec4<f32>(0.95, 0.1, 0.2, 0.6); }
+    }
+}
+
 // Keep in sync with metrics/mod.rs (COUNTERS_SIZE, take_latest).
 struct Measured {
     visible_px: atomic<u32>,
@@ -136,7 +152,12 @@ fn fs_shade(in: VsOut) -> ShadeOut {
     let ambient = sky * 0.35;
     let sun = vec3<f32>(1.0, 0.95, 0.85);
     var out: ShadeOut;
-    out.color = vec4<f32>(data.base_color.rgb * (ambient + sun * diffuse), 1.0);
+    var color = data.base_color.rgb * (ambient + sun * diffuse);
+    if ((frame.params.w & OVERLAY_CASTERS) != 0u) {
+        let tint = outcome_tint(outcomes[in.instance]);
+        color = mix(color, tint.rgb * (0.35 + 0.65 * max(dot(n, l), 0.0)), tint.a);
+    }
+    out.color = vec4<f32>(color, 1.0);
     out.shadow = vec4<f32>(visibility, reference, 0.0, 1.0);
     return out;
 }

@@ -30,6 +30,20 @@ pub struct InstanceData {
 }
 const _: () = assert!(size_of::<InstanceData>() == 144);
 
+/// Bit in `FrameUniforms::params[3]`: tint objects by caster outcome.
+pub const OVERLAY_CASTERS: u32 = 1;
+
+/// Per-object outcome codes in the outcome buffer (keep in sync with camera.wgsl): 0 not a
+/// caster, 1 rendered, 2 excluded, 3 + k culled by stage k.
+pub fn outcome_code(outcome: super::CasterOutcome) -> u32 {
+    match outcome {
+        super::CasterOutcome::NotACaster => 0,
+        super::CasterOutcome::Rendered => 1,
+        super::CasterOutcome::Excluded => 2,
+        super::CasterOutcome::Culled { stage } => 3 + stage as u32,
+    }
+}
+
 /// Per-frame constants shared by every pass.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
@@ -50,7 +64,8 @@ pub struct FrameUniforms {
     /// w: shadow map size in texels.
     pub shadow: [f32; 4],
     /// x: PCF kernel width in texels (1, 2, 3 or 5); y: 1 when shadows are on; z: 1 when the
-    /// frame measures error and oracle against the reference map; w: padding.
+    /// frame measures error and oracle against the reference map; w: overlay bits
+    /// ([`OVERLAY_CASTERS`]).
     pub params: [u32; 4],
 }
 const _: () = assert!(size_of::<FrameUniforms>() == 240);

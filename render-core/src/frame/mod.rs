@@ -103,6 +103,10 @@ pub struct FrameRenderer {
     measuring: bool,
     /// What happened to each instance in the last frame's shadow pass.
     outcomes: Vec<CasterOutcome>,
+    /// Per-instance outcome codes for the `casters` overlay, and their group (shading group 2).
+    outcome_layout: wgpu::BindGroupLayout,
+    outcome_buffer: Option<(wgpu::Buffer, wgpu::BindGroup)>,
+    outcome_codes: Vec<u32>,
     /// Whether the device can measure error and oracle exactly (see `camera.wgsl`).
     measurement_available: bool,
     /// Casters left out of the method's map (what-if experiments); the reference keeps them.
@@ -158,6 +162,19 @@ impl FrameRenderer {
             ],
         });
         let measure = MeasureResources::new(device);
+        let outcome_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("Frame::outcome_layout"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage { read_only: true },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            }],
+        });
         let shadow_map = ShadowMapPass::new(
             device,
             &frame_layout,
@@ -176,7 +193,11 @@ impl FrameRenderer {
         let shade_pipeline_layout =
             device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some("Frame::shade_layout"),
-                bind_group_layouts: &[Some(&frame_layout), Some(&measure.layout)],
+                bind_group_layouts: &[
+                    Some(&frame_layout),
+                    Some(&measure.layout),
+                    Some(&outcome_layout),
+                ],
                 immediate_size: 0,
             });
         let prepass_pipeline = camera_pipeline(
@@ -220,6 +241,9 @@ impl FrameRenderer {
             measuring: false,
             scene_casters: (0, Vec::new()),
             excluded_casters: Vec::new(),
+            outcome_layout,
+            outcome_buffer: None,
+            outcome_codes: Vec::new(),
             measurement_available,
             outcomes: Vec::new(),
             targets: None,
@@ -469,6 +493,9 @@ impl FrameRenderer {
         }
         let casters_total = all.len() as u32;
         self.record_outcomes(scene.instances.len(), stages.len());
+        if settings.overlays.casters {
+            self.upload_outcomes(ctx);
+        }
 
         let camera_frustum = Frustum::from_clip_from_world(&camera.clip_from_world(aspect));
         self.scratch.clear();
@@ -514,6 +541,50 @@ impl FrameRenderer {
         for &i in &self.casters {
             self.outcomes[i as usize] = CasterOutcome::Rendered;
         }
+    }
+
+    /// Writes the outcome codes for the `casters` overlay, growing the buffer when needed.
+    fn upload_outcomes(&mut self, ctx: &GpuContext) {
+        self.outcome_codes.clear();
+        self.outcome_codes
+            .extend(self.outcomes.iter().map(|&o| gpu_data::outcome_code(o)));
+        self.outcome_codes
+            .resize(self.outcome_codes.len().max(1), 0);
+        let bytes = (self.outcome_codes.len() * 4) as u64;
+        if self
+            .outcome_buffer
+            .as_ref()
+            .is_none_or(|(b, _)| b.size() < bytes)
+        {
+            self.outcome_buffer =
+                Some(self.create_outcome_buffer(&ctx.device, bytes.next_power_of_two()));
+        }
+        if let Some((buffer, _)) = &self.outcome_buffer {
+            ctx.queue
+                .write_buffer(buffer, 0, bytemuck::cast_slice(&self.outcome_codes));
+        }
+    }
+
+    fn create_outcome_buffer(
+        &self,
+        device: &wgpu::Device,
+        size: u64,
+    ) -> (wgpu::Buffer, wgpu::BindGroup) {
+        let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("Frame::outcomes"),
+            size: size.max(4),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("Frame::outcome_bind_group"),
+            layout: &self.outcome_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: buffer.as_entire_binding(),
+            }],
+        });
+        (buffer, group)
     }
 
     /// What happened to each instance in the last frame's shadow pass.
@@ -579,7 +650,11 @@ impl FrameRenderer {
                 shadow.pcf.width(),
                 u32::from(shadow.shadows_enabled),
                 u32::from(settings.measure),
-                0,
+                if settings.overlays.casters {
+                    gpu_data::OVERLAY_CASTERS
+                } else {
+                    0
+                },
             ],
         };
         debug_assert!(
@@ -699,6 +774,15 @@ impl FrameRenderer {
             .measure
             .prepare(ctx, encoder, &self.shadow_map, scene_gpu)
             .clone();
+        if self.outcome_buffer.is_none() {
+            // The overlay has not been used: bind a small zeroed buffer.
+            self.outcome_buffer = Some(self.create_outcome_buffer(&ctx.device, 4));
+        }
+        let outcome_group = self
+            .outcome_buffer
+            .as_ref()
+            .map(|(_, g)| g.clone())
+            .expect("created above");
         let targets = self.targets_ref();
         let query = self.timer.begin_pass(pass_label::SHADING, encoder);
         {
@@ -741,6 +825,7 @@ impl FrameRenderer {
             pass.set_pipeline(&self.shade_pipeline);
             pass.set_bind_group(0, self.frame_bind_group(), &[]);
             pass.set_bind_group(1, &measure_group, &[]);
+            pass.set_bind_group(2, &outcome_group, &[]);
             self.camera_list
                 .draw(&mut pass, scene_gpu, self.indirect_first_instance);
         }

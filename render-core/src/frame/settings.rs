@@ -138,16 +138,20 @@ pub struct Overlays {
     /// Pixels whose shadow differs from the reference: red missing, blue extra. Needs
     /// [`FrameSettings::measure`].
     pub error: bool,
+    /// Objects in the camera view tinted by what happened to them in the shadow pass: green
+    /// rendered, orange or red culled (by stage), purple excluded; non-casters untinted.
+    pub casters: bool,
 }
 
 impl Overlays {
-    pub const NAMES: [&'static str; 2] = ["light-view", "error"];
+    pub const NAMES: [&'static str; 3] = ["light-view", "error", "casters"];
 
     /// Turns on the overlay called `name`.
     pub fn enable(&mut self, name: &str) -> Result<(), String> {
         match name {
             "light-view" => self.light_view = true,
             "error" => self.error = true,
+            "casters" => self.casters = true,
             _ => {
                 return Err(format!(
                     "unknown overlay '{name}' (available: {})",

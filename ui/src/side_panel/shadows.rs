@@ -81,6 +81,10 @@ pub fn ui(ui: &mut egui::Ui, settings: &mut FrameSettings) {
     });
     ui.checkbox(&mut settings.overlays.light_view, "Light view in corner")
         .on_hover_text("Draw the shadow map's depth over the top-left corner of the 3D view");
+    ui.checkbox(&mut settings.overlays.casters, "Tint casters by outcome")
+        .on_hover_text(
+            "Green: drawn into the shadow map; orange or red: culled (by stage); purple: excluded",
+        );
     ui.checkbox(&mut settings.measure, "Measure error and oracle")
         .on_hover_text(MEASURE_HELP);
     ui.add_enabled_ui(settings.measure, |ui| {

@@ -306,6 +306,7 @@ fn checkboxes_edit_settings() {
     let mut harness = harness(Lab::new());
     harness.get_by_label("Shadows enabled").click();
     harness.get_by_label("Light view in corner").click();
+    harness.get_by_label("Tint casters by outcome").click();
     harness.get_by_label("Include panel").click();
     harness.get_by_label("Measure error and oracle").click();
     harness.run();
@@ -314,6 +315,7 @@ fn checkboxes_edit_settings() {
     let lab = harness.state();
     assert!(!lab.settings.shadow.shadows_enabled);
     assert!(lab.settings.overlays.light_view);
+    assert!(lab.settings.overlays.casters);
     assert!(lab.settings.measure);
     assert!(
         lab.settings.overlays.error,
