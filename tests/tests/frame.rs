@@ -164,3 +164,51 @@ fn casters_overlay_tints_objects_by_their_shadow_pass_outcome() {
         "the excluded box is not tinted purple"
     );
 }
+
+#[test]
+fn one_texel_readback_matches_the_full_target() {
+    use render_core::frame::{FrameCapture, FrameInput, FrameRenderer, SceneGpu};
+    use render_core::gpu::read_texel;
+    let scene = load_builtin("boxes", 0).expect("boxes");
+    let camera = Camera::look_at(
+        Vec3::new(-25.0, 18.0, 25.0),
+        Vec3::ZERO,
+        50f32.to_radians(),
+        0.1,
+        200.0,
+    );
+    let settings = FrameSettings {
+        sun: scene.sun,
+        ..FrameSettings::default()
+    };
+    let ctx = shadowlab_tests::gpu();
+    let scene_gpu = SceneGpu::new(ctx, &scene);
+    let mut renderer = FrameRenderer::new(ctx);
+    let input = FrameInput {
+        camera: &camera,
+        width: 163,
+        height: 97,
+        settings: &settings,
+    };
+    renderer
+        .render_and_wait(ctx, &scene, &scene_gpu, &input)
+        .expect("frame");
+    let targets = renderer.targets().expect("targets");
+    let capture = FrameCapture::read(ctx, targets).expect("readback");
+    for (x, y) in [(0, 0), (81, 48), (162, 96), (100, 10), (17, 90)] {
+        let bytes = read_texel(ctx, &targets.ids, x, y)
+            .expect("read")
+            .expect("inside");
+        let id = u32::from_le_bytes(bytes.try_into().expect("4 bytes"));
+        assert_eq!(
+            id,
+            capture.ids[(y * capture.width + x) as usize],
+            "texel ({x}, {y})"
+        );
+    }
+    assert!(
+        read_texel(ctx, &targets.ids, 163, 0)
+            .expect("read")
+            .is_none()
+    );
+}

@@ -15,6 +15,21 @@ pub use side_panel::SidePanel;
 use render_core::frame::FrameReport;
 use render_core::scene::SceneFacts;
 
+/// The object the user clicked in the 3D view, and what happened to it.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Selection {
+    /// The glTF node name (with a chunk suffix for split objects).
+    pub name: String,
+    pub casts_shadow: bool,
+    pub receives_shadow: bool,
+    /// Some pixel of the last frame shows it.
+    pub visible: bool,
+    /// `rendered`, or the stage that culled it, as in the stats JSON.
+    pub shadow_map: String,
+    /// In the oracle set when the click happened (only when measuring).
+    pub oracle: Option<bool>,
+}
+
 /// Where screenshots go and what they show.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ScreenshotSettings {
@@ -62,4 +77,6 @@ pub struct PanelInput<'a> {
     /// Latest error or info message, shown at the top of the panel.
     pub message: Option<&'a str>,
     pub fps: Option<f32>,
+    /// The object clicked in the 3D view, if any.
+    pub selection: Option<&'a Selection>,
 }

@@ -12,7 +12,7 @@ use std::time::Instant;
 use anyhow::Context as _;
 use glam::Vec2;
 use render_core::frame::{FrameInput, FrameRenderer, FrameReport, FrameSettings, SceneGpu};
-use render_core::gpu::{GpuContext, read_texture};
+use render_core::gpu::{GpuContext, read_texel, read_texture};
 use render_core::scene::{ChunkSettings, Scene, SceneFacts};
 use winit::application::ApplicationHandler;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
@@ -110,6 +110,10 @@ struct Running {
     message: Option<String>,
     last_screenshot: Option<String>,
     file_dialog: Option<mpsc::Receiver<Option<PathBuf>>>,
+    /// Where a left click started (window pixels), to tell a click from a drag.
+    click_start: Option<Vec2>,
+    /// The clicked instance and, when measuring, whether it was in the oracle set then.
+    selected: Option<(u32, Option<bool>)>,
     screenshot_requested: bool,
     frames_presented: u64,
     exit_after_frames: Option<u64>,
@@ -210,6 +214,8 @@ impl Running {
             message: None,
             last_screenshot: None,
             file_dialog: None,
+            click_start: None,
+            selected: None,
             screenshot_requested: false,
             frames_presented: 0,
             exit_after_frames: args.exit_after_frames,
@@ -278,10 +284,20 @@ impl Running {
     fn on_mouse_button(&mut self, button: MouseButton, pressed: bool, egui_consumed: bool) {
         if !pressed {
             self.controller.drag = Drag::None;
+            // A left click that did not move selects the object under the cursor.
+            if let (MouseButton::Left, Some(start), Some(now)) =
+                (button, self.click_start.take(), self.cursor_px)
+                && (now - start).length() < 4.0
+            {
+                self.select_at(now);
+            }
             return;
         }
         if egui_consumed || !self.cursor_over_view() {
             return;
+        }
+        if button == MouseButton::Left && !self.alt_held {
+            self.click_start = self.cursor_px;
         }
         self.controller.drag = match button {
             MouseButton::Right => Drag::Fly,
@@ -289,6 +305,57 @@ impl Running {
             MouseButton::Left if self.alt_held => Drag::Orbit,
             _ => self.controller.drag,
         };
+    }
+
+    /// Reads the object id under `cursor_px` (window pixels) and remembers that object, or
+    /// clears the selection on sky. Blocks for a one-texel readback: a click, not a frame.
+    fn select_at(&mut self, cursor_px: Vec2) {
+        let Some(targets) = self.renderer.targets() else {
+            return;
+        };
+        let ppp = self.egui_ctx.pixels_per_point();
+        let x = cursor_px.x - self.view_rect.min.x * ppp;
+        let y = cursor_px.y - self.view_rect.min.y * ppp;
+        if x < 0.0 || y < 0.0 {
+            return;
+        }
+        match read_texel(&self.ctx, &targets.ids, x as u32, y as u32) {
+            Ok(Some(bytes)) => {
+                let id = u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]);
+                self.selected = id.checked_sub(1).map(|instance| {
+                    let oracle = self
+                        .settings
+                        .measure
+                        .then(|| self.renderer.read_oracle(&self.ctx, &self.scene_gpu).ok())
+                        .flatten()
+                        .and_then(|flags| flags.get(instance as usize).copied());
+                    (instance, oracle)
+                });
+            }
+            Ok(None) => {}
+            Err(e) => {
+                self.message = Some(format!("Could not read the object under the cursor: {e}"));
+            }
+        }
+    }
+
+    /// The selected object as the panel shows it, from the last frame's outcome.
+    fn selection(&self) -> Option<ui::Selection> {
+        let (instance, oracle) = self.selected?;
+        let inst = self.scene.instances.get(instance as usize)?;
+        let stages = self
+            .last_report
+            .as_ref()
+            .map_or(&[][..], |r| r.stages.as_slice());
+        let outcome = self.renderer.caster_outcomes().get(instance as usize)?;
+        Some(ui::Selection {
+            name: inst.name.clone(),
+            casts_shadow: inst.casts_shadow,
+            receives_shadow: inst.receives_shadow,
+            visible: true,
+            shadow_map: outcome.describe(stages),
+            oracle,
+        })
     }
 
     fn cursor_over_view(&self) -> bool {
@@ -317,6 +384,7 @@ impl Running {
                 self.facts = SceneFacts::from(&scene);
                 self.settings.sun = scene.sun;
                 self.scene = scene;
+                self.selected = None;
                 spec.clone_into(&mut self.scene_spec);
                 self.window
                     .set_title(&format!("shadowlab: {}", self.scene.name));
@@ -420,6 +488,7 @@ impl Running {
         let mut actions = Vec::new();
         let mut view_rect = self.view_rect;
         let adapter = self.ctx.adapter_description();
+        let selection = self.selection();
         let input = ui::PanelInput {
             scene: &self.facts,
             report: self.last_report.as_ref(),
@@ -429,6 +498,7 @@ impl Running {
             last_screenshot: self.last_screenshot.as_deref(),
             message: self.message.as_deref(),
             fps: self.fps,
+            selection: selection.as_ref(),
         };
         let view_texture = self.view_texture;
         let full_output = self.egui_ctx.run_ui(raw_input, |ui| {

@@ -7,5 +7,5 @@ mod timing;
 
 pub use async_readback::AsyncReadback;
 pub use context::{GpuContext, GpuError, OPTIONAL_FEATURES, SharedGpu};
-pub use readback::{TexelRows, map_and_copy, read_buffer, read_flags, read_texture};
+pub use readback::{TexelRows, map_and_copy, read_buffer, read_flags, read_texel, read_texture};
 pub use timing::{FrameTimer, PassTiming};

@@ -74,6 +74,55 @@ pub fn read_texture(
     })
 }
 
+/// Reads one texel (mip 0) of a colour texture and blocks; `None` outside the texture. For a
+/// user's click, not the frame loop.
+pub fn read_texel(
+    ctx: &GpuContext,
+    texture: &wgpu::Texture,
+    x: u32,
+    y: u32,
+) -> Result<Option<Vec<u8>>, GpuError> {
+    if x >= texture.width() || y >= texture.height() {
+        return Ok(None);
+    }
+    let bytes_per_texel = texture.format().block_copy_size(None).unwrap_or(4);
+    let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("readback::texel"),
+        size: u64::from(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT),
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut encoder = ctx
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("readback::texel"),
+        });
+    encoder.copy_texture_to_buffer(
+        wgpu::TexelCopyTextureInfo {
+            texture,
+            mip_level: 0,
+            origin: wgpu::Origin3d { x, y, z: 0 },
+            aspect: wgpu::TextureAspect::All,
+        },
+        wgpu::TexelCopyBufferInfo {
+            buffer: &buffer,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT),
+                rows_per_image: Some(1),
+            },
+        },
+        wgpu::Extent3d {
+            width: 1,
+            height: 1,
+            depth_or_array_layers: 1,
+        },
+    );
+    ctx.queue.submit([encoder.finish()]);
+    let bytes = map_and_copy(ctx, &buffer, "texel")?;
+    Ok(Some(bytes[..bytes_per_texel as usize].to_vec()))
+}
+
 /// Copies the first `size` bytes of `buffer` (which needs `COPY_SRC`) to the CPU and waits.
 /// For tests and reports, never the window loop.
 pub fn read_buffer(

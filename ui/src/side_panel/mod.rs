@@ -7,6 +7,7 @@ mod light_view;
 mod message;
 mod scene;
 mod screenshot;
+mod selection;
 mod shadows;
 mod sun;
 mod timings_plot;
@@ -57,6 +58,9 @@ impl SidePanel {
             message::ui(ui, text);
         }
         section(ui, "Scene", |ui| scene::ui(ui, input.scene, &mut actions));
+        if let Some(selected) = input.selection {
+            section(ui, "Selected object", |ui| selection::ui(ui, selected));
+        }
         section(ui, "Sun", |ui| self.sun.ui(ui, &mut settings.sun));
         section(ui, "Shadows", |ui| shadows::ui(ui, settings));
         section(ui, "Light view", |ui| light_view::ui(ui, input));

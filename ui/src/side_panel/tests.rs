@@ -26,6 +26,7 @@ struct Lab {
     scene: SceneFacts,
     report: FrameReport,
     message: Option<String>,
+    selection: Option<crate::Selection>,
     has_gpu_timestamps: bool,
     light_view: Option<egui::TextureHandle>,
     /// Draw through [`SidePanel::show`] (panel + scrolling) instead of [`SidePanel::ui`].
@@ -111,6 +112,7 @@ impl Lab {
             scene: scene(),
             report: report(60),
             message: None,
+            selection: None,
             has_gpu_timestamps: true,
             light_view: None,
             in_own_panel: false,
@@ -135,6 +137,7 @@ impl Lab {
             last_screenshot: Some("shot-0001.png"),
             message: self.message.as_deref(),
             fps: Some(59.9),
+            selection: self.selection.as_ref(),
         };
         let actions = if self.in_own_panel {
             self.panel
@@ -289,6 +292,28 @@ fn resolution_combo_edits_settings() {
         .click();
     harness.run();
     assert_eq!(harness.state().settings.shadow.resolution, 4096);
+}
+
+#[test]
+fn the_selected_object_says_why_it_was_culled() {
+    let mut lab = Lab::new();
+    assert!(
+        harness(Lab::new())
+            .query_by_label("Selected object")
+            .is_none()
+    );
+    lab.selection = Some(crate::Selection {
+        name: "block_3_7/building_2".into(),
+        casts_shadow: true,
+        receives_shadow: true,
+        visible: true,
+        shadow_map: "light frustum".into(),
+        oracle: Some(false),
+    });
+    let harness = harness(lab);
+    harness.get_by_label("block_3_7/building_2");
+    harness.get_by_label("Needed (oracle)");
+    assert!(harness.query_all_by_label("light frustum").count() >= 1);
 }
 
 #[test]
