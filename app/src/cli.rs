@@ -363,4 +363,36 @@ pub struct BenchArgs {
     /// Also write the table as CSV.
     #[arg(long, value_name = "FILE")]
     pub csv: Option<PathBuf>,
+    /// Speed-up is this method's GPU frame time over each method's (the first method run when
+    /// this one is not among them).
+    #[arg(long, default_value = "ref", value_name = "METHOD")]
+    pub baseline: String,
+    /// Repeat the table for several shadow-map sizes or sun elevations.
+    #[arg(long, value_enum)]
+    pub sweep: Option<Sweep>,
+    /// Shadow-map sizes of `--sweep resolution`.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "1024,2048,4096",
+        value_name = "N,N"
+    )]
+    pub resolutions: Vec<u32>,
+    /// Sun elevations in degrees of `--sweep elevation` (azimuth stays the scene's).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "10,20,30,40,50,60,70,80",
+        value_name = "DEG,DEG"
+    )]
+    pub elevations: Vec<f32>,
+}
+
+/// What `bench --sweep` varies.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sweep {
+    /// Shadow-map resolution, as in Bittner's Table 4.
+    Resolution,
+    /// Sun elevation, as in Bittner's Figure 7.
+    Elevation,
 }

@@ -1,5 +1,6 @@
 //! `shadowlab`: the window (winit + egui) and the headless command line, over one frame code.
 
+mod bench;
 mod cli;
 mod headless;
 mod scene_source;
@@ -17,7 +18,7 @@ fn main() -> ExitCode {
     let cli = cli::Cli::parse();
     let result = match &cli.command {
         Some(cli::Command::Shot(args)) => headless::shot(args),
-        Some(cli::Command::Bench(args)) => headless::bench(args),
+        Some(cli::Command::Bench(args)) => bench::bench(args),
         Some(cli::Command::Scenes) => {
             headless::list_scenes();
             Ok(())

@@ -174,21 +174,18 @@ fn bench_prints_a_table_and_writes_csv() {
         lines
             .next()
             .expect("header")
-            .starts_with("method,frames,frame_ms")
+            .starts_with("setting,method,frames,frame_ms")
     );
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
-    assert_eq!(
-        rows.iter().map(|r| r[0]).collect::<Vec<_>>(),
-        ["none", "vfc"],
-        "one row per method"
-    );
+    let methods: Vec<&str> = rows.iter().map(|r| r[1]).collect();
+    assert_eq!(methods, ["none", "vfc"], "one row per method");
     for row in &rows {
-        assert_eq!(row[1], "3");
-        let drawn: f64 = row[5].parse().expect("casters drawn");
-        let oracle: f64 = row[6].parse().expect("oracle casters");
+        assert_eq!(row[2], "3");
+        let drawn: f64 = row[6].parse().expect("casters drawn");
+        let oracle: f64 = row[7].parse().expect("oracle casters");
         assert!(drawn > 0.0 && oracle > 0.0 && oracle <= drawn, "{row:?}");
         assert_eq!(
-            row[9], "0",
+            row[10], "0",
             "conservative methods have no error pixels: {row:?}"
         );
     }
@@ -252,6 +249,90 @@ fn gltf_scene_and_path_from_assets_load_and_render() {
         .arg(&path));
     assert!(output.status.success(), "{}", text(&output));
     assert!(text(&output).contains("path '"), "{}", text(&output));
+}
+
+#[test]
+fn bench_sweeps_resolution_and_sun_elevation() {
+    let dir = out_dir("bench_sweep");
+    let csv = dir.join("res.csv");
+    let args = [
+        "bench",
+        "builtin:city-small",
+        "--frames",
+        "2",
+        "--warmup",
+        "0",
+        "--size",
+        "96x64",
+        "--sweep",
+        "resolution",
+        "--resolutions",
+        "512,1024",
+        "--csv",
+    ];
+    let output = run(shadowlab().args(args).arg(&csv));
+    assert!(output.status.success(), "{}", text(&output));
+    let table = std::fs::read_to_string(&csv).expect("CSV");
+    let rows: Vec<Vec<&str>> = table
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    let settings: Vec<(&str, &str)> = rows.iter().map(|r| (r[0], r[1])).collect();
+    assert_eq!(
+        settings,
+        [
+            ("res 512", "none"),
+            ("res 512", "vfc"),
+            ("res 1024", "none"),
+            ("res 1024", "vfc")
+        ]
+    );
+    // Speed-up is against the first method when `ref` is not run: 1 for that method itself.
+    assert!(
+        rows.iter()
+            .filter(|r| r[1] == "none")
+            .all(|r| (r[12].parse::<f64>().expect("speed-up") - 1.0).abs() < 1e-9)
+    );
+    assert!(
+        text(&output).contains("speed-up vs none"),
+        "{}",
+        text(&output)
+    );
+
+    let output = run(shadowlab().args([
+        "bench",
+        "builtin:boxes",
+        "--frames",
+        "1",
+        "--warmup",
+        "0",
+        "--size",
+        "64x48",
+        "--sweep",
+        "elevation",
+        "--elevations",
+        "10,80",
+    ]));
+    assert!(output.status.success(), "{}", text(&output));
+    assert!(
+        text(&output).contains("sun 10°") && text(&output).contains("sun 80°"),
+        "{}",
+        text(&output)
+    );
+    let bad = run(shadowlab().args([
+        "bench",
+        "builtin:boxes",
+        "--sweep",
+        "elevation",
+        "--elevations",
+        "0",
+    ]));
+    assert!(
+        !bad.status.success() && text(&bad).contains("--elevations"),
+        "{}",
+        text(&bad)
+    );
 }
 
 #[test]

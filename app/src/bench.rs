@@ -1,0 +1,348 @@
+//! `shadowlab bench`: fly a camera path with each method and print medians, optionally
+//! sweeping shadow-map size (Bittner's Table 4) or sun elevation (Bittner's Figure 7).
+
+use std::fmt::Write as _;
+
+use anyhow::Context as _;
+use render_core::frame::{FrameRenderer, FrameReport, FrameSettings, Method, pass_label};
+use render_core::geom::Camera;
+use render_core::scene::{CameraPath, SceneFacts, Sun};
+
+use crate::cli::{BenchArgs, Sweep, parse_methods};
+use crate::headless::Session;
+
+/// Medians of one method's measured frames under one setting.
+#[derive(Clone, Debug)]
+struct BenchRow {
+    /// The swept setting, e.g. `res 2048` or `sun 30°`; empty without a sweep.
+    setting: String,
+    method: String,
+    frames: usize,
+    frame_ms: f64,
+    gpu_frame_ms: Option<f64>,
+    shadow_pass_ms: Option<f64>,
+    casters_drawn: f64,
+    shadow_triangles: f64,
+    casters_total: u32,
+    casters_oracle: f64,
+    tightness: Option<f64>,
+    /// Worst frame's missing + extra shadow pixels.
+    error_px_max: u32,
+    /// Baseline GPU frame time / this method's, under the same setting.
+    speed_up: Option<f64>,
+}
+
+pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
+    let methods = parse_methods(&args.methods)?;
+    let mut session = Session::open(&args.scene, &args.view)?;
+    let base = args.view.settings(&session.scene)?;
+    let path = match &args.path {
+        Some(p) => CameraPath::load(p)?,
+        None => CameraPath::default_for(&session.scene),
+    };
+    let template = args.view.camera(&session.scene, session.aspect())?;
+    let facts = SceneFacts::from(&session.scene);
+    let baseline = baseline(&args.baseline, &methods)?;
+    eprintln!(
+        "bench {}: {} objects ({} casters), {} triangles, {}x{}, shadow map {}, path '{}', {} frames after {} warm-up, \
+         speed-up against {}, on {}",
+        facts.name,
+        facts.objects,
+        facts.casters,
+        facts.triangles,
+        session.width,
+        session.height,
+        base.shadow.resolution,
+        path.name,
+        args.frames.max(1),
+        args.warmup,
+        baseline.name(),
+        session.ctx.adapter_description()
+    );
+    let limits = render_core::frame::ShadowSettings::MIN_RESOLUTION
+        ..=render_core::frame::ShadowSettings::MAX_RESOLUTION;
+    if let Some(res) = args.resolutions.iter().find(|r| !limits.contains(r)) {
+        anyhow::bail!(
+            "--resolutions: {res} is outside {} to {}",
+            limits.start(),
+            limits.end()
+        );
+    }
+    if let Some(el) = args
+        .elevations
+        .iter()
+        .find(|e| !(e.is_finite() && **e > 0.0 && **e <= 90.0))
+    {
+        anyhow::bail!(
+            "--elevations: {el} is not an elevation above the horizon (0 < degrees <= 90)"
+        );
+    }
+    let settings_list: Vec<(String, FrameSettings)> = match args.sweep {
+        None => vec![(String::new(), base)],
+        Some(Sweep::Resolution) => args
+            .resolutions
+            .iter()
+            .map(|&res| {
+                let mut s = base;
+                s.shadow.resolution = res;
+                (format!("res {res}"), s)
+            })
+            .collect(),
+        Some(Sweep::Elevation) => {
+            let (azimuth, _) = base.sun.azimuth_elevation_deg();
+            args.elevations
+                .iter()
+                .map(|&elevation| {
+                    (
+                        format!("sun {elevation}°"),
+                        FrameSettings {
+                            sun: Sun::from_azimuth_elevation_deg(azimuth, elevation),
+                            ..base
+                        },
+                    )
+                })
+                .collect()
+        }
+    };
+    let mut rows = Vec::new();
+    for (setting, settings) in settings_list {
+        let first = rows.len();
+        for &method in &methods {
+            let reports = run_path(
+                &mut session,
+                &path,
+                &template,
+                FrameSettings { method, ..settings },
+                args,
+            )?;
+            rows.push(summarise(&setting, method.name(), &reports));
+        }
+        let baseline_ms = rows[first..]
+            .iter()
+            .find(|r| r.method == baseline.name())
+            .and_then(|r| r.gpu_frame_ms);
+        for row in &mut rows[first..] {
+            row.speed_up = baseline_ms
+                .zip(row.gpu_frame_ms)
+                .map(|(b, m)| b / m.max(1e-9));
+        }
+    }
+    print!("{}", format_table(&rows, baseline.name()));
+    if let Some(csv) = &args.csv {
+        std::fs::write(csv, format_csv(&rows))
+            .with_context(|| format!("writing {}", csv.display()))?;
+        eprintln!("wrote {}", csv.display());
+    }
+    Ok(())
+}
+
+/// `--baseline`, or when that method is not among those run, the first one.
+fn baseline(name: &str, methods: &[Method]) -> anyhow::Result<Method> {
+    let wanted: Option<Method> = name.parse().ok();
+    wanted
+        .filter(|m| methods.contains(m))
+        .or_else(|| methods.first().copied())
+        .context("no method to run")
+}
+
+/// The path with one method: warm-up frames, then measured ones. Each view is rendered twice,
+/// timed without measurement passes and then measured for error and oracle, so measuring never
+/// shows in the times. A fresh renderer per run: no method inherits another's state.
+fn run_path(
+    session: &mut Session,
+    path: &CameraPath,
+    template: &Camera,
+    settings: FrameSettings,
+    args: &BenchArgs,
+) -> anyhow::Result<Vec<(f64, FrameReport)>> {
+    let frames = args.frames.max(1);
+    session.renderer = FrameRenderer::new(&session.ctx);
+    let mut reports = Vec::new();
+    for frame in 0..args.warmup + frames {
+        let u = frame.saturating_sub(args.warmup) as f32 / (frames.max(2) - 1) as f32;
+        let key = path.sample(u);
+        let camera = Camera::look_at(
+            key.eye,
+            key.target,
+            template.fov_y_rad,
+            template.near_m,
+            template.far_m,
+        );
+        let (wall_ms, mut report) = session.frame(&camera, &settings)?;
+        let (_, measured) = session.frame(
+            &camera,
+            &FrameSettings {
+                measure: true,
+                ..settings
+            },
+        )?;
+        report.counts.casters_oracle = measured.counts.casters_oracle;
+        report.error = measured.error;
+        if frame >= args.warmup {
+            reports.push((wall_ms, report));
+        }
+    }
+    Ok(reports)
+}
+
+fn median(mut values: Vec<f64>) -> Option<f64> {
+    if values.is_empty() {
+        return None;
+    }
+    values.sort_by(f64::total_cmp);
+    let mid = values.len() / 2;
+    Some(if values.len().is_multiple_of(2) {
+        (values[mid - 1] + values[mid]) * 0.5
+    } else {
+        values[mid]
+    })
+}
+
+fn summarise(setting: &str, method: &str, reports: &[(f64, FrameReport)]) -> BenchRow {
+    let collect = |f: &dyn Fn(&(f64, FrameReport)) -> Option<f64>| {
+        median(reports.iter().filter_map(f).collect())
+    };
+    BenchRow {
+        setting: setting.to_owned(),
+        method: method.to_owned(),
+        frames: reports.len(),
+        frame_ms: collect(&|(wall, _)| Some(*wall)).unwrap_or(0.0),
+        gpu_frame_ms: collect(&|(_, r)| r.gpu_total_ms()),
+        shadow_pass_ms: collect(&|(_, r)| r.gpu_ms(pass_label::SHADOW_MAP)),
+        casters_drawn: collect(&|(_, r)| Some(f64::from(r.counts.casters_rendered))).unwrap_or(0.0),
+        shadow_triangles: collect(&|(_, r)| Some(r.counts.triangles_shadow as f64)).unwrap_or(0.0),
+        casters_total: reports.first().map_or(0, |(_, r)| r.counts.casters_total),
+        casters_oracle: collect(&|(_, r)| r.counts.casters_oracle.map(f64::from)).unwrap_or(0.0),
+        tightness: collect(&|(_, r)| r.tightness()),
+        error_px_max: reports
+            .iter()
+            .filter_map(|(_, r)| r.error.map(|e| e.missing_shadow_px + e.extra_shadow_px))
+            .max()
+            .unwrap_or(0),
+        speed_up: None,
+    }
+}
+
+const COLUMNS: [&str; 12] = [
+    "setting",
+    "method",
+    "frames",
+    "frame ms",
+    "GPU frame ms",
+    "shadow pass ms",
+    "casters drawn",
+    "oracle",
+    "tightness",
+    "shadow triangles",
+    "error px (max)",
+    "speed-up",
+];
+
+fn row_cells(r: &BenchRow) -> [String; 12] {
+    let opt =
+        |v: Option<f64>, digits: usize| v.map_or_else(|| "n/a".into(), |v| format!("{v:.digits$}"));
+    [
+        r.setting.clone(),
+        r.method.clone(),
+        r.frames.to_string(),
+        format!("{:.2}", r.frame_ms),
+        opt(r.gpu_frame_ms, 2),
+        opt(r.shadow_pass_ms, 2),
+        format!("{:.0}", r.casters_drawn),
+        format!("{:.0}", r.casters_oracle),
+        opt(r.tightness, 2),
+        format!("{:.0}", r.shadow_triangles),
+        r.error_px_max.to_string(),
+        opt(r.speed_up, 2),
+    ]
+}
+
+/// An aligned table; the setting column only when sweeping. Speed-up is against `baseline`.
+fn format_table(rows: &[BenchRow], baseline: &str) -> String {
+    let skip = usize::from(rows.iter().all(|r| r.setting.is_empty()));
+    let mut header = COLUMNS.map(str::to_owned);
+    header[11] = format!("speed-up vs {baseline}");
+    let lines: Vec<Vec<String>> = std::iter::once(header.to_vec())
+        .chain(rows.iter().map(|r| row_cells(r).to_vec()))
+        .map(|l| l[skip..].to_vec())
+        .collect();
+    let widths: Vec<usize> = (0..lines[0].len())
+        .map(|c| {
+            lines
+                .iter()
+                .map(|l| l[c].chars().count())
+                .max()
+                .unwrap_or(0)
+        })
+        .collect();
+    let mut out = String::new();
+    for line in lines {
+        let padded: Vec<String> = line
+            .iter()
+            .zip(&widths)
+            .enumerate()
+            .map(|(c, (cell, &w))| {
+                let pad = " ".repeat(w - cell.chars().count());
+                if c + skip <= 1 {
+                    format!("{cell}{pad}")
+                } else {
+                    format!("{pad}{cell}")
+                }
+            })
+            .collect();
+        let _ = writeln!(out, "{}", padded.join("  ").trim_end());
+    }
+    out
+}
+
+fn format_csv(rows: &[BenchRow]) -> String {
+    let mut out = String::from(
+        "setting,method,frames,frame_ms,gpu_frame_ms,shadow_pass_ms,casters_drawn,casters_oracle,tightness,shadow_triangles,error_px_max,casters_total,speed_up\n",
+    );
+    let opt = |v: Option<f64>| v.map_or_else(String::new, |v| format!("{v:.4}"));
+    for r in rows {
+        let _ = writeln!(
+            out,
+            "{},{},{},{:.4},{},{},{},{},{},{},{},{},{}",
+            r.setting,
+            r.method,
+            r.frames,
+            r.frame_ms,
+            opt(r.gpu_frame_ms),
+            opt(r.shadow_pass_ms),
+            r.casters_drawn,
+            r.casters_oracle,
+            opt(r.tightness),
+            r.shadow_triangles,
+            r.error_px_max,
+            r.casters_total,
+            opt(r.speed_up)
+        );
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn median_of_even_and_odd_counts() {
+        assert_eq!(median(vec![3.0, 1.0, 2.0]), Some(2.0));
+        assert_eq!(median(vec![4.0, 1.0, 3.0, 2.0]), Some(2.5));
+        assert_eq!(median(vec![]), None);
+    }
+
+    #[test]
+    fn baseline_falls_back_to_the_first_method() {
+        assert_eq!(
+            baseline("vfc", &[Method::None, Method::Vfc]).unwrap(),
+            Method::Vfc
+        );
+        assert_eq!(
+            baseline("ref", &[Method::Vfc, Method::None]).unwrap(),
+            Method::Vfc
+        );
+        assert!(baseline("ref", &[]).is_err());
+    }
+}
