@@ -25,7 +25,7 @@ fn outcome_tint(code: u32) -> vec4<f32> {
     }
 }
 
-// Keep in sync with metrics/mod.rs (COUNTERS_SIZE, take_latest).
+// Keep in sync with metrics/mod.rs (`counters: GpuCounters<4>` and `take_latest`).
 struct Measured {
     visible_px: atomic<u32>,
     missing_px: atomic<u32>,

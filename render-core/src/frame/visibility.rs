@@ -2,7 +2,7 @@
 //! computed on the GPU and read back without stalling.
 
 use super::{SceneGpu, ViewTargets};
-use crate::gpu::{AsyncReadback, GpuContext};
+use crate::gpu::{GpuContext, GpuCounters};
 
 pub(crate) const VISIBILITY_WGSL: &str = include_str!("visibility.wgsl");
 
@@ -20,12 +20,10 @@ pub struct VisibilityPass {
     layout: wgpu::BindGroupLayout,
     /// One `u32` per instance: non-zero when some pixel shows it.
     pub visible_flags: wgpu::Buffer,
-    counters: wgpu::Buffer,
-    readback: AsyncReadback,
+    /// Visible objects, visible receivers (keep in sync with `Counters` in visibility.wgsl).
+    counters: GpuCounters<2>,
     capacity: u32,
 }
-
-const COUNTERS_SIZE: u64 = 8;
 
 impl VisibilityPass {
     pub fn new(ctx: &GpuContext) -> Self {
@@ -77,20 +75,11 @@ impl VisibilityPass {
             compilation_options: wgpu::PipelineCompilationOptions::default(),
             cache: None,
         });
-        let counters = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("Visibility::counters"),
-            size: COUNTERS_SIZE,
-            usage: wgpu::BufferUsages::STORAGE
-                | wgpu::BufferUsages::COPY_SRC
-                | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
         Self {
             pipeline,
             layout,
             visible_flags: create_flags(device, 1),
-            counters,
-            readback: AsyncReadback::new(device, "Visibility::readback", COUNTERS_SIZE, 3),
+            counters: GpuCounters::new(device, "Visibility::counters"),
             capacity: 1,
         }
     }
@@ -116,7 +105,7 @@ impl VisibilityPass {
             self.visible_flags = create_flags(&ctx.device, self.capacity);
         }
         encoder.clear_buffer(&self.visible_flags, 0, None);
-        encoder.clear_buffer(&self.counters, 0, None);
+        self.counters.clear(encoder);
         let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("Visibility::bind_group"),
             layout: &self.layout,
@@ -135,7 +124,7 @@ impl VisibilityPass {
                 },
                 wgpu::BindGroupEntry {
                     binding: 3,
-                    resource: self.counters.as_entire_binding(),
+                    resource: self.counters.buffer().as_entire_binding(),
                 },
             ],
         });
@@ -148,18 +137,17 @@ impl VisibilityPass {
             pass.set_bind_group(0, &bind_group, &[]);
             pass.dispatch_workgroups(size.0.div_ceil(8), size.1.div_ceil(8), 1);
         }
-        self.readback.copy(encoder, &self.counters, frame_index);
+        self.counters.copy(encoder, frame_index);
     }
 
     /// Call after submit.
     pub fn after_submit(&mut self) {
-        self.readback.map_copied();
+        self.counters.after_submit();
     }
 
     /// The newest counts that have come back, if any (needs a device poll first).
     pub fn take_latest(&mut self) -> Option<VisibilityCounts> {
-        let (frame_index, bytes) = self.readback.take_latest()?;
-        let words: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes);
+        let (frame_index, words) = self.counters.take_latest()?;
         Some(VisibilityCounts {
             frame_index,
             objects_visible: words[0],

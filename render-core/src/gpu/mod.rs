@@ -2,10 +2,12 @@
 
 mod async_readback;
 mod context;
+mod counters;
 mod readback;
 mod timing;
 
 pub use async_readback::AsyncReadback;
 pub use context::{GpuContext, GpuError, OPTIONAL_FEATURES, SharedGpu};
+pub use counters::GpuCounters;
 pub use readback::{TexelRows, map_and_copy, read_buffer, read_flags, read_texel, read_texture};
 pub use timing::{FrameTimer, PassTiming};

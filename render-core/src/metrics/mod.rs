@@ -13,7 +13,7 @@ pub use heat_map::HeatMapOverlay;
 use serde::Serialize;
 
 use crate::frame::SceneGpu;
-use crate::gpu::{AsyncReadback, GpuContext, GpuError, read_flags};
+use crate::gpu::{GpuContext, GpuCounters, GpuError, read_flags};
 use crate::shadow_map::ShadowMapPass;
 
 /// Shadow error of one frame, in pixels.
@@ -36,15 +36,12 @@ pub struct Measured {
     pub casters_oracle: u32,
 }
 
-/// Keep in sync with `Measured` in frame/camera.wgsl.
-const COUNTERS_SIZE: u64 = 16;
-
 /// Oracle flags, counters and the shading pass's group 1 (both shadow maps and these buffers).
 pub struct MeasureResources {
     pub layout: wgpu::BindGroupLayout,
     oracle_flags: wgpu::Buffer,
-    counters: wgpu::Buffer,
-    readback: AsyncReadback,
+    /// Keep in sync with `Measured` in frame/camera.wgsl: visible, missing, extra, oracle.
+    counters: GpuCounters<4>,
     capacity: u32,
     /// Rebuilt when the shadow resolution or the flag buffer changes.
     bind_group: Option<(u32, wgpu::BindGroup)>,
@@ -82,19 +79,10 @@ impl MeasureResources {
                 storage(4),
             ],
         });
-        let counters = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("Measure::counters"),
-            size: COUNTERS_SIZE,
-            usage: wgpu::BufferUsages::STORAGE
-                | wgpu::BufferUsages::COPY_SRC
-                | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
         Self {
             layout,
             oracle_flags: create_flags(device, 1),
-            counters,
-            readback: AsyncReadback::new(device, "Measure::readback", COUNTERS_SIZE, 3),
+            counters: GpuCounters::new(device, "Measure::counters"),
             capacity: 1,
             bind_group: None,
         }
@@ -144,31 +132,30 @@ impl MeasureResources {
                     },
                     wgpu::BindGroupEntry {
                         binding: 4,
-                        resource: self.counters.as_entire_binding(),
+                        resource: self.counters.buffer().as_entire_binding(),
                     },
                 ],
             });
             self.bind_group = Some((shadow_map.resolution, group));
         }
         encoder.clear_buffer(&self.oracle_flags, 0, None);
-        encoder.clear_buffer(&self.counters, 0, None);
+        self.counters.clear(encoder);
         &self.bind_group.as_ref().expect("created above").1
     }
 
     /// Copies this frame's counts for readback; call after the shading pass is recorded.
     pub fn copy_counts(&mut self, encoder: &mut wgpu::CommandEncoder, frame_index: u64) {
-        self.readback.copy(encoder, &self.counters, frame_index);
+        self.counters.copy(encoder, frame_index);
     }
 
     /// Call after submit.
     pub fn after_submit(&mut self) {
-        self.readback.map_copied();
+        self.counters.after_submit();
     }
 
     /// The newest counts that came back (needs a device poll first).
     pub fn take_latest(&mut self) -> Option<Measured> {
-        let (frame_index, bytes) = self.readback.take_latest()?;
-        let w: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes);
+        let (frame_index, w) = self.counters.take_latest()?;
         Some(Measured {
             frame_index,
             error: ShadowError {
