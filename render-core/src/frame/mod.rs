@@ -34,6 +34,7 @@ pub use settings::{FrameSettings, Method, Overlays, PcfKernel, ShadowSettings};
 pub use targets::ViewTargets;
 pub use visibility::VisibilityCounts;
 
+use crate::culling::CasterSelection;
 use crate::geom::{Camera, Frustum, LightFrustum, fit_directional_light};
 use crate::gpu::{FrameTimer, GpuContext, PassTiming};
 use crate::metrics::{HeatMapOverlay, MeasureResources, Measured};
@@ -101,18 +102,12 @@ pub struct FrameRenderer {
     latest_measured: Option<Measured>,
     /// Whether the last frame measured; older measurements are not reported after a switch.
     measuring: bool,
-    /// What happened to each instance in the last frame's shadow pass.
-    outcomes: Vec<CasterOutcome>,
     /// Per-instance outcome codes for the `casters` overlay, and their group (shading group 2).
     outcome_layout: wgpu::BindGroupLayout,
     outcome_buffer: Option<(wgpu::Buffer, wgpu::BindGroup)>,
     outcome_codes: Vec<u32>,
     /// Whether the device can measure error and oracle exactly (see `camera.wgsl`).
     measurement_available: bool,
-    /// Casters left out of the method's map (what-if experiments); the reference keeps them.
-    excluded_casters: Vec<u32>,
-    /// Every caster of the scene `scene_casters.0`, sorted.
-    scene_casters: (u64, Vec<u32>),
     targets: Option<ViewTargets>,
     timer: FrameTimer,
     frame_index: u64,
@@ -120,8 +115,10 @@ pub struct FrameRenderer {
     latest_visibility: Option<VisibilityCounts>,
     gpu_frames_in_flight: std::collections::VecDeque<u64>,
     indirect_first_instance: bool,
+    /// Objects in the view frustum (camera passes), refilled per frame.
     scratch: Vec<u32>,
-    casters: Vec<u32>,
+    /// The method's casters and each object's outcome.
+    selection: CasterSelection,
 }
 
 impl FrameRenderer {
@@ -239,13 +236,10 @@ impl FrameRenderer {
             heat_map: HeatMapOverlay::new(device),
             latest_measured: None,
             measuring: false,
-            scene_casters: (0, Vec::new()),
-            excluded_casters: Vec::new(),
             outcome_layout,
             outcome_buffer: None,
             outcome_codes: Vec::new(),
             measurement_available,
-            outcomes: Vec::new(),
             targets: None,
             timer: FrameTimer::new(ctx),
             frame_index: 0,
@@ -256,7 +250,7 @@ impl FrameRenderer {
                 .features()
                 .contains(wgpu::Features::INDIRECT_FIRST_INSTANCE),
             scratch: Vec::new(),
-            casters: Vec::new(),
+            selection: CasterSelection::default(),
         }
     }
 
@@ -452,47 +446,16 @@ impl FrameRenderer {
         light: &LightFrustum,
         settings: &FrameSettings,
     ) -> (FrameCounts, Vec<Stage>) {
-        if self.scene_casters.0 != scene_gpu.id {
-            let casters = (0..scene.instances.len() as u32)
-                .filter(|&i| scene.instances[i as usize].casts_shadow)
-                .collect();
-            self.scene_casters = (scene_gpu.id, casters);
-        }
-        let all = &self.scene_casters.1;
-        let mut stages = vec![Stage {
-            name: "scene casters".into(),
-            remaining: all.len() as u32,
-        }];
-        self.casters.clear();
-        match settings.method {
-            Method::None => self.casters.extend_from_slice(all),
-            Method::Vfc => {
-                let light_frustum = Frustum::from_clip_from_world(&light.light_clip_from_world);
-                self.scratch.clear();
-                scene.bvh().query_frustum(&light_frustum, &mut self.scratch);
-                self.casters.extend(
-                    self.scratch
-                        .iter()
-                        .copied()
-                        .filter(|&i| scene.instances[i as usize].casts_shadow),
-                );
-                self.casters.sort_unstable();
-                stages.push(Stage {
-                    name: "light frustum".into(),
-                    remaining: self.casters.len() as u32,
-                });
-            }
-        }
-        if !self.excluded_casters.is_empty() {
-            let excluded = &self.excluded_casters;
-            self.casters.retain(|i| excluded.binary_search(i).is_err());
-        }
-        self.caster_list.upload(ctx, scene_gpu, &self.casters);
+        let stages = self
+            .selection
+            .select(scene, scene_gpu.id, settings.method, light);
+        self.caster_list
+            .upload(ctx, scene_gpu, self.selection.chosen());
         if settings.measure {
-            self.reference_list.upload(ctx, scene_gpu, all);
+            self.reference_list
+                .upload(ctx, scene_gpu, self.selection.all());
         }
-        let casters_total = all.len() as u32;
-        self.record_outcomes(scene.instances.len(), stages.len());
+        let casters_total = self.selection.all().len() as u32;
         if settings.overlays.casters {
             self.upload_outcomes(ctx);
         }
@@ -519,35 +482,18 @@ impl FrameRenderer {
     /// reference map keeps them: shows what a caster contributes, and lets tests check that the
     /// error measure sees a missing caster.
     pub fn exclude_casters(&mut self, instances: &[u32]) {
-        self.excluded_casters = instances.to_vec();
-        self.excluded_casters.sort_unstable();
-    }
-
-    /// Per instance: rendered, culled at a stage, excluded, or not a caster. The method's only
-    /// culling stage so far is its last one.
-    fn record_outcomes(&mut self, instance_count: usize, stage_count: usize) {
-        self.outcomes.clear();
-        self.outcomes
-            .resize(instance_count, CasterOutcome::NotACaster);
-        let last_stage = stage_count.saturating_sub(1);
-        for &i in &self.scene_casters.1 {
-            self.outcomes[i as usize] = CasterOutcome::Culled { stage: last_stage };
-        }
-        for &i in &self.excluded_casters {
-            if let Some(o) = self.outcomes.get_mut(i as usize) {
-                *o = CasterOutcome::Excluded;
-            }
-        }
-        for &i in &self.casters {
-            self.outcomes[i as usize] = CasterOutcome::Rendered;
-        }
+        self.selection.exclude(instances);
     }
 
     /// Writes the outcome codes for the `casters` overlay, growing the buffer when needed.
     fn upload_outcomes(&mut self, ctx: &GpuContext) {
         self.outcome_codes.clear();
-        self.outcome_codes
-            .extend(self.outcomes.iter().map(|&o| gpu_data::outcome_code(o)));
+        self.outcome_codes.extend(
+            self.selection
+                .outcomes()
+                .iter()
+                .map(|&o| gpu_data::outcome_code(o)),
+        );
         self.outcome_codes
             .resize(self.outcome_codes.len().max(1), 0);
         let bytes = (self.outcome_codes.len() * 4) as u64;
@@ -589,7 +535,7 @@ impl FrameRenderer {
 
     /// What happened to each instance in the last frame's shadow pass.
     pub fn caster_outcomes(&self) -> &[CasterOutcome] {
-        &self.outcomes
+        self.selection.outcomes()
     }
 
     /// Which instances some pixel of the last frame shows. Blocks: for tests and reports.
@@ -608,7 +554,7 @@ impl FrameRenderer {
 
     /// The instances drawn into the method's shadow map in the last frame, sorted.
     pub fn drawn_casters(&self) -> &[u32] {
-        &self.casters
+        self.selection.chosen()
     }
 
     /// The oracle flag of every instance from the last measured frame. Blocks: for tests and
