@@ -117,6 +117,9 @@ pub struct ViewArgs {
     /// Normal offset, in shadow texels.
     #[arg(long, value_name = "TEXELS")]
     pub normal_offset: Option<f32>,
+    /// Pose dynamic objects (the city's cars) as they are this many seconds into their motion.
+    #[arg(long, value_name = "SECONDS", allow_hyphen_values = true)]
+    pub time: Option<f64>,
 }
 
 pub const DEFAULT_SIZE: (u32, u32) = (1280, 720);

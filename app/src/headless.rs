@@ -34,7 +34,14 @@ pub(crate) struct Session {
 
 impl Session {
     pub fn open(scene_args: &SceneArgs, view: &ViewArgs) -> anyhow::Result<Self> {
-        let scene = load_scene(&scene_args.scene, scene_args.seed, scene_args.chunking())?;
+        let mut scene = load_scene(&scene_args.scene, scene_args.seed, scene_args.chunking())?;
+        if let Some(time) = view.time {
+            anyhow::ensure!(
+                time.is_finite(),
+                "--time must be a finite number of seconds"
+            );
+            scene.animate(time);
+        }
         let (width, height) = view.size()?;
         let ctx = GpuContext::headless()?;
         let scene_gpu = SceneGpu::new(&ctx, &scene);

@@ -336,6 +336,39 @@ fn bench_sweeps_resolution_and_sun_elevation() {
 }
 
 #[test]
+fn time_poses_the_cars() {
+    let dir = out_dir("time");
+    let shot = |time: &str| {
+        let png = dir.join(format!("t{time}.png"));
+        let args = [
+            "shot",
+            "builtin:city-small",
+            "--size",
+            "160x100",
+            "--eye=-40,3.5,2",
+            "--target=60,2,2",
+            "--time",
+            time,
+            "--out",
+        ];
+        let output = run(shadowlab().args(args).arg(&png));
+        assert!(output.status.success(), "{}", text(&output));
+        image::open(&png).expect("PNG").to_rgba8()
+    };
+    let (before, same, later) = (shot("0"), shot("0"), shot("5"));
+    assert_eq!(before, same, "the same time gives the same picture");
+    let changed = before
+        .pixels()
+        .zip(later.pixels())
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(
+        changed > 50,
+        "cars did not move in 5 s: {changed} pixels changed"
+    );
+}
+
+#[test]
 fn scenes_lists_the_built_ins() {
     let output = run(shadowlab().arg("scenes"));
     assert!(output.status.success());

@@ -120,6 +120,8 @@ struct Running {
     /// The smoke test's screenshot is still to be taken.
     exit_screenshot_pending: bool,
     started: Instant,
+    /// Time of the scene's scripted motion; advances while "animate" is on.
+    scene_time_s: f64,
     last_frame: Instant,
     fps: Option<f32>,
 }
@@ -221,6 +223,7 @@ impl Running {
             exit_after_frames: args.exit_after_frames,
             exit_screenshot_pending: args.screenshot_dir.is_some(),
             started: now,
+            scene_time_s: 0.0,
             last_frame: now,
             fps: None,
         })
@@ -447,6 +450,12 @@ impl Running {
         }
         self.poll_file_dialog();
         self.controller.update(dt, self.keys);
+        if self.settings.animate && !self.scene.motions.is_empty() {
+            self.scene_time_s += f64::from(dt.min(0.25));
+            let moved = self.scene.animate(self.scene_time_s);
+            self.scene_gpu
+                .update_instances(&self.ctx, &self.scene, &moved);
+        }
 
         let egui_frame = self.run_egui();
         self.draw_view();

@@ -98,13 +98,25 @@ impl SceneGpu {
         }
     }
 
-    /// Rewrites the instance data of `moved` instances (after dynamic objects moved).
+    /// Rewrites the instance data of `moved` instances (after dynamic objects moved), one
+    /// write per run of consecutive instances.
     pub fn update_instances(&self, ctx: &GpuContext, scene: &Scene, moved: &[u32]) {
-        for &i in moved {
-            let data = instance_data(std::slice::from_ref(&scene.instances[i as usize]));
-            let offset = u64::from(i) * size_of::<InstanceData>() as u64;
+        let mut sorted = moved.to_vec();
+        sorted.sort_unstable();
+        sorted.dedup();
+        let mut k = 0;
+        while k < sorted.len() {
+            let first = sorted[k];
+            let mut last = first;
+            while k + 1 < sorted.len() && sorted[k + 1] == last + 1 {
+                k += 1;
+                last = sorted[k];
+            }
+            let data = instance_data(&scene.instances[first as usize..=last as usize]);
+            let offset = u64::from(first) * size_of::<InstanceData>() as u64;
             ctx.queue
                 .write_buffer(&self.instance_buffer, offset, bytemuck::cast_slice(&data));
+            k += 1;
         }
     }
 }

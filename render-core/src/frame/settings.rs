@@ -174,4 +174,6 @@ pub struct FrameSettings {
     /// Also render the reference shadow map (every caster, with ids) and measure the shadow
     /// error against it and the oracle caster set. Costs a second shadow pass.
     pub measure: bool,
+    /// Dynamic objects follow their scripted motion (cars drive) as time passes.
+    pub animate: bool,
 }

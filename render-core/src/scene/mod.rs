@@ -7,6 +7,7 @@ mod chunking;
 mod city;
 mod gltf_import;
 mod model;
+mod motion;
 
 pub use builtin::{BUILTIN_SCENES, BuiltinScene, load_builtin};
 pub use bvh::Bvh;
@@ -15,3 +16,4 @@ pub use chunking::{ChunkSettings, split_large_instances};
 pub use city::{CityParams, RectXz, build_city};
 pub use gltf_import::{ImportError, import_gltf, import_gltf_slice};
 pub use model::{Instance, Mesh, MeshId, Mobility, Scene, SceneFacts, Sun, compute_vertex_normals};
+pub use motion::Motion;

@@ -5,6 +5,7 @@ use glam::{Mat4, Vec3};
 use serde::Serialize;
 
 use super::bvh::Bvh;
+use super::motion::Motion;
 use crate::geom::Aabb;
 
 /// Index of a mesh in [`Scene::meshes`].
@@ -165,6 +166,8 @@ pub struct Scene {
     pub meshes: Vec<Mesh>,
     pub instances: Vec<Instance>,
     pub sun: Sun,
+    /// Scripted motion of dynamic instances (cars on their lanes); see [`Scene::animate`].
+    pub motions: Vec<Motion>,
     bounds: Aabb,
     bvh: Bvh,
 }
@@ -184,6 +187,7 @@ impl Scene {
             meshes,
             instances,
             sun,
+            motions: Vec::new(),
             bounds,
             bvh,
         }
@@ -222,6 +226,19 @@ impl Scene {
         let inst = &mut self.instances[instance];
         inst.world_from_local = world_from_local;
         inst.aabb_in_world = aabb;
+    }
+
+    /// Poses every instance that has a motion for `time_s` seconds and refits the BVH.
+    /// Returns the instances that moved.
+    pub fn animate(&mut self, time_s: f64) -> Vec<u32> {
+        let motions = std::mem::take(&mut self.motions);
+        for m in &motions {
+            self.set_world_from_local(m.instance as usize, m.world_from_local(time_s));
+        }
+        let moved = motions.iter().map(|m| m.instance).collect();
+        self.motions = motions;
+        self.refit();
+        moved
     }
 
     /// Refits the BVH and bounds to the instances' current world boxes.

@@ -57,7 +57,9 @@ impl SidePanel {
         if let Some(text) = input.message {
             message::ui(ui, text);
         }
-        section(ui, "Scene", |ui| scene::ui(ui, input.scene, &mut actions));
+        section(ui, "Scene", |ui| {
+            scene::ui(ui, input.scene, &mut settings.animate, &mut actions);
+        });
         if let Some(selected) = input.selection {
             section(ui, "Selected object", |ui| selection::ui(ui, selected));
         }

@@ -6,7 +6,7 @@ use super::grid;
 use crate::UiAction;
 use crate::format::{length, point, thousands};
 
-pub fn ui(ui: &mut egui::Ui, facts: &SceneFacts, actions: &mut Vec<UiAction>) {
+pub fn ui(ui: &mut egui::Ui, facts: &SceneFacts, animate: &mut bool, actions: &mut Vec<UiAction>) {
     grid::facts(ui, "scene_facts", |ui| {
         grid::row(ui, "Name", facts.name.as_str());
         grid::row(ui, "Objects", thousands(facts.objects as u64));
@@ -15,6 +15,10 @@ pub fn ui(ui: &mut egui::Ui, facts: &SceneFacts, actions: &mut Vec<UiAction>) {
         grid::row(ui, "Casters", thousands(facts.casters as u64));
         bounds_rows(ui, facts.bounds_min_m, facts.bounds_max_m);
     });
+    ui.checkbox(animate, "Animate dynamic objects")
+        .on_hover_text(
+            "Dynamic objects follow their scripted motion: the city's cars drive along their lanes",
+        );
     ui.horizontal_wrapped(|ui| {
         if ui
             .button("Open glTF…")

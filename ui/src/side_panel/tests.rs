@@ -333,6 +333,7 @@ fn checkboxes_edit_settings() {
     harness.get_by_label("Light view in corner").click();
     harness.get_by_label("Tint casters by outcome").click();
     harness.get_by_label("Include panel").click();
+    harness.get_by_label("Animate dynamic objects").click();
     harness.get_by_label("Measure error and oracle").click();
     harness.run();
     harness.get_by_label("Error heat map").click();
@@ -342,6 +343,7 @@ fn checkboxes_edit_settings() {
     assert!(lab.settings.overlays.light_view);
     assert!(lab.settings.overlays.casters);
     assert!(lab.settings.measure);
+    assert!(lab.settings.animate);
     assert!(
         lab.settings.overlays.error,
         "the heat map is enabled once measuring is on"

@@ -8,7 +8,7 @@ use std::f32::consts::TAU;
 use glam::{Mat4, Quat, Vec2, Vec3};
 
 use super::builtin::{MeshBuilder, SQUARE_RING, circle_ring, unit_ground_quad};
-use super::{Instance, Mesh, MeshId, Mobility, Scene, Sun};
+use super::{Instance, Mesh, MeshId, Mobility, Motion, Scene, Sun};
 
 /// Height of the sidewalk slab every block stands on, metres.
 const KERB_HEIGHT_M: f32 = 0.15;
@@ -455,6 +455,7 @@ pub fn build_city(name: String, params: &CityParams) -> Scene {
         instances: Vec::new(),
         towers: 0,
         cars: 0,
+        motions: Vec::new(),
     };
     city.add_ground_tiles();
     let tower_blocks = city.choose_tower_blocks();
@@ -464,12 +465,14 @@ pub fn build_city(name: String, params: &CityParams) -> Scene {
         }
     }
     city.add_cars();
-    Scene::new(
+    let mut scene = Scene::new(
         name,
         city.meshes,
         city.instances,
         Sun::from_azimuth_elevation_deg(35.0, 40.0),
-    )
+    );
+    scene.motions = city.motions;
+    scene
 }
 
 struct CityBuilder<'a> {
@@ -479,6 +482,8 @@ struct CityBuilder<'a> {
     instances: Vec<Instance>,
     towers: u32,
     cars: u32,
+    /// Each car drives along its lane: one motion per car.
+    motions: Vec<Motion>,
 }
 
 /// Names the objects of one block: `block_3_7/building_2`, `block_3_7/tree_0`.
@@ -795,9 +800,47 @@ impl CityBuilder<'_> {
                         + (slot as f32 + 0.5) * CAR_SPACING_M
                         + self.rng.range_f32(-0.4, 0.4);
                     self.add_car(start + along * t + offset, along * direction);
+                    self.add_car_motion(start, along, length_m, offset, direction, t);
                 }
             }
         }
+    }
+
+    /// The last car drives on along its lane and wraps around within the segment (between the
+    /// end margins). Its speed, 7 to 13 m/s, comes from its index, not the random stream, so
+    /// the city's layout does not depend on it.
+    fn add_car_motion(
+        &mut self,
+        start: Vec2,
+        along: Vec2,
+        length_m: f32,
+        lateral: Vec2,
+        direction: f32,
+        t: f32,
+    ) {
+        let usable = (length_m - 2.0 * CAR_END_MARGIN_M).max(1.0);
+        let (segment_start, heading, offset) = if direction > 0.0 {
+            (
+                start + along * CAR_END_MARGIN_M + lateral,
+                along,
+                t - CAR_END_MARGIN_M,
+            )
+        } else {
+            (
+                start + along * (length_m - CAR_END_MARGIN_M) + lateral,
+                -along,
+                length_m - CAR_END_MARGIN_M - t,
+            )
+        };
+        let hash = (self.cars.wrapping_mul(2_654_435_761) >> 16) % 1000;
+        self.motions.push(Motion {
+            instance: self.instances.len() as u32 - 1,
+            start: Vec3::new(segment_start.x, 0.0, segment_start.y),
+            direction: Vec3::new(heading.x, 0.0, heading.y),
+            length_m: usable,
+            offset_m: offset,
+            speed_m_per_s: 7.0 + 6.0 * hash as f32 / 1000.0,
+        });
     }
 
     /// A car standing at `position`, its nose (local +x) along `heading`.

@@ -324,3 +324,74 @@ fn rng_is_deterministic_and_in_range() {
     assert_eq!(a.below(0), 0);
     assert_ne!(SplitMix64::new(1).next_u64(), SplitMix64::new(2).next_u64());
 }
+
+#[test]
+fn cars_drive_along_their_lanes_and_stay_in_the_streets() {
+    let params = CityParams::small(3);
+    let mut scene = build_city("small".into(), &params);
+    let dynamic: Vec<u32> = (0..scene.instances.len() as u32)
+        .filter(|&i| scene.instances[i as usize].mobility == Mobility::Dynamic)
+        .collect();
+    let mut with_motion: Vec<u32> = scene.motions.iter().map(|m| m.instance).collect();
+    with_motion.sort_unstable();
+    assert_eq!(with_motion, dynamic, "one motion per car");
+    let at_start: Vec<Vec3> = dynamic
+        .iter()
+        .map(|&i| {
+            scene.instances[i as usize]
+                .world_from_local
+                .transform_point3(Vec3::ZERO)
+        })
+        .collect();
+
+    // Time 0 reproduces the generated layout.
+    let moved = scene.animate(0.0);
+    assert_eq!(moved.len(), dynamic.len());
+    for (k, &i) in dynamic.iter().enumerate() {
+        let p = scene.instances[i as usize]
+            .world_from_local
+            .transform_point3(Vec3::ZERO);
+        assert!(
+            (p - at_start[k]).length() < 1e-3,
+            "car {} moved at time 0",
+            scene.instances[i as usize].name
+        );
+    }
+    // Later, cars have moved, along the ground, outside every block; the BVH follows them.
+    for time in [0.7, 3.0, 41.0] {
+        scene.animate(time);
+        let mut moved_count = 0;
+        for (k, &i) in dynamic.iter().enumerate() {
+            let inst = &scene.instances[i as usize];
+            let p = inst.world_from_local.transform_point3(Vec3::ZERO);
+            moved_count += usize::from((p - at_start[k]).length() > 1.0);
+            assert!(p.y.abs() < 1e-4, "{} left the ground", inst.name);
+            for bi in 0..params.blocks_x {
+                for bj in 0..params.blocks_z {
+                    let block = params.block_rect(bi, bj);
+                    let inside = p.x > block.min.x
+                        && p.x < block.max.x
+                        && p.z > block.min.y
+                        && p.z < block.max.y;
+                    assert!(
+                        !inside,
+                        "{} drove into block ({bi}, {bj}) at {time} s",
+                        inst.name
+                    );
+                }
+            }
+            let mut hits = Vec::new();
+            scene.bvh().query_aabb(&inst.aabb_in_world, &mut hits);
+            assert!(
+                hits.contains(&i),
+                "the BVH lost {} after it moved",
+                inst.name
+            );
+        }
+        assert!(
+            moved_count * 10 > dynamic.len() * 9,
+            "only {moved_count} of {} cars moved at {time} s",
+            dynamic.len()
+        );
+    }
+}
