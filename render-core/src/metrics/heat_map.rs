@@ -1,6 +1,7 @@
 //! The error heat map overlay. Long-lived pipeline; the bind group follows the view targets.
 
 use crate::frame::targets::{COLOR_FORMAT, ViewTargets};
+use crate::gpu::fullscreen_pipeline;
 
 const HEAT_MAP_WGSL: &str = include_str!("heat_map.wgsl");
 
@@ -24,40 +25,19 @@ impl HeatMapOverlay {
                 count: None,
             }],
         });
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("HeatMap::shader"),
-            source: wgpu::ShaderSource::Wgsl(HEAT_MAP_WGSL.into()),
-        });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("HeatMap::pipeline_layout"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("HeatMap::pipeline"),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_fullscreen"),
-                compilation_options: wgpu::PipelineCompilationOptions::default(),
-                buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: None,
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_heat_map"),
-                compilation_options: wgpu::PipelineCompilationOptions::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format: COLOR_FORMAT,
-                    blend: Some(wgpu::BlendState::ALPHA_BLENDING),
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let target = wgpu::ColorTargetState {
+            format: COLOR_FORMAT,
+            blend: Some(wgpu::BlendState::ALPHA_BLENDING),
+            write_mask: wgpu::ColorWrites::ALL,
+        };
+        let pipeline = fullscreen_pipeline(
+            device,
+            "HeatMap",
+            HEAT_MAP_WGSL,
+            "fs_heat_map",
+            &layout,
+            target,
+        );
         Self { pipeline, layout }
     }
 

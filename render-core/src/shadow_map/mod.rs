@@ -4,6 +4,7 @@
 
 use crate::frame::scene_gpu::{DrawList, SceneGpu, VERTEX_LAYOUT};
 use crate::frame::targets::COLOR_FORMAT;
+use crate::gpu::fullscreen_pipeline;
 
 /// Depth of the shadow map: 0 towards the sun, 1 at the far plane.
 pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
@@ -113,7 +114,14 @@ impl ShadowMapPass {
                 count: None,
             }],
         });
-        let light_view_pipeline = fullscreen_pipeline(device, &depth_layout);
+        let light_view_pipeline = fullscreen_pipeline(
+            device,
+            "ShadowMap::light_view",
+            LIGHT_VIEW_WGSL,
+            "fs_light_view",
+            &depth_layout,
+            COLOR_FORMAT.into(),
+        );
         let (depth, depth_view) = create_depth(device, resolution);
         let light_view = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("ShadowMap::light_view"),
@@ -356,41 +364,5 @@ fn depth_bind_group(
             binding: 0,
             resource: wgpu::BindingResource::TextureView(depth_view),
         }],
-    })
-}
-
-fn fullscreen_pipeline(
-    device: &wgpu::Device,
-    layout: &wgpu::BindGroupLayout,
-) -> wgpu::RenderPipeline {
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some("ShadowMap::light_view_shader"),
-        source: wgpu::ShaderSource::Wgsl(LIGHT_VIEW_WGSL.into()),
-    });
-    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some("ShadowMap::light_view_layout"),
-        bind_group_layouts: &[Some(layout)],
-        immediate_size: 0,
-    });
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some("ShadowMap::light_view_pipeline"),
-        layout: Some(&pipeline_layout),
-        vertex: wgpu::VertexState {
-            module: &module,
-            entry_point: Some("vs_fullscreen"),
-            compilation_options: wgpu::PipelineCompilationOptions::default(),
-            buffers: &[],
-        },
-        primitive: wgpu::PrimitiveState::default(),
-        depth_stencil: None,
-        multisample: wgpu::MultisampleState::default(),
-        fragment: Some(wgpu::FragmentState {
-            module: &module,
-            entry_point: Some("fs_light_view"),
-            compilation_options: wgpu::PipelineCompilationOptions::default(),
-            targets: &[Some(COLOR_FORMAT.into())],
-        }),
-        multiview_mask: None,
-        cache: None,
     })
 }
