@@ -168,6 +168,7 @@ fn run_path(
             template.near_m,
             template.far_m,
         );
+        session.settle(&camera, &settings)?;
         let (wall_ms, mut report) = session.frame(&camera, &settings)?;
         let (_, measured) = session.frame(
             &camera,

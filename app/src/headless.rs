@@ -78,6 +78,25 @@ impl Session {
                 .render_and_wait(&self.ctx, &self.scene, &self.scene_gpu, &input)?;
         Ok((started.elapsed().as_secs_f64() * 1000.0, report))
     }
+
+    /// Renders the view until a method that relies on last frame's visibility in the light's
+    /// view has settled: until the drawn count repeats (six frames at most). Reports then
+    /// describe the steady state. Other methods need no settling.
+    pub fn settle(&mut self, camera: &Camera, settings: &FrameSettings) -> anyhow::Result<()> {
+        if !settings.method.temporal() {
+            return Ok(());
+        }
+        let mut last = None;
+        for _ in 0..6 {
+            let (_, report) = self.frame(camera, settings)?;
+            let drawn = Some(report.counts.casters_rendered);
+            if drawn == last {
+                break;
+            }
+            last = drawn;
+        }
+        Ok(())
+    }
 }
 
 pub fn shot(args: &ShotArgs) -> anyhow::Result<()> {
@@ -87,6 +106,7 @@ pub fn shot(args: &ShotArgs) -> anyhow::Result<()> {
         measure: true,
         ..args.view.settings(&session.scene)?
     };
+    session.settle(&camera, &settings)?;
     let (wall_ms, report) = session.frame(&camera, &settings)?;
     let (scene, ctx, width, height) = (&session.scene, &session.ctx, session.width, session.height);
     let capture = FrameCapture::read(

@@ -178,7 +178,11 @@ fn bench_prints_a_table_and_writes_csv() {
     );
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
     let methods: Vec<&str> = rows.iter().map(|r| r[1]).collect();
-    assert_eq!(methods, ["none", "vfc"], "one row per method");
+    let all: Vec<&str> = render_core::frame::Method::ALL
+        .iter()
+        .map(|m| m.name())
+        .collect();
+    assert_eq!(methods, all, "one row per method");
     for row in &rows {
         assert_eq!(row[2], "3");
         let drawn: f64 = row[6].parse().expect("casters drawn");
@@ -264,6 +268,8 @@ fn bench_sweeps_resolution_and_sun_elevation() {
         "0",
         "--size",
         "96x64",
+        "--methods",
+        "none,vfc",
         "--sweep",
         "resolution",
         "--resolutions",

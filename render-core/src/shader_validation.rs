@@ -27,6 +27,22 @@ fn wgsl_files(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
     }
 }
 
+/// The files a shader's "Prepended with a.wgsl, b.wgsl and c.wgsl." comment names, joined.
+fn prelude_of(source: &str) -> String {
+    let Some(line) = source.lines().find(|l| l.contains("Prepended with ")) else {
+        return String::new();
+    };
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    line.split(|c: char| c.is_whitespace() || c == ',')
+        .map(|w| w.trim_end_matches('.'))
+        .filter(|w| Path::new(w).extension().is_some_and(|e| e == "wgsl"))
+        .map(|w| {
+            std::fs::read_to_string(src.join(w)).unwrap_or_else(|e| panic!("prelude {w}: {e}"))
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
 #[test]
 fn every_wgsl_file_validates() {
     let mut files = Vec::new();
@@ -42,14 +58,7 @@ fn every_wgsl_file_validates() {
         let source = std::fs::read_to_string(&path).expect("shader is readable");
         let name = path.display().to_string();
         // Files that use shared declarations are validated as the renderer composes them.
-        let composed =
-            if source.contains("Prepended with frame/instance.wgsl and frame/common.wgsl") {
-                format!("{}\n{source}", crate::frame::scene_prelude())
-            } else if source.contains("Prepended with frame/instance.wgsl") {
-                format!("{}\n{source}", crate::frame::INSTANCE_WGSL)
-            } else {
-                source
-            };
+        let composed = format!("{}\n{source}", prelude_of(&source));
         validate(&name, &composed);
     }
 }

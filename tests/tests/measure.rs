@@ -48,7 +48,7 @@ fn measured_with_capture(
         .expect("frame");
     let oracle = renderer.read_oracle(ctx, &scene_gpu).expect("oracle flags");
     let capture = FrameCapture::read(ctx, renderer.targets().expect("targets")).expect("readback");
-    (report, renderer.drawn_casters().to_vec(), oracle, capture)
+    (report, renderer.drawn_casters(), oracle, capture)
 }
 
 fn assert_conservative(name: &str, scene: &Scene, camera: &Camera, settings: &FrameSettings) {

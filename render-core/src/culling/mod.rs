@@ -1,6 +1,11 @@
 //! Choosing shadow casters: the methods of DESIGN.md stage by stage, and what happened to each
 //! object. Long-lived state (the scene's casters, scratch lists); the choice is made per frame.
-//! So far on the CPU through the scene's BVH: `none` and `vfc`.
+//! `none` and `vfc` choose on the CPU through the scene's BVH ([`CasterSelection`]); the
+//! other methods cull on the GPU ([`GpuCulling`]).
+
+mod gpu;
+
+pub use gpu::{CullFrame, CullResult, GpuCulling, MAX_MASK_SIZE};
 
 use crate::frame::{CasterOutcome, Method, Stage};
 use crate::geom::{Frustum, LightFrustum};
@@ -60,6 +65,9 @@ impl CasterSelection {
                     remaining: self.chosen.len() as u32,
                 });
             }
+            // The GPU methods choose later in the frame (`GpuCulling`); here only the scene's
+            // casters are kept.
+            _ => {}
         }
         if !self.excluded.is_empty() {
             let excluded = &self.excluded;
@@ -87,6 +95,11 @@ impl CasterSelection {
         for &i in &self.chosen {
             self.outcomes[i as usize] = CasterOutcome::Rendered;
         }
+    }
+
+    /// Casters left out on request, sorted.
+    pub fn excluded(&self) -> &[u32] {
+        &self.excluded
     }
 
     /// Leaves these instances out of the chosen casters from the next frame on.

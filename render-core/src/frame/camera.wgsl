@@ -1,5 +1,5 @@
 // The camera passes: a depth + object-id prepass, then shading with the shadow map.
-// Prepended with frame/instance.wgsl and frame/common.wgsl.
+// Prepended with frame/instance.wgsl, frame/common.wgsl and frame/shadow_lookup.wgsl.
 
 @group(1) @binding(0) var shadow_map: texture_depth_2d;
 // Measurement (metrics/mod.rs): the reference map of every caster, its caster ids, the oracle
@@ -33,27 +33,6 @@ struct Measured {
     oracle_casters: atomic<u32>,
 }
 
-struct VsOut {
-    @builtin(position) @invariant clip: vec4<f32>,
-    @location(0) world_pos: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-    @location(2) @interpolate(flat) instance: u32,
-}
-
-@vertex
-fn vs_main(
-    @location(0) position: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-    @builtin(instance_index) instance: u32,
-) -> VsOut {
-    var out: VsOut;
-    out.world_pos = world_position(instance, position);
-    out.clip = frame.clip_from_world * vec4<f32>(out.world_pos, 1.0);
-    out.normal = world_normal(instance, normal);
-    out.instance = instance;
-    return out;
-}
-
 // Object id per pixel: instance index + 1, 0 is sky.
 @fragment
 fn fs_prepass(in: VsOut) -> @location(0) u32 {
@@ -65,45 +44,22 @@ struct ShadeOut {
     @location(1) shadow: vec4<f32>,
 }
 
-// Fraction of kernel taps that see the light, comparing each tap with the receiver's plane
-// extended to that tap's texel centre (receiver-plane depth bias), plus constant and slope terms.
-// With `mark_oracle`, every shadowed tap marks the reference caster that won its texel.
-fn shadow_factor(map: texture_depth_2d, world_pos: vec3<f32>, geometric_normal: vec3<f32>, mark_oracle: bool) -> f32 {
-    let texel_m = vec2<f32>(frame.light_right.w, frame.light_up.w);
-    let range_m = max(frame.light_dir.w, 1e-6);
-    let size = frame.shadow.w;
-    let offset_pos = world_pos + geometric_normal * (frame.shadow.z * max(texel_m.x, texel_m.y));
-    let clip = frame.light_clip_from_world * vec4<f32>(offset_pos, 1.0);
-    let ndc = clip.xyz / clip.w;
-    if (abs(ndc.x) > 1.0 || abs(ndc.y) > 1.0 || ndc.z > 1.0) {
+// Fraction of kernel taps that see the light (frame/shadow_lookup.wgsl). With `mark_oracle`,
+// every shadowed tap marks the reference caster that won its texel.
+fn shadow_factor(map: texture_depth_2d, l: ShadowLookup, mark_oracle: bool) -> f32 {
+    if (!l.inside) {
         return 1.0;
     }
-    let p = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5) * size;
-
-    // Depth change per texel along the receiver's plane, in normalised light depth.
-    let a = dot(geometric_normal, frame.light_right.xyz);
-    let b = dot(geometric_normal, frame.light_up.xyz);
-    let c = dot(geometric_normal, frame.light_dir.xyz);
-    let c_safe = select(min(c, -1e-3), max(c, 1e-3), c > 0.0);
-    let ddepth_per_texel = vec2<f32>(-a / c_safe * texel_m.x, b / c_safe * texel_m.y) / range_m;
-    let slope = min(abs(ddepth_per_texel.x) + abs(ddepth_per_texel.y), 10.0 * max(texel_m.x, texel_m.y) / range_m);
-    let bias = frame.shadow.x / range_m + frame.shadow.y * slope;
-
-    let k = i32(frame.params.x);
-    let start = vec2<i32>(floor(p - 0.5 * f32(k - 1)));
-    let max_texel = i32(size) - 1;
     var lit = 0.0;
-    for (var j = 0; j < k; j++) {
-        for (var i = 0; i < k; i++) {
-            let t = start + vec2<i32>(i, j);
-            if (any(t < vec2<i32>(0)) || any(t > vec2<i32>(max_texel))) {
+    for (var j = 0; j < l.kernel; j++) {
+        for (var i = 0; i < l.kernel; i++) {
+            let t = l.first + vec2<i32>(i, j);
+            if (!tap_in_map(t)) {
                 lit += 1.0;
                 continue;
             }
-            let delta = vec2<f32>(t) + 0.5 - p;
-            let receiver = ndc.z + dot(ddepth_per_texel, delta);
             let stored = textureLoad(map, t, 0);
-            let tap_lit = receiver - bias <= stored;
+            let tap_lit = tap_threshold(l, t) <= stored;
             lit += select(0.0, 1.0, tap_lit);
             if (mark_oracle && !tap_lit) {
                 let caster = textureLoad(reference_ids, t, 0).x;
@@ -113,7 +69,7 @@ fn shadow_factor(map: texture_depth_2d, world_pos: vec3<f32>, geometric_normal: 
             }
         }
     }
-    return lit / f32(k * k);
+    return lit / f32(l.kernel * l.kernel);
 }
 
 // The depth test must run before this shader: its counters and oracle marks are side effects
@@ -123,9 +79,7 @@ fn shadow_factor(map: texture_depth_2d, world_pos: vec3<f32>, geometric_normal: 
 @fragment
 fn fs_shade(in: VsOut) -> ShadeOut {
     let to_eye = frame.eye_world.xyz - in.world_pos;
-    var geometric = cross(dpdx(in.world_pos), dpdy(in.world_pos));
-    geometric = select(in.normal, normalize(geometric), length(geometric) > 0.0);
-    geometric = select(geometric, -geometric, dot(geometric, to_eye) < 0.0);
+    let geometric = geometric_normal(in.world_pos, in.normal);
     var n = in.normal;
     n = select(n, -n, dot(n, to_eye) < 0.0);
 
@@ -134,10 +88,11 @@ fn fs_shade(in: VsOut) -> ShadeOut {
     var visibility = 1.0;
     var reference = 1.0;
     if (frame.params.y != 0u && receives) {
-        visibility = shadow_factor(shadow_map, in.world_pos, geometric, false);
+        let lookup = shadow_lookup(in.world_pos, geometric);
+        visibility = shadow_factor(shadow_map, lookup, false);
         reference = visibility;
         if (frame.params.z != 0u) {
-            reference = shadow_factor(reference_map, in.world_pos, geometric, true);
+            reference = shadow_factor(reference_map, lookup, true);
             atomicAdd(&measured.visible_px, 1u);
             if (reference < visibility) {
                 atomicAdd(&measured.missing_px, 1u);
@@ -154,7 +109,7 @@ fn fs_shade(in: VsOut) -> ShadeOut {
     var out: ShadeOut;
     var color = data.base_color.rgb * (ambient + sun * diffuse);
     if ((frame.params.w & OVERLAY_CASTERS) != 0u) {
-        let tint = outcome_tint(outcomes[in.instance]);
+        let tint = outcome_tint(outcomes[in.instance] & 0xffu);
         color = mix(color, tint.rgb * (0.35 + 0.65 * max(dot(n, l), 0.0)), tint.a);
     }
     out.color = vec4<f32>(color, 1.0);

@@ -66,7 +66,16 @@ impl FrameRenderer {
                 .is_some_and(|v| v.frame_index == frame);
             let measured =
                 !self.measuring || self.latest_measured.is_some_and(|m| m.frame_index == frame);
-            if visible && measured {
+            let culled = !self.method.gpu_driven()
+                || (self
+                    .culling
+                    .latest()
+                    .is_some_and(|c| c.frame_index == frame)
+                    && self
+                        .culling
+                        .latest_outcomes()
+                        .is_some_and(|(f, _)| f == frame));
+            if visible && measured && culled {
                 return Ok(report);
             }
             if Instant::now() > deadline {

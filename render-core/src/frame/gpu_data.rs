@@ -44,6 +44,18 @@ pub fn outcome_code(outcome: super::CasterOutcome) -> u32 {
     }
 }
 
+/// The outcome for a code of [`outcome_code`].
+pub fn outcome_from_code(code: u32) -> super::CasterOutcome {
+    match code {
+        0 => super::CasterOutcome::NotACaster,
+        1 => super::CasterOutcome::Rendered,
+        2 => super::CasterOutcome::Excluded,
+        k => super::CasterOutcome::Culled {
+            stage: (k - 3) as usize,
+        },
+    }
+}
+
 /// Per-frame constants shared by every pass.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]

@@ -5,7 +5,8 @@
 //! fit light, prepare_draw_lists (CPU culling)   light frustum and camera frustum via the BVH
 //! draw_camera_prepass                           depth + object id
 //! mark_visible                                  visible objects and receivers from the ids
-//! draw_shadow_map                               casters into the shadow map
+//! draw_shadow_map                               casters into the shadow map: the CPU's list,
+//!                                               or GPU culling's two phases (culling/gpu.rs)
 //! draw_shading                                  diffuse + ambient with PCF shadows
 //! draw_overlays                                 light's view inset, error heat map
 //! ```
@@ -34,7 +35,7 @@ pub use settings::{FrameSettings, Method, Overlays, PcfKernel, ShadowSettings};
 pub use targets::ViewTargets;
 pub use visibility::VisibilityCounts;
 
-use crate::culling::CasterSelection;
+use crate::culling::{CasterSelection, CullFrame, GpuCulling};
 use crate::geom::{Camera, Frustum, LightFrustum, fit_directional_light};
 use crate::gpu::{FrameTimer, GpuContext, PassTiming};
 use crate::metrics::{HeatMapOverlay, MeasureResources, Measured};
@@ -56,7 +57,12 @@ fn camera_shader_source(early_depth_test: bool) -> String {
     } else {
         CAMERA_WGSL.replace("@early_depth_test(force)", "")
     };
-    format!("{}\n{body}", scene_prelude())
+    format!("{}\n{body}", camera_prelude())
+}
+
+/// The scene prelude plus the camera's vertex stage and shadow lookup.
+pub(crate) fn camera_prelude() -> String {
+    format!("{}\n{SHADOW_LOOKUP_WGSL}", scene_prelude())
 }
 
 /// The declarations every scene pass starts with: the instance layout, then frame uniforms and
@@ -65,6 +71,7 @@ pub(crate) fn scene_prelude() -> String {
     format!("{INSTANCE_WGSL}\n{COMMON_WGSL}")
 }
 pub(crate) const CAMERA_WGSL: &str = include_str!("camera.wgsl");
+pub(crate) const SHADOW_LOOKUP_WGSL: &str = include_str!("shadow_lookup.wgsl");
 
 /// Linear sky colour behind the scene.
 const SKY: wgpu::Color = wgpu::Color {
@@ -117,8 +124,13 @@ pub struct FrameRenderer {
     indirect_first_instance: bool,
     /// Objects in the view frustum (camera passes), refilled per frame.
     scratch: Vec<u32>,
-    /// The method's casters and each object's outcome.
+    /// The CPU methods' casters and each object's outcome.
     selection: CasterSelection,
+    /// The GPU methods' masks, pyramids and caster tests.
+    culling: GpuCulling,
+    /// The method of the last frame (after fallbacks).
+    method: Method,
+    warned_no_indirect: bool,
 }
 
 impl FrameRenderer {
@@ -221,6 +233,7 @@ impl FrameRenderer {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
+        let culling = GpuCulling::new(ctx, &frame_layout, &scene_prelude(), &camera_prelude());
         Self {
             frame_layout,
             prepass_pipeline,
@@ -251,6 +264,9 @@ impl FrameRenderer {
                 .contains(wgpu::Features::INDIRECT_FIRST_INSTANCE),
             scratch: Vec::new(),
             selection: CasterSelection::default(),
+            culling,
+            method: Method::None,
+            warned_no_indirect: false,
         }
     }
 
@@ -275,16 +291,8 @@ impl FrameRenderer {
         let started = Instant::now();
         self.frame_index += 1;
         let (width, height) = (input.width.max(1), input.height.max(1));
-        let measured_settings;
-        let settings = if input.settings.measure && !self.measurement_available {
-            measured_settings = FrameSettings {
-                measure: false,
-                ..*input.settings
-            };
-            &measured_settings
-        } else {
-            input.settings
-        };
+        let settings = &self.effective_settings(input.settings);
+        self.method = settings.method;
         self.prepare_targets(ctx, width, height);
         self.prepare_scene_bindings(ctx, scene_gpu, settings.shadow.resolution);
 
@@ -316,8 +324,24 @@ impl FrameRenderer {
             });
         self.draw_camera_prepass(&mut encoder, scene_gpu);
         self.mark_visible(ctx, &mut encoder, scene_gpu);
-        self.draw_shadow_map(&mut encoder, scene_gpu);
-        if settings.measure {
+        // The oracle method reads the reference map before its own map is drawn.
+        let reference_first = settings.method == Method::Oracle;
+        if reference_first {
+            self.draw_reference_map(&mut encoder, scene_gpu);
+        }
+        if settings.method.gpu_driven() {
+            self.draw_culled_shadow_map(
+                ctx,
+                &mut encoder,
+                scene_gpu,
+                &light,
+                settings,
+                counts.casters_total,
+            );
+        } else {
+            self.draw_shadow_map(&mut encoder, scene_gpu);
+        }
+        if settings.measure && !reference_first {
             self.draw_reference_map(&mut encoder, scene_gpu);
         }
         self.draw_shading(ctx, &mut encoder, scene_gpu);
@@ -331,6 +355,7 @@ impl FrameRenderer {
         self.timer.end_frame();
         self.visibility.after_submit();
         self.measure.after_submit();
+        self.culling.after_submit();
         self.gpu_frames_in_flight.push_back(self.frame_index);
 
         let mut report = FrameReport {
@@ -388,6 +413,33 @@ impl FrameRenderer {
             report.counts.receivers_visible = Some(v.receivers_visible);
             report.counts.objects_visible = Some(v.objects_visible);
         }
+        self.culling.collect();
+        if self.method.gpu_driven()
+            && let Some(culled) = self.culling.latest().filter(|c| c.method == self.method)
+        {
+            report.counts.casters_rendered = culled.casters_rendered;
+            report.counts.triangles_shadow = culled.triangles;
+            report.stages.clone_from(&culled.stages);
+            report.culled_frame_index = Some(culled.frame_index);
+        }
+    }
+
+    /// The settings a frame runs with: measurement needs forced early depth tests, and the
+    /// GPU methods indirect draws with a first instance (else `vfc`, with a warning).
+    fn effective_settings(&mut self, requested: &FrameSettings) -> FrameSettings {
+        let mut settings = *requested;
+        settings.measure &= self.measurement_available;
+        if settings.method.gpu_driven() && !self.indirect_first_instance {
+            if !self.warned_no_indirect {
+                log::warn!(
+                    "this adapter has no INDIRECT_FIRST_INSTANCE: '{}' runs as 'vfc'",
+                    settings.method.name()
+                );
+                self.warned_no_indirect = true;
+            }
+            settings.method = Method::Vfc;
+        }
+        settings
     }
 
     fn prepare_targets(&mut self, ctx: &GpuContext, width: u32, height: u32) {
@@ -406,6 +458,7 @@ impl FrameRenderer {
             ShadowSettings::MAX_RESOLUTION.min(ctx.device.limits().max_texture_dimension_2d),
         );
         self.shadow_map.ensure_resolution(&ctx.device, resolution);
+        self.culling.prepare(ctx, scene_gpu, resolution);
         if self
             .frame_bind_group
             .as_ref()
@@ -449,14 +502,16 @@ impl FrameRenderer {
         let stages = self
             .selection
             .select(scene, scene_gpu.id, settings.method, light);
-        self.caster_list
-            .upload(ctx, scene_gpu, self.selection.chosen());
-        if settings.measure {
+        if !settings.method.gpu_driven() {
+            self.caster_list
+                .upload(ctx, scene_gpu, self.selection.chosen());
+        }
+        if settings.measure || settings.method == Method::Oracle {
             self.reference_list
                 .upload(ctx, scene_gpu, self.selection.all());
         }
         let casters_total = self.selection.all().len() as u32;
-        if settings.overlays.casters {
+        if settings.overlays.casters && !settings.method.gpu_driven() {
             self.upload_outcomes(ctx);
         }
 
@@ -483,6 +538,7 @@ impl FrameRenderer {
     /// error measure sees a missing caster.
     pub fn exclude_casters(&mut self, instances: &[u32]) {
         self.selection.exclude(instances);
+        self.culling.exclude(instances);
     }
 
     /// Writes the outcome codes for the `casters` overlay, growing the buffer when needed.
@@ -533,9 +589,14 @@ impl FrameRenderer {
         (buffer, group)
     }
 
-    /// What happened to each instance in the last frame's shadow pass.
+    /// What happened to each instance in the shadow pass: the last frame's for the CPU
+    /// methods, the newest that came back for the GPU methods.
     pub fn caster_outcomes(&self) -> &[CasterOutcome] {
-        self.selection.outcomes()
+        if self.method.gpu_driven() {
+            self.culling.latest_outcomes().map_or(&[], |(_, o)| o)
+        } else {
+            self.selection.outcomes()
+        }
     }
 
     /// Which instances some pixel of the last frame shows. Blocks: for tests and reports.
@@ -552,9 +613,18 @@ impl FrameRenderer {
         )
     }
 
-    /// The instances drawn into the method's shadow map in the last frame, sorted.
-    pub fn drawn_casters(&self) -> &[u32] {
-        self.selection.chosen()
+    /// The instances drawn into the method's shadow map (as [`FrameRenderer::caster_outcomes`]),
+    /// sorted.
+    pub fn drawn_casters(&self) -> Vec<u32> {
+        if self.method.gpu_driven() {
+            (0..)
+                .zip(self.caster_outcomes())
+                .filter(|(_, o)| **o == CasterOutcome::Rendered)
+                .map(|(i, _)| i)
+                .collect()
+        } else {
+            self.selection.chosen().to_vec()
+        }
     }
 
     /// The oracle flag of every instance from the last measured frame. Blocks: for tests and
@@ -684,6 +754,76 @@ impl FrameRenderer {
         self.draw_casters(encoder, scene_gpu, MapKind::Method);
     }
 
+    /// The GPU methods: mask and first phase, its casters, the occlusion pyramid and second
+    /// phase, the survivors (culling/gpu.rs).
+    fn draw_culled_shadow_map(
+        &mut self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        scene_gpu: &SceneGpu,
+        light: &LightFrustum,
+        settings: &FrameSettings,
+        casters_total: u32,
+    ) {
+        let shadow = &settings.shadow;
+        let pcf_radius = shadow.pcf.width().div_ceil(2);
+        let frame_bind_group = self.frame_bind_group().clone();
+        let targets = self.targets.as_ref().expect("prepare_targets runs first");
+        let frame = CullFrame {
+            method: settings.method,
+            frame_index: self.frame_index,
+            light_clip_from_world: light.light_clip_from_world,
+            casters_total,
+            mask_pad_texels: pcf_radius + shadow.normal_offset_texels.max(0.0).ceil() as u32 + 1,
+            visible_flags: &self.visibility.visible_flags,
+            frame_bind_group: &frame_bind_group,
+            camera_depth: &targets.depth_view,
+        };
+        let reference = (
+            &self.shadow_map.reference.depth_view,
+            &self.shadow_map.reference.ids_view,
+        );
+        for phase in 0..2 {
+            let query = self.timer.begin_scope(pass_label::CULLING, encoder);
+            let encoded = if phase == 0 {
+                self.culling.encode_first_phase(
+                    ctx,
+                    encoder,
+                    scene_gpu,
+                    &self.camera_list,
+                    self.indirect_first_instance,
+                    reference,
+                    &frame,
+                )
+            } else {
+                self.culling.encode_second_phase(
+                    ctx,
+                    encoder,
+                    scene_gpu,
+                    &self.shadow_map.depth_view,
+                    &frame,
+                )
+            };
+            self.timer.end_pass(encoder, query);
+            let (Some(()), Some((draws, count))) = (encoded, self.culling.draws()) else {
+                return;
+            };
+            let query = self.timer.begin_pass(pass_label::SHADOW_MAP, encoder);
+            self.shadow_map.draw_culled(
+                encoder,
+                query
+                    .as_ref()
+                    .and_then(wgpu_profiler::GpuProfilerQuery::render_pass_timestamp_writes),
+                &frame_bind_group,
+                scene_gpu,
+                draws,
+                count,
+                phase == 0,
+            );
+            self.timer.end_pass(encoder, query);
+        }
+    }
+
     /// The reference map for measuring: every caster, with ids. Timed as its own pass so
     /// reports can leave it out of the method's cost.
     fn draw_reference_map(&self, encoder: &mut wgpu::CommandEncoder, scene_gpu: &SceneGpu) {
@@ -724,11 +864,25 @@ impl FrameRenderer {
             // The overlay has not been used: bind a small zeroed buffer.
             self.outcome_buffer = Some(self.create_outcome_buffer(&ctx.device, 4));
         }
-        let outcome_group = self
-            .outcome_buffer
-            .as_ref()
-            .map(|(_, g)| g.clone())
-            .expect("created above");
+        let gpu_outcomes = self
+            .culling
+            .state_buffer()
+            .filter(|_| self.method.gpu_driven());
+        let outcome_group = match gpu_outcomes {
+            Some(state) => ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("Frame::gpu_outcome_bind_group"),
+                layout: &self.outcome_layout,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: state.as_entire_binding(),
+                }],
+            }),
+            None => self
+                .outcome_buffer
+                .as_ref()
+                .map(|(_, g)| g.clone())
+                .expect("created above"),
+        };
         let targets = self.targets_ref();
         let query = self.timer.begin_pass(pass_label::SHADING, encoder);
         {

@@ -89,6 +89,8 @@ pub struct FrameReport {
     /// Shadow error against the reference map (when measuring), of frame `measured_frame_index`.
     pub error: Option<ShadowError>,
     pub measured_frame_index: Option<u64>,
+    /// For the GPU culling methods: the frame whose counts and stages these are.
+    pub culled_frame_index: Option<u64>,
 }
 
 /// Pass labels, shared by the renderer and readers of [`FrameReport::gpu`].
@@ -98,14 +100,19 @@ pub mod pass_label {
     pub const SHADOW_MAP: &str = "shadow map";
     /// Measurement only: the reference map of every caster. Not part of a method's cost.
     pub const REFERENCE_MAP: &str = "reference map (measure)";
+    /// The GPU culling methods: receiver mask, pyramids and caster tests (both phases).
+    pub const CULLING: &str = "mask + culling";
     pub const SHADING: &str = "shading";
     pub const OVERLAYS: &str = "overlays";
 }
 
 impl FrameReport {
-    /// GPU time of the pass called `label`, if it was measured.
+    /// GPU time of the passes called `label` (summed where a frame has several, like the
+    /// culling methods' two shadow passes), if measured.
     pub fn gpu_ms(&self, label: &str) -> Option<f64> {
-        self.gpu.iter().find(|t| t.label == label).map(|t| t.gpu_ms)
+        let mut passes = self.gpu.iter().filter(|t| t.label == label).peekable();
+        passes.peek()?;
+        Some(passes.map(|t| t.gpu_ms).sum())
     }
 
     /// Sum of the GPU pass times of the frame itself, leaving out measurement passes.

@@ -25,6 +25,9 @@ pub struct SceneGpu {
     pub vertex_buffer: wgpu::Buffer,
     pub index_buffer: wgpu::Buffer,
     pub instance_buffer: wgpu::Buffer,
+    /// Per instance: the world-space box and caster / receiver bits, for GPU culling
+    /// (`Bounds` in `culling/cull_common.wgsl`).
+    pub bounds_buffer: wgpu::Buffer,
     pub mesh_ranges: Vec<MeshRange>,
     /// Per instance: its mesh's range.
     pub instance_ranges: Vec<MeshRange>,
@@ -82,6 +85,11 @@ impl SceneGpu {
             contents: bytemuck::cast_slice(&instance_data),
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
         });
+        let bounds_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("SceneGpu::bounds"),
+            contents: bytemuck::cast_slice(&bounds_data(&scene.instances)),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        });
         let instance_ranges = scene
             .instances
             .iter()
@@ -92,6 +100,7 @@ impl SceneGpu {
             vertex_buffer,
             index_buffer,
             instance_buffer,
+            bounds_buffer,
             mesh_ranges,
             instance_ranges,
             instance_count: scene.instances.len() as u32,
@@ -116,6 +125,12 @@ impl SceneGpu {
             let offset = u64::from(first) * size_of::<InstanceData>() as u64;
             ctx.queue
                 .write_buffer(&self.instance_buffer, offset, bytemuck::cast_slice(&data));
+            let bounds = bounds_data(&scene.instances[first as usize..=last as usize]);
+            ctx.queue.write_buffer(
+                &self.bounds_buffer,
+                u64::from(first) * size_of::<InstanceBounds>() as u64,
+                bytemuck::cast_slice(&bounds),
+            );
             k += 1;
         }
     }
@@ -126,12 +141,7 @@ fn instance_data(instances: &[Instance]) -> Vec<InstanceData> {
         .iter()
         .map(|inst| {
             let normal = normal_from_local(&inst.world_from_local);
-            let flags = if inst.casts_shadow { FLAG_CASTER } else { 0 }
-                | if inst.receives_shadow {
-                    FLAG_RECEIVER
-                } else {
-                    0
-                };
+            let flags = shadow_flags(inst);
             InstanceData {
                 world_from_local: inst.world_from_local.to_cols_array_2d(),
                 normal_from_local: [
@@ -151,6 +161,47 @@ fn instance_data(instances: &[Instance]) -> Vec<InstanceData> {
 }
 
 /// Inverse transpose of the upper 3x3; a singular transform keeps its own 3x3.
+/// [`FLAG_CASTER`] | [`FLAG_RECEIVER`] as the shaders read them.
+fn shadow_flags(inst: &Instance) -> u32 {
+    (if inst.casts_shadow { FLAG_CASTER } else { 0 })
+        | if inst.receives_shadow {
+            FLAG_RECEIVER
+        } else {
+            0
+        }
+}
+
+/// One instance's box and flags as `culling/cull_common.wgsl` reads them.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub(crate) struct InstanceBounds {
+    min: [f32; 3],
+    /// [`FLAG_CASTER`] | [`FLAG_RECEIVER`].
+    flags: u32,
+    max: [f32; 3],
+    padding: u32,
+}
+
+fn bounds_data(instances: &[Instance]) -> Vec<InstanceBounds> {
+    let mut data: Vec<InstanceBounds> = instances
+        .iter()
+        .map(|inst| {
+            let flags = shadow_flags(inst);
+            let b = inst.aabb_in_world;
+            InstanceBounds {
+                min: b.min.to_array(),
+                flags,
+                max: b.max.to_array(),
+                padding: 0,
+            }
+        })
+        .collect();
+    if data.is_empty() {
+        data.push(bytemuck::Zeroable::zeroed());
+    }
+    data
+}
+
 fn normal_from_local(world_from_local: &Mat4) -> Mat3 {
     let m = Mat3::from_mat4(*world_from_local);
     let det = m.determinant();

@@ -94,7 +94,7 @@ impl Default for ShadowSettings {
     }
 }
 
-/// How shadow casters are chosen. Later issues add the culling methods of DESIGN.md.
+/// How shadow casters are chosen (DESIGN.md, "Methods and their names").
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Method {
@@ -102,18 +102,57 @@ pub enum Method {
     /// light frustum. The reference for error.
     #[default]
     None,
-    /// Light frustum culling only.
+    /// Light frustum culling only (on the CPU, through the scene's BVH).
     Vfc,
+    /// Occlusion culling in the camera and light views, no receiver mask (Bittner's REF).
+    Ref,
+    /// Receiver mask from visible receivers' bounding boxes (Bittner 4.1).
+    Bvol,
+    /// Receiver mask from visible receivers' geometry, drawn into the shadow map at once (4.2).
+    Geom,
+    /// Geometry for receivers that were visible in the light's view, boxes for the rest (4.3).
+    GeomBvol,
+    /// Fragment mask: only the texels visible receiver pixels read (4.4).
+    Frag,
+    /// Exactly the casters that shadow a visible pixel's filter tap: the floor for every
+    /// conservative method, taken from a reference map of every caster.
+    Oracle,
 }
 
 impl Method {
-    pub const ALL: [Self; 2] = [Self::None, Self::Vfc];
+    pub const ALL: [Self; 8] = [
+        Self::None,
+        Self::Vfc,
+        Self::Ref,
+        Self::Bvol,
+        Self::Geom,
+        Self::GeomBvol,
+        Self::Frag,
+        Self::Oracle,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
             Self::None => "none",
             Self::Vfc => "vfc",
+            Self::Ref => "ref",
+            Self::Bvol => "bvol",
+            Self::Geom => "geom",
+            Self::GeomBvol => "geom-bvol",
+            Self::Frag => "frag",
+            Self::Oracle => "oracle",
         }
+    }
+
+    /// Culls on the GPU (`culling::GpuCulling`); `none` and `vfc` choose on the CPU.
+    pub fn gpu_driven(self) -> bool {
+        !matches!(self, Self::None | Self::Vfc)
+    }
+
+    /// Uses last frame's visibility in the light's view, so a new view needs a few frames to
+    /// reach its steady state (every frame is conservative on the way).
+    pub fn temporal(self) -> bool {
+        self.gpu_driven() && self != Self::Oracle
     }
 }
 

@@ -26,7 +26,9 @@ pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY
     .union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS)
     .union(wgpu::Features::INDIRECT_FIRST_INSTANCE)
     .union(wgpu::Features::PIPELINE_STATISTICS_QUERY)
-    .union(wgpu::Features::SHADER_EARLY_DEPTH_TEST);
+    .union(wgpu::Features::SHADER_EARLY_DEPTH_TEST)
+    .union(wgpu::Features::CONSERVATIVE_RASTERIZATION)
+    .union(wgpu::Features::POLYGON_MODE_LINE);
 
 /// Instance, adapter, device and queue. Long-lived: one per process (or per window).
 #[derive(Clone, Debug)]

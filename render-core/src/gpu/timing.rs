@@ -61,6 +61,17 @@ impl FrameTimer {
             .map(|p| p.begin_pass_query(label, encoder))
     }
 
+    /// Times everything recorded into `encoder` until [`FrameTimer::end_pass`], across passes.
+    pub fn begin_scope(
+        &self,
+        label: &str,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> Option<GpuProfilerQuery> {
+        self.profiler
+            .as_ref()
+            .map(|p| p.begin_query(label, encoder))
+    }
+
     pub fn end_pass(&self, encoder: &mut wgpu::CommandEncoder, query: Option<GpuProfilerQuery>) {
         if let (Some(p), Some(q)) = (&self.profiler, query) {
             p.end_query(encoder, q);

@@ -188,6 +188,45 @@ impl ShadowMapPass {
         indirect_first_instance: bool,
         map: MapKind,
     ) {
+        let ids = map == MapKind::Reference;
+        let mut pass = self.begin_caster_pass(encoder, timestamp_writes, map, true);
+        pass.set_pipeline(if ids {
+            &self.id_pipeline
+        } else {
+            &self.pipeline
+        });
+        pass.set_bind_group(0, frame_bind_group, &[]);
+        casters.draw(&mut pass, scene_gpu, indirect_first_instance);
+    }
+
+    /// Draws into the method's map with one indirect draw per instance (`count` of them in
+    /// `draws`), on top of what is there unless `clear`. The GPU culling methods' passes.
+    #[expect(clippy::too_many_arguments, reason = "one pass, all of its inputs")]
+    pub fn draw_culled(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
+        frame_bind_group: &wgpu::BindGroup,
+        scene_gpu: &SceneGpu,
+        draws: &wgpu::Buffer,
+        count: u32,
+        clear: bool,
+    ) {
+        let mut pass = self.begin_caster_pass(encoder, timestamp_writes, MapKind::Method, clear);
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, frame_bind_group, &[]);
+        pass.set_vertex_buffer(0, scene_gpu.vertex_buffer.slice(..));
+        pass.set_index_buffer(scene_gpu.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
+        pass.multi_draw_indexed_indirect(draws, 0, count);
+    }
+
+    fn begin_caster_pass<'e>(
+        &self,
+        encoder: &'e mut wgpu::CommandEncoder,
+        timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
+        map: MapKind,
+        clear: bool,
+    ) -> wgpu::RenderPass<'e> {
         let (depth_view, ids_view) = match map {
             MapKind::Method => (&self.depth_view, None),
             MapKind::Reference => (&self.reference.depth_view, Some(&self.reference.ids_view)),
@@ -201,7 +240,7 @@ impl ShadowMapPass {
                 store: wgpu::StoreOp::Store,
             },
         });
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some(match map {
                 MapKind::Method => "ShadowMap::draw_casters",
                 MapKind::Reference => "ShadowMap::draw_reference",
@@ -214,7 +253,11 @@ impl ShadowMapPass {
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: depth_view,
                 depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
+                    load: if clear {
+                        wgpu::LoadOp::Clear(1.0)
+                    } else {
+                        wgpu::LoadOp::Load
+                    },
                     store: wgpu::StoreOp::Store,
                 }),
                 stencil_ops: None,
@@ -222,14 +265,7 @@ impl ShadowMapPass {
             timestamp_writes,
             occlusion_query_set: None,
             multiview_mask: None,
-        });
-        pass.set_pipeline(if ids_view.is_some() {
-            &self.id_pipeline
-        } else {
-            &self.pipeline
-        });
-        pass.set_bind_group(0, frame_bind_group, &[]);
-        casters.draw(&mut pass, scene_gpu, indirect_first_instance);
+        })
     }
 
     /// Renders the light's view inset from the current depth texture.

@@ -1,0 +1,63 @@
+// Receiver masks rasterised in the light's view (Bittner 4.1, 4.2): the bounding boxes (BVOL)
+// or the geometry (GEOM) of visible receivers mark the mask target, at the mask's resolution.
+// Casters are widened by the PCF footprint when tested against these masks (culling/cull.wgsl).
+// Prepended with frame/instance.wgsl, frame/common.wgsl and culling/cull_common.wgsl.
+
+// Marked texels hold a depth beyond every caster: only coverage counts.
+const MARKED: f32 = 2.0;
+
+@group(1) @binding(0) var<uniform> cull: CullParams;
+@group(1) @binding(1) var<storage, read> bounds: array<Bounds>;
+@group(1) @binding(2) var<storage, read> visible: array<u32>;
+@group(1) @binding(3) var<storage, read> state: array<u32>;
+
+struct MaskOut {
+    @builtin(position) clip: vec4<f32>,
+}
+
+// A screen-aligned rectangle around the light-space box of visible receiver `instance`,
+// one mask texel wider on each side so every texel it touches has its centre inside.
+// Nothing for other instances (a degenerate triangle). GEOM+BVOL takes boxes only for
+// receivers that were not visible in the light's view last frame.
+@vertex
+fn vs_box(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32) -> MaskOut {
+    var out: MaskOut;
+    out.clip = vec4<f32>(2.0, 2.0, 2.0, 1.0);
+    let flags = bounds[instance].flags;
+    var wanted = visible[instance] != 0u && (flags & CULL_RECEIVER) != 0u;
+    if ((cull.params.x & METHOD_GEOM) != 0u) {
+        wanted = wanted && (state[instance] & STATE_LIGHT_VISIBLE) == 0u;
+    }
+    if (!wanted) {
+        return out;
+    }
+    let box = light_box(bounds[instance], cull.light_clip_from_world);
+    if (!in_light_frustum(box)) {
+        return out;
+    }
+    let pad = 2.0 / f32(cull.sizes.y);
+    let lo = box.lo.xy - pad;
+    let hi = box.hi.xy + pad;
+    // Two triangles: corners (lo, lo), (hi, lo), (lo, hi) and (lo, hi), (hi, lo), (hi, hi).
+    let v = vertex % 6u;
+    let high_x = v == 1u || v == 4u || v == 5u;
+    let high_y = v == 2u || v == 3u || v == 5u;
+    let c = vec2<f32>(select(lo.x, hi.x, high_x), select(lo.y, hi.y, high_y));
+    out.clip = vec4<f32>(c, 0.5, 1.0);
+    return out;
+}
+
+// Receiver geometry in the light's view; which receivers is decided by the indirect draws.
+@vertex
+fn vs_geometry(@location(0) position: vec3<f32>, @builtin(instance_index) instance: u32) -> MaskOut {
+    var out: MaskOut;
+    out.clip = frame.light_clip_from_world * vec4<f32>(world_position(instance, position), 1.0);
+    // Depth is not tested: keep every fragment inside the clip volume's depth range.
+    out.clip.z = 0.5 * out.clip.w;
+    return out;
+}
+
+@fragment
+fn fs_mark() -> @location(0) vec4<f32> {
+    return vec4<f32>(MARKED, 0.0, 0.0, 0.0);
+}
