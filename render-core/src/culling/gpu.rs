@@ -109,13 +109,20 @@ pub struct CullFrame<'a> {
 /// texels square and holds blocks of 2^(m+1) base texels.
 struct Pyramid {
     buffer: wgpu::Buffer,
-    /// Per level: destination offset and width, source offset and width, in texels.
-    levels: Vec<wgpu::Buffer>,
     widths: Vec<u32>,
+    /// Per level, for the reduce pass: level 0 reads the base, later levels the one before.
+    groups: Vec<wgpu::BindGroup>,
 }
 
 impl Pyramid {
-    fn new(device: &wgpu::Device, label: &str, base: u32) -> Self {
+    /// `first` reduces the base, read through `base_entries`; `reduce` every later level.
+    fn new(
+        device: &wgpu::Device,
+        label: &str,
+        base: u32,
+        (first, reduce): (&wgpu::ComputePipeline, &wgpu::ComputePipeline),
+        base_entries: &[wgpu::BindGroupEntry<'_>],
+    ) -> Self {
         use wgpu::util::DeviceExt;
         let (mut levels, mut widths) = (Vec::new(), Vec::new());
         let (mut width, mut offset, mut source) = ((base / 2).max(1), 0u32, (0u32, base));
@@ -142,10 +149,26 @@ impl Pyramid {
             usage: wgpu::BufferUsages::STORAGE,
             mapped_at_creation: false,
         });
+        let groups = levels
+            .iter()
+            .enumerate()
+            .map(|(m, level)| {
+                let pipeline = if m == 0 { first } else { reduce };
+                let mut entries = vec![buffer_entry(0, &buffer), buffer_entry(1, level)];
+                if m == 0 {
+                    entries.extend_from_slice(base_entries);
+                }
+                device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some(label),
+                    layout: &pipeline.get_bind_group_layout(0),
+                    entries: &entries,
+                })
+            })
+            .collect();
         Self {
             buffer,
-            levels,
             widths,
+            groups,
         }
     }
 }
@@ -161,7 +184,13 @@ struct SizedResources {
 }
 
 impl SizedResources {
-    fn new(device: &wgpu::Device, resolution: u32) -> Self {
+    /// `shadow_depth` is the shadow map's depth at `resolution`, the occlusion pyramid's base.
+    fn new(
+        device: &wgpu::Device,
+        resolution: u32,
+        shadow_depth: &wgpu::TextureView,
+        reduce: &ReducePipelines,
+    ) -> Self {
         let mask_size = mask_size(resolution);
         let mask_raster = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("GpuCulling::mask_raster"),
@@ -178,20 +207,46 @@ impl SizedResources {
             view_formats: &[],
         });
         let mask_raster_view = mask_raster.create_view(&wgpu::TextureViewDescriptor::default());
+        let mask_bits = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("GpuCulling::mask_bits"),
+            size: u64::from(mask_size) * u64::from(mask_size) * 4,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let occlusion = Pyramid::new(
+            device,
+            "GpuCulling::occlusion_pyramid",
+            resolution,
+            (&reduce.depth, &reduce.level),
+            &[view_entry(2, shadow_depth)],
+        );
+        let mask = Pyramid::new(
+            device,
+            "GpuCulling::mask_pyramid",
+            mask_size,
+            (&reduce.mask, &reduce.level),
+            &[
+                view_entry(3, &mask_raster_view),
+                buffer_entry(4, &mask_bits),
+            ],
+        );
         Self {
             resolution,
             mask_size,
-            occlusion: Pyramid::new(device, "GpuCulling::occlusion_pyramid", resolution),
-            mask: Pyramid::new(device, "GpuCulling::mask_pyramid", mask_size),
+            occlusion,
+            mask,
             mask_raster_view,
-            mask_bits: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("GpuCulling::mask_bits"),
-                size: u64::from(mask_size) * u64::from(mask_size) * 4,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
+            mask_bits,
         }
     }
+}
+
+/// The reduce passes of culling/pyramid.wgsl: from the shadow map's depth, from the mask,
+/// and from the level before.
+struct ReducePipelines {
+    depth: wgpu::ComputePipeline,
+    mask: wgpu::ComputePipeline,
+    level: wgpu::ComputePipeline,
 }
 
 /// The mask's size for a shadow map: the map's own, or a whole fraction of it.
@@ -288,9 +343,7 @@ pub struct GpuCulling {
     receivers_pipeline: wgpu::ComputePipeline,
     first_pipeline: wgpu::ComputePipeline,
     second_pipeline: wgpu::ComputePipeline,
-    reduce: wgpu::ComputePipeline,
-    reduce_depth: wgpu::ComputePipeline,
-    reduce_mask: wgpu::ComputePipeline,
+    reduce: ReducePipelines,
     mask_layout: wgpu::BindGroupLayout,
     box_pipeline: wgpu::RenderPipeline,
     geometry_pipelines: Vec<wgpu::RenderPipeline>,
@@ -300,6 +353,8 @@ pub struct GpuCulling {
     counters: GpuCounters<COUNTERS>,
     sized: Option<SizedResources>,
     scene: Option<SceneResources>,
+    /// This frame's caster-test bind group, from the first phase to the second.
+    cull_group: Option<wgpu::BindGroup>,
     excluded: Vec<u32>,
     exclusions_changed: bool,
     /// Methods of frames in flight, by frame index, to label what comes back.
@@ -478,37 +533,17 @@ impl GpuCulling {
                 bind_group_layouts: &[Some(frame_layout), Some(&receivers_layout)],
                 immediate_size: 0,
             });
+            // Depth EQUAL, no writes, no colour: exactly the camera's visible fragments.
             let pipeline = |entry| {
-                device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                    label: Some(entry),
-                    layout: Some(&layout),
-                    vertex: wgpu::VertexState {
-                        module: &receivers_module,
-                        entry_point: Some("vs_main"),
-                        compilation_options: wgpu::PipelineCompilationOptions::default(),
-                        buffers: &[Some(VERTEX_LAYOUT)],
-                    },
-                    primitive: wgpu::PrimitiveState {
-                        cull_mode: Some(wgpu::Face::Back),
-                        ..Default::default()
-                    },
-                    depth_stencil: Some(wgpu::DepthStencilState {
-                        format: crate::frame::targets::DEPTH_FORMAT,
-                        depth_write_enabled: Some(false),
-                        depth_compare: Some(wgpu::CompareFunction::Equal),
-                        stencil: wgpu::StencilState::default(),
-                        bias: wgpu::DepthBiasState::default(),
-                    }),
-                    multisample: wgpu::MultisampleState::default(),
-                    fragment: Some(wgpu::FragmentState {
-                        module: &receivers_module,
-                        entry_point: Some(entry),
-                        compilation_options: wgpu::PipelineCompilationOptions::default(),
-                        targets: &[],
-                    }),
-                    multiview_mask: None,
-                    cache: None,
-                })
+                crate::frame::camera_pipeline(
+                    device,
+                    entry,
+                    &layout,
+                    &receivers_module,
+                    entry,
+                    &[],
+                    (false, wgpu::CompareFunction::Equal),
+                )
             };
             (
                 Some(pipeline("fs_fragment_mask")),
@@ -516,8 +551,8 @@ impl GpuCulling {
             )
         } else {
             log::warn!(
-                "no forced early depth tests (SHADER_EARLY_DEPTH_TEST): FRAG masks mark every \
-                 texel and the oracle method draws every caster"
+                "no forced early depth tests (SHADER_EARLY_DEPTH_TEST): FRAG runs without its \
+                 mask and the oracle method draws every caster in the light frustum"
             );
             (None, None)
         };
@@ -529,9 +564,11 @@ impl GpuCulling {
             first_pipeline: compute(&cull_module, Some(&cull_pipeline_layout), "cs_first_phase"),
             second_pipeline: compute(&cull_module, Some(&cull_pipeline_layout), "cs_second_phase"),
             cull_layout,
-            reduce: compute(&pyramid_module, None, "cs_reduce"),
-            reduce_depth: compute(&pyramid_module, None, "cs_reduce_depth"),
-            reduce_mask: compute(&pyramid_module, None, "cs_reduce_mask"),
+            reduce: ReducePipelines {
+                depth: compute(&pyramid_module, None, "cs_reduce_depth"),
+                mask: compute(&pyramid_module, None, "cs_reduce_mask"),
+                level: compute(&pyramid_module, None, "cs_reduce"),
+            },
             mask_layout,
             box_pipeline: mask_pipeline("vs_box", false, wgpu::PolygonMode::Fill, false),
             geometry_pipelines,
@@ -541,6 +578,7 @@ impl GpuCulling {
             counters: GpuCounters::new(device, "GpuCulling::counters"),
             sized: None,
             scene: None,
+            cull_group: None,
             excluded: Vec::new(),
             exclusions_changed: false,
             in_flight: std::collections::VecDeque::new(),
@@ -560,14 +598,25 @@ impl GpuCulling {
         self.exclusions_changed = true;
     }
 
-    /// Follows the scene and the shadow map's resolution.
-    pub fn prepare(&mut self, ctx: &GpuContext, scene_gpu: &SceneGpu, resolution: u32) {
+    /// Follows the scene and the shadow map (`shadow_depth`, `resolution` texels square).
+    pub fn prepare(
+        &mut self,
+        ctx: &GpuContext,
+        scene_gpu: &SceneGpu,
+        resolution: u32,
+        shadow_depth: &wgpu::TextureView,
+    ) {
         if self
             .sized
             .as_ref()
             .is_none_or(|s| s.resolution != resolution)
         {
-            self.sized = Some(SizedResources::new(&ctx.device, resolution));
+            self.sized = Some(SizedResources::new(
+                &ctx.device,
+                resolution,
+                shadow_depth,
+                &self.reduce,
+            ));
         }
         if self
             .scene
@@ -588,6 +637,23 @@ impl GpuCulling {
     /// The indirect draws (one per instance) that the shadow passes issue.
     pub fn draws(&self) -> Option<(&wgpu::Buffer, u32)> {
         self.scene.as_ref().map(|s| (&s.draws, s.instance_count))
+    }
+
+    /// The method's bits on this device: without conservative rasterisation or line polygons
+    /// GEOM takes boxes; without the receiver passes (no forced early depth tests) FRAG has no
+    /// mask and the oracle method draws every caster in the light frustum.
+    fn effective_bits(&self, method: Method) -> Option<u32> {
+        let mut bits = method_bits(method)?;
+        if bits & bits::GEOM != 0 && self.geometry_pipelines.is_empty() {
+            bits = (bits & !bits::GEOM) | bits::BVOL;
+        }
+        if bits & bits::FRAG != 0 && self.fragment_mask_pipeline.is_none() {
+            bits &= !(bits::FRAG | bits::MASK);
+        }
+        if bits & bits::ORACLE != 0 && self.oracle_pipeline.is_none() {
+            bits = 0;
+        }
+        Some(bits)
     }
 
     fn write_params(&self, ctx: &GpuContext, frame: &CullFrame<'_>, method: u32) {
@@ -653,13 +719,10 @@ impl GpuCulling {
         reference: (&wgpu::TextureView, &wgpu::TextureView),
         frame: &CullFrame<'_>,
     ) -> Option<()> {
-        let mut method = method_bits(frame.method)?;
-        if method & bits::GEOM != 0 && self.geometry_pipelines.is_empty() {
-            // Without a way to rasterise thin receivers conservatively, GEOM takes boxes.
-            method = (method & !bits::GEOM) | bits::BVOL;
-        }
+        let method = self.effective_bits(frame.method)?;
         self.write_params(ctx, frame, method);
         let bind_group = self.cull_bind_group(ctx, scene_gpu, frame.visible_flags)?;
+        self.cull_group = Some(bind_group.clone());
         let (sized, scene) = (self.sized.as_ref()?, self.scene.as_ref()?);
         let groups = scene.instance_count.div_ceil(WORKGROUP).max(1);
         encoder.copy_buffer_to_buffer(&scene.selection_init, 0, &scene.selection, 0, None);
@@ -678,38 +741,27 @@ impl GpuCulling {
             }
             self.rasterise_mask(ctx, encoder, scene_gpu, frame, method);
         }
-        if method & (bits::FRAG | bits::ORACLE) != 0 {
-            let pipeline = if method & bits::FRAG != 0 {
-                self.fragment_mask_pipeline.as_ref()
-            } else {
-                self.oracle_pipeline.as_ref()
-            };
-            if let Some(pipeline) = pipeline {
-                self.receiver_pass(
-                    ctx,
-                    encoder,
-                    scene_gpu,
-                    camera_draws,
-                    indirect_first_instance,
-                    reference,
-                    frame,
-                    pipeline,
-                );
-            } else {
-                // Without the receiver pass: every texel needed, every caster wanted.
-                let frag = method & bits::FRAG != 0;
-                let (fill, target) = if frag {
-                    (2.0f32.to_bits(), &sized.mask_bits)
-                } else {
-                    (1, &scene.selection)
-                };
-                let words = vec![fill; (target.size() / 4) as usize];
-                ctx.queue
-                    .write_buffer(target, 0, bytemuck::cast_slice(&words));
-            }
+        let receiver_pipeline = if method & bits::FRAG != 0 {
+            self.fragment_mask_pipeline.as_ref()
+        } else if method & bits::ORACLE != 0 {
+            self.oracle_pipeline.as_ref()
+        } else {
+            None
+        };
+        if let Some(pipeline) = receiver_pipeline {
+            self.receiver_pass(
+                ctx,
+                encoder,
+                scene_gpu,
+                camera_draws,
+                indirect_first_instance,
+                reference,
+                frame,
+                pipeline,
+            );
         }
         if method & bits::MASK != 0 {
-            self.build_mask_pyramid(ctx, encoder);
+            self.reduce_chain(encoder, &sized.mask, &self.reduce.mask);
         }
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("GpuCulling::first_phase"),
@@ -721,28 +773,20 @@ impl GpuCulling {
         Some(())
     }
 
-    /// Records the occlusion pyramid of `shadow_depth` and the second phase; after it, the
-    /// shadow map's second pass draws [`GpuCulling::draws`] on top of the first.
+    /// Records the occlusion pyramid of the shadow map (as the first phase left it) and the
+    /// second phase; after it, the shadow map's second pass draws [`GpuCulling::draws`] on top
+    /// of the first.
     pub fn encode_second_phase(
         &mut self,
-        ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
-        scene_gpu: &SceneGpu,
-        shadow_depth: &wgpu::TextureView,
         frame: &CullFrame<'_>,
     ) -> Option<()> {
-        let method = method_bits(frame.method)?;
+        let method = self.effective_bits(frame.method)?;
         if method & bits::OCCLUSION != 0 {
             let sized = self.sized.as_ref()?;
-            self.reduce_chain(
-                ctx,
-                encoder,
-                &self.reduce_depth,
-                &[view_entry(2, shadow_depth)],
-                &sized.occlusion,
-            );
+            self.reduce_chain(encoder, &sized.occlusion, &self.reduce.depth);
         }
-        let bind_group = self.cull_bind_group(ctx, scene_gpu, frame.visible_flags)?;
+        let bind_group = self.cull_group.take()?;
         let scene = self.scene.as_mut()?;
         {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -867,49 +911,20 @@ impl GpuCulling {
         camera_draws.draw(&mut pass, scene_gpu, indirect_first_instance);
     }
 
-    fn build_mask_pyramid(&self, ctx: &GpuContext, encoder: &mut wgpu::CommandEncoder) {
-        let Some(sized) = &self.sized else {
-            return;
-        };
-        self.reduce_chain(
-            ctx,
-            encoder,
-            &self.reduce_mask,
-            &[
-                view_entry(3, &sized.mask_raster_view),
-                buffer_entry(4, &sized.mask_bits),
-            ],
-            &sized.mask,
-        );
-    }
-
-    /// Level 0 from the base (`base_entries` of `first_pipeline`), then each level from the
-    /// one before, a pass each.
+    /// Each level of `pyramid` from its base (with `first`) or the level before, a pass each.
     fn reduce_chain(
         &self,
-        ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
-        first_pipeline: &wgpu::ComputePipeline,
-        base_entries: &[wgpu::BindGroupEntry<'_>],
         pyramid: &Pyramid,
+        first: &wgpu::ComputePipeline,
     ) {
-        for (m, (level, width)) in pyramid.levels.iter().zip(&pyramid.widths).enumerate() {
-            let pipeline = if m == 0 { first_pipeline } else { &self.reduce };
-            let mut entries = vec![buffer_entry(0, &pyramid.buffer), buffer_entry(1, level)];
-            if m == 0 {
-                entries.extend_from_slice(base_entries);
-            }
-            let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("GpuCulling::reduce"),
-                layout: &pipeline.get_bind_group_layout(0),
-                entries: &entries,
-            });
+        for (m, (group, width)) in pyramid.groups.iter().zip(&pyramid.widths).enumerate() {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("GpuCulling::pyramid"),
                 timestamp_writes: None,
             });
-            pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, &group, &[]);
+            pass.set_pipeline(if m == 0 { first } else { &self.reduce.level });
+            pass.set_bind_group(0, group, &[]);
             pass.dispatch_workgroups(width.div_ceil(8), width.div_ceil(8), 1);
         }
     }

@@ -113,6 +113,8 @@ pub struct FrameRenderer {
     outcome_layout: wgpu::BindGroupLayout,
     outcome_buffer: Option<(wgpu::Buffer, wgpu::BindGroup)>,
     outcome_codes: Vec<u32>,
+    /// The GPU methods' state buffer in the outcome layout, and its scene.
+    gpu_outcome_group: Option<(u64, wgpu::BindGroup)>,
     /// Whether the device can measure error and oracle exactly (see `camera.wgsl`).
     measurement_available: bool,
     targets: Option<ViewTargets>,
@@ -252,6 +254,7 @@ impl FrameRenderer {
             outcome_layout,
             outcome_buffer: None,
             outcome_codes: Vec::new(),
+            gpu_outcome_group: None,
             measurement_available,
             targets: None,
             timer: FrameTimer::new(ctx),
@@ -458,7 +461,8 @@ impl FrameRenderer {
             ShadowSettings::MAX_RESOLUTION.min(ctx.device.limits().max_texture_dimension_2d),
         );
         self.shadow_map.ensure_resolution(&ctx.device, resolution);
-        self.culling.prepare(ctx, scene_gpu, resolution);
+        self.culling
+            .prepare(ctx, scene_gpu, resolution, &self.shadow_map.depth_view);
         if self
             .frame_bind_group
             .as_ref()
@@ -796,13 +800,7 @@ impl FrameRenderer {
                     &frame,
                 )
             } else {
-                self.culling.encode_second_phase(
-                    ctx,
-                    encoder,
-                    scene_gpu,
-                    &self.shadow_map.depth_view,
-                    &frame,
-                )
+                self.culling.encode_second_phase(encoder, &frame)
             };
             self.timer.end_pass(encoder, query);
             let (Some(()), Some((draws, count))) = (encoded, self.culling.draws()) else {
@@ -864,24 +862,15 @@ impl FrameRenderer {
             // The overlay has not been used: bind a small zeroed buffer.
             self.outcome_buffer = Some(self.create_outcome_buffer(&ctx.device, 4));
         }
-        let gpu_outcomes = self
-            .culling
-            .state_buffer()
-            .filter(|_| self.method.gpu_driven());
-        let outcome_group = match gpu_outcomes {
-            Some(state) => ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("Frame::gpu_outcome_bind_group"),
-                layout: &self.outcome_layout,
-                entries: &[wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: state.as_entire_binding(),
-                }],
-            }),
-            None => self
-                .outcome_buffer
+        let outcome_group = if self.method.gpu_driven()
+            && let Some(group) = self.gpu_outcome_group(ctx, scene_gpu)
+        {
+            group
+        } else {
+            self.outcome_buffer
                 .as_ref()
                 .map(|(_, g)| g.clone())
-                .expect("created above"),
+                .expect("created above")
         };
         let targets = self.targets_ref();
         let query = self.timer.begin_pass(pass_label::SHADING, encoder);
@@ -932,6 +921,32 @@ impl FrameRenderer {
         self.timer.end_pass(encoder, query);
     }
 
+    /// The GPU methods' per-object states as the `casters` overlay's outcome codes, bound once
+    /// per scene.
+    fn gpu_outcome_group(
+        &mut self,
+        ctx: &GpuContext,
+        scene_gpu: &SceneGpu,
+    ) -> Option<wgpu::BindGroup> {
+        if self
+            .gpu_outcome_group
+            .as_ref()
+            .is_none_or(|(id, _)| *id != scene_gpu.id)
+        {
+            let state = self.culling.state_buffer()?;
+            let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("Frame::gpu_outcome_bind_group"),
+                layout: &self.outcome_layout,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: state.as_entire_binding(),
+                }],
+            });
+            self.gpu_outcome_group = Some((scene_gpu.id, group));
+        }
+        self.gpu_outcome_group.as_ref().map(|(_, g)| g.clone())
+    }
+
     /// The light's view inset is always rendered (the panel shows it); the `light-view`
     /// overlay also draws it into the top-left corner of the colour target, and the `error`
     /// overlay tints pixels whose shadow differs from the reference.
@@ -961,7 +976,9 @@ impl FrameRenderer {
     }
 }
 
-fn camera_pipeline(
+/// A pipeline over the camera's view of the scene (`vs_main`, back faces culled, the camera's
+/// reversed depth): the prepass, shading, and the receiver passes of GPU culling.
+pub(crate) fn camera_pipeline(
     device: &wgpu::Device,
     label: &str,
     layout: &wgpu::PipelineLayout,
