@@ -43,9 +43,25 @@ fn measured_with_capture(
         height: 192,
         settings: &settings,
     };
-    let report = renderer
-        .render_and_wait(ctx, scene, &scene_gpu, &input)
-        .expect("frame");
+    // Methods that lean on last frame's visibility are checked on their first frame and once
+    // settled (FOCUS needs a frame for the visible receivers to come back).
+    let frames = if settings.method.temporal() { 3 } else { 1 };
+    let mut report = FrameReport::default();
+    for _ in 0..frames {
+        report = renderer
+            .render_and_wait(ctx, scene, &scene_gpu, &input)
+            .expect("frame");
+        if !settings.method.may_err() && exclude.is_empty() {
+            assert_eq!(
+                report
+                    .error
+                    .map(|e| (e.missing_shadow_px, e.extra_shadow_px)),
+                Some((0, 0)),
+                "{}: every frame, not only the settled one, has zero error",
+                settings.method.name()
+            );
+        }
+    }
     let oracle = renderer.read_oracle(ctx, &scene_gpu).expect("oracle flags");
     let capture = FrameCapture::read(ctx, renderer.targets().expect("targets")).expect("readback");
     (report, renderer.drawn_casters(), oracle, capture)
@@ -91,6 +107,10 @@ fn assert_conservative(name: &str, scene: &Scene, camera: &Camera, settings: &Fr
             "{name}/{}: no visible receiver pixels",
             method.name()
         );
+        rendered.push(report.counts.casters_rendered);
+        if method.may_err() {
+            continue;
+        }
         assert_eq!(
             (error.missing_shadow_px, error.extra_shadow_px),
             (0, 0),
@@ -111,7 +131,6 @@ fn assert_conservative(name: &str, scene: &Scene, camera: &Camera, settings: &Fr
                 scene.instances[i].name
             );
         }
-        rendered.push(report.counts.casters_rendered);
     }
     // none draws every caster; vfc at most as many.
     assert_eq!(rendered[0], scene.caster_count() as u32, "{name}");

@@ -3,12 +3,20 @@
 
 struct CullParams {
     light_clip_from_world: mat4x4<f32>,
+    // For DigitalRune's shadow volumes: light clip space back to world, and the camera.
+    world_from_light_clip: mat4x4<f32>,
+    camera_clip_from_world: mat4x4<f32>,
     // x: shadow map size in texels; y: mask size in texels; z: shadow texels per mask texel;
     // w: instance count.
     sizes: vec4<u32>,
     // x: method bits (METHOD_*); y: texels a mask built from whole receivers is widened by
     // (PCF radius, normal offset, rasterisation); z, w: unused.
     params: vec4<u32>,
+    // x, y: the camera's view in pixels; z: the camera pyramid's base size; w: unused.
+    camera: vec4<u32>,
+    // x: how far a shadow volume starts before its caster (normalised light depth: the normal
+    // offset and a texel); y, z, w: unused.
+    volume: vec4<f32>,
 }
 
 const METHOD_OCCLUSION: u32 = 1u;
@@ -22,6 +30,11 @@ const METHOD_GEOM: u32 = 32u;
 const METHOD_BVOL: u32 = 64u;
 // The mask holds, per texel, the depth a caster must be nearer than to matter (FRAG).
 const METHOD_FRAG: u32 = 128u;
+// DigitalRune: the caster's shadow volume against the camera's frustum and depth, extruded to
+// the far plane (conservative) or to the farthest depth behind it in the light's view
+// (METHOD_PROGRESSIVE, which may be too short).
+const METHOD_VOLUME: u32 = 256u;
+const METHOD_PROGRESSIVE: u32 = 512u;
 
 // Per instance, in Bounds::flags.
 const CULL_CASTER: u32 = 1u;
@@ -30,6 +43,9 @@ const CULL_RECEIVER: u32 = 2u;
 // Per instance, in the state word: bits 0-7 the outcome code (frame/gpu_data.rs), then:
 const STATE_LIGHT_VISIBLE: u32 = 256u;
 const STATE_FIRST_PHASE: u32 = 512u;
+// Bits 16-31: the progressive shadow volume's far end found last frame, in 1/65535 of the
+// light's depth range (rounded up).
+const STATE_EXTENT_SHIFT: u32 = 16u;
 
 struct Bounds {
     // The world-space box and the CULL_* bits.

@@ -1,5 +1,6 @@
-//! Caster culling on the GPU (Bittner 2011): receiver masks in the light's view, max pyramids
-//! of the shadow map's depth and of the mask, and the two-phase caster tests of `cull.wgsl`.
+//! Caster culling on the GPU (Bittner 2011, DigitalRune): receiver masks in the light's view,
+//! max pyramids of the shadow map's depth, of the mask and of the camera's depth, and the
+//! two-phase caster tests of `cull.wgsl`.
 //! Every instance has one indirect draw whose instance count the tests set to 0 or 1.
 //! Nothing waits on the GPU: stage counts and per-object outcomes come back a frame or two
 //! later, like the other counters.
@@ -8,11 +9,13 @@
 //!
 //! ```text
 //! receiver mask     GEOM/BVOL raster at the mask's size, or FRAG's taps from the camera's
-//!                   fragments; then the mask's max pyramid (or the oracle's casters)
+//!                   fragments; then the mask's max pyramid (or the oracle's casters);
+//!                   the camera depth's pyramid for DigitalRune's shadow volumes
 //! first phase       visible receivers (GEOM, FRAG) and last frame's light-visible casters
 //! shadow map        those casters
 //! occlusion         the shadow map's max pyramid
-//! second phase      every caster: light frustum, occlusion, mask; survivors drawn next
+//! second phase      every caster: light frustum, occlusion, then the mask or the shadow
+//!                   volume against the camera's frustum and depth; survivors drawn next
 //! shadow map        the survivors, on top
 //! ```
 
@@ -43,15 +46,22 @@ mod bits {
     pub const GEOM: u32 = 32;
     pub const BVOL: u32 = 64;
     pub const FRAG: u32 = 128;
+    pub const VOLUME: u32 = 256;
+    pub const PROGRESSIVE: u32 = 512;
 }
 
 /// Which parts of the pipeline a method uses; `None` for the CPU methods.
 fn method_bits(method: Method) -> Option<u32> {
-    use bits::{BVOL, DRAW_RECEIVERS, FRAG, GEOM, MASK, OCCLUSION, ORACLE, TEMPORAL};
+    use bits::{
+        BVOL, DRAW_RECEIVERS, FRAG, GEOM, MASK, OCCLUSION, ORACLE, PROGRESSIVE, TEMPORAL, VOLUME,
+    };
     let occlusion = OCCLUSION | TEMPORAL;
     Some(match method {
         Method::None | Method::Vfc => return None,
-        Method::Ref => occlusion,
+        // FOCUS culls like REF; its light frustum is fitted to the visible receivers.
+        Method::Ref | Method::Focus => occlusion,
+        Method::DrConservative => occlusion | VOLUME,
+        Method::DrProgressive => occlusion | VOLUME | PROGRESSIVE,
         Method::Bvol => occlusion | MASK | BVOL,
         Method::Geom => occlusion | MASK | GEOM | DRAW_RECEIVERS,
         Method::GeomBvol => occlusion | MASK | GEOM | BVOL | DRAW_RECEIVERS,
@@ -68,16 +78,22 @@ enum Counter {
     InMask = 2,
     Rendered = 3,
     Triangles = 4,
+    InCameraFrustum = 6,
+    NotCameraOccluded = 7,
 }
-const COUNTERS: usize = 6;
+const COUNTERS: usize = 8;
 
 /// Mirrors `CullParams` in `culling/cull_common.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 struct CullParams {
     light_clip_from_world: [[f32; 4]; 4],
+    world_from_light_clip: [[f32; 4]; 4],
+    camera_clip_from_world: [[f32; 4]; 4],
     sizes: [u32; 4],
     params: [u32; 4],
+    camera: [u32; 4],
+    volume: [f32; 4],
 }
 
 /// What came back from one culled frame.
@@ -95,6 +111,9 @@ pub struct CullFrame<'a> {
     pub method: Method,
     pub frame_index: u64,
     pub light_clip_from_world: glam::Mat4,
+    pub camera_clip_from_world: glam::Mat4,
+    /// How far a shadow volume starts before its caster, in normalised light depth.
+    pub volume_depth_pad: f32,
     pub casters_total: u32,
     /// Texels a whole-receiver mask is widened by: the PCF radius, the normal offset, and a
     /// texel for rasterisation.
@@ -242,11 +261,19 @@ impl SizedResources {
 }
 
 /// The reduce passes of culling/pyramid.wgsl: from the shadow map's depth, from the mask,
-/// and from the level before.
+/// from the camera's depth, and from the level before.
 struct ReducePipelines {
     depth: wgpu::ComputePipeline,
     mask: wgpu::ComputePipeline,
+    camera_depth: wgpu::ComputePipeline,
     level: wgpu::ComputePipeline,
+}
+
+/// The camera depth's pyramid for DigitalRune's shadow-volume tests, per view size.
+struct CameraPyramid {
+    size: (u32, u32),
+    base: u32,
+    pyramid: Pyramid,
 }
 
 /// The mask's size for a shadow map: the map's own, or a whole fraction of it.
@@ -352,6 +379,7 @@ pub struct GpuCulling {
     oracle_pipeline: Option<wgpu::RenderPipeline>,
     counters: GpuCounters<COUNTERS>,
     sized: Option<SizedResources>,
+    camera: Option<CameraPyramid>,
     scene: Option<SceneResources>,
     /// This frame's caster-test bind group, from the first phase to the second.
     cull_group: Option<wgpu::BindGroup>,
@@ -404,6 +432,7 @@ impl GpuCulling {
                 layout_entry(7, wgpu::ShaderStages::COMPUTE, storage_binding(true)),
                 layout_entry(8, wgpu::ShaderStages::COMPUTE, storage_binding(true)),
                 layout_entry(9, wgpu::ShaderStages::COMPUTE, storage_binding(false)),
+                layout_entry(10, wgpu::ShaderStages::COMPUTE, storage_binding(true)),
             ],
         });
         let cull_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -567,6 +596,7 @@ impl GpuCulling {
             reduce: ReducePipelines {
                 depth: compute(&pyramid_module, None, "cs_reduce_depth"),
                 mask: compute(&pyramid_module, None, "cs_reduce_mask"),
+                camera_depth: compute(&pyramid_module, None, "cs_reduce_camera_depth"),
                 level: compute(&pyramid_module, None, "cs_reduce"),
             },
             mask_layout,
@@ -577,6 +607,7 @@ impl GpuCulling {
             oracle_pipeline,
             counters: GpuCounters::new(device, "GpuCulling::counters"),
             sized: None,
+            camera: None,
             scene: None,
             cull_group: None,
             excluded: Vec::new(),
@@ -634,6 +665,29 @@ impl GpuCulling {
         self.exclusions_changed = false;
     }
 
+    /// Follows the camera's view: `depth` is its depth target, `size` pixels.
+    pub fn prepare_camera(
+        &mut self,
+        ctx: &GpuContext,
+        size: (u32, u32),
+        depth: &wgpu::TextureView,
+    ) {
+        if self.camera.as_ref().is_none_or(|c| c.size != size) {
+            let base = size.0.max(size.1).max(1);
+            self.camera = Some(CameraPyramid {
+                size,
+                base,
+                pyramid: Pyramid::new(
+                    &ctx.device,
+                    "GpuCulling::camera_pyramid",
+                    base,
+                    (&self.reduce.camera_depth, &self.reduce.level),
+                    &[view_entry(2, depth)],
+                ),
+            });
+        }
+    }
+
     /// The indirect draws (one per instance) that the shadow passes issue.
     pub fn draws(&self) -> Option<(&wgpu::Buffer, u32)> {
         self.scene.as_ref().map(|s| (&s.draws, s.instance_count))
@@ -657,11 +711,14 @@ impl GpuCulling {
     }
 
     fn write_params(&self, ctx: &GpuContext, frame: &CullFrame<'_>, method: u32) {
-        let (Some(sized), Some(scene)) = (&self.sized, &self.scene) else {
+        let (Some(sized), Some(scene), Some(camera)) = (&self.sized, &self.scene, &self.camera)
+        else {
             return;
         };
         let params = CullParams {
             light_clip_from_world: frame.light_clip_from_world.to_cols_array_2d(),
+            world_from_light_clip: frame.light_clip_from_world.inverse().to_cols_array_2d(),
+            camera_clip_from_world: frame.camera_clip_from_world.to_cols_array_2d(),
             sizes: [
                 sized.resolution,
                 sized.mask_size,
@@ -669,6 +726,8 @@ impl GpuCulling {
                 scene.instance_count,
             ],
             params: [method, frame.mask_pad_texels, 0, 0],
+            camera: [camera.size.0, camera.size.1, camera.base, 0],
+            volume: [frame.volume_depth_pad, 0.0, 0.0, 0.0],
         };
         ctx.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
@@ -684,6 +743,7 @@ impl GpuCulling {
         visible: &wgpu::Buffer,
     ) -> Option<wgpu::BindGroup> {
         let (sized, scene) = (self.sized.as_ref()?, self.scene.as_ref()?);
+        let camera = self.camera.as_ref()?;
         Some(ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("GpuCulling::cull_bind_group"),
             layout: &self.cull_layout,
@@ -698,6 +758,7 @@ impl GpuCulling {
                 buffer_entry(7, &sized.occlusion.buffer),
                 buffer_entry(8, &sized.mask.buffer),
                 buffer_entry(9, &scene.receiver_draws),
+                buffer_entry(10, &camera.pyramid.buffer),
             ],
         }))
     }
@@ -762,6 +823,11 @@ impl GpuCulling {
         }
         if method & bits::MASK != 0 {
             self.reduce_chain(encoder, &sized.mask, &self.reduce.mask);
+        }
+        if method & bits::VOLUME != 0
+            && let Some(camera) = &self.camera
+        {
+            self.reduce_chain(encoder, &camera.pyramid, &self.reduce.camera_depth);
         }
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("GpuCulling::first_phase"),
@@ -999,8 +1065,19 @@ fn stages(method: Method, total: u32, words: &[u32; COUNTERS]) -> Vec<Stage> {
         "light occlusion",
         words[Counter::NotOccluded as usize],
     ));
-    if method_bits(method).is_some_and(|b| b & bits::MASK != 0) {
+    let bits = method_bits(method).unwrap_or(0);
+    if bits & bits::MASK != 0 {
         out.push(stage("receiver mask", words[Counter::InMask as usize]));
+    }
+    if bits & bits::VOLUME != 0 {
+        out.push(stage(
+            "camera frustum (shadow volume)",
+            words[Counter::InCameraFrustum as usize],
+        ));
+        out.push(stage(
+            "camera occlusion (shadow volume)",
+            words[Counter::NotCameraOccluded as usize],
+        ));
     }
     out
 }

@@ -1,8 +1,9 @@
 // Max pyramids for the caster tests, all levels in one buffer: level m is max(w0 >> m, 1)
 // texels square (w0 half the base) and holds the largest value over blocks of 2^(m+1) base
 // texels, the last block of a row or column taking in the odd texel left over. The base is
-// the shadow map's depth (occlusion) or the receiver mask: the rasterised mask and FRAG's
-// per-texel depths, whichever is larger.
+// the shadow map's depth (occlusion), the receiver mask (the rasterised mask and FRAG's
+// per-texel depths, whichever is larger), or the camera's depth negated (reversed depth: the
+// largest value is the farthest surface), square over the view's larger side.
 
 @group(0) @binding(0) var<storage, read_write> pyramid: array<f32>;
 // x: destination offset, y: destination width, z: source offset, w: source width (texels).
@@ -25,7 +26,7 @@ fn cs_reduce(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let b = block(id.xy, level.w, level.y);
-    var value = 0.0;
+    var value = -3.4e38;
     for (var y = b[0].y; y <= b[1].y; y++) {
         for (var x = b[0].x; x <= b[1].x; x++) {
             value = max(value, pyramid[level.z + y * level.w + x]);
@@ -60,6 +61,28 @@ fn cs_reduce_mask(@builtin(global_invocation_id) id: vec3<u32>) {
         for (var x = b[0].x; x <= b[1].x; x++) {
             let bits = mask_bits[y * level.w + x];
             value = max(value, max(textureLoad(mask_source, vec2<u32>(x, y), 0).x, bitcast<f32>(bits)));
+        }
+    }
+    pyramid[level.x + id.y * level.y + id.x] = value;
+}
+
+// The camera's reversed depth, negated, so the max pyramid holds the farthest surface; texels
+// beyond the view (the base is square) count as the far plane.
+@compute @workgroup_size(8, 8)
+fn cs_reduce_camera_depth(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (any(id.xy >= vec2<u32>(level.y))) {
+        return;
+    }
+    let size = textureDimensions(depth_source);
+    let b = block(id.xy, level.w, level.y);
+    var value = -3.4e38;
+    for (var y = b[0].y; y <= b[1].y; y++) {
+        for (var x = b[0].x; x <= b[1].x; x++) {
+            var depth = 0.0;
+            if (x < size.x && y < size.y) {
+                depth = textureLoad(depth_source, vec2<u32>(x, y), 0);
+            }
+            value = max(value, -depth);
         }
     }
     pyramid[level.x + id.y * level.y + id.x] = value;

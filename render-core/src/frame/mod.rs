@@ -36,7 +36,7 @@ pub use targets::ViewTargets;
 pub use visibility::VisibilityCounts;
 
 use crate::culling::{CasterSelection, CullFrame, GpuCulling};
-use crate::geom::{Camera, Frustum, LightFrustum, fit_directional_light};
+use crate::geom::{Camera, Frustum, LightFrustum, fit_focused_light};
 use crate::gpu::{FrameTimer, GpuContext, PassTiming};
 use crate::metrics::{HeatMapOverlay, MeasureResources, Measured};
 use crate::scene::Scene;
@@ -299,12 +299,22 @@ impl FrameRenderer {
         self.prepare_targets(ctx, width, height);
         self.prepare_scene_bindings(ctx, scene_gpu, settings.shadow.resolution);
 
+        if let Some(targets) = &self.targets {
+            self.culling
+                .prepare_camera(ctx, (targets.width, targets.height), &targets.depth_view);
+        }
         let aspect = width as f32 / height as f32;
-        let light = fit_directional_light(
+        // FOCUS fits to the newest visible receivers that have come back.
+        let focus = self
+            .latest_visibility
+            .filter(|_| settings.method == Method::Focus)
+            .map(|v| v.receiver_bounds);
+        let light = fit_focused_light(
             input.camera,
             aspect,
             settings.sun.direction_to_sun,
             &scene.bounds(),
+            focus.as_ref(),
             self.shadow_map.resolution,
         );
         let culling_started = Instant::now();
@@ -337,7 +347,7 @@ impl FrameRenderer {
                 ctx,
                 &mut encoder,
                 scene_gpu,
-                &light,
+                (&light, input.camera.clip_from_world(aspect)),
                 settings,
                 counts.casters_total,
             );
@@ -765,7 +775,7 @@ impl FrameRenderer {
         ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
         scene_gpu: &SceneGpu,
-        light: &LightFrustum,
+        (light, camera_clip_from_world): (&LightFrustum, glam::Mat4),
         settings: &FrameSettings,
         casters_total: u32,
     ) {
@@ -777,6 +787,10 @@ impl FrameRenderer {
             method: settings.method,
             frame_index: self.frame_index,
             light_clip_from_world: light.light_clip_from_world,
+            camera_clip_from_world,
+            volume_depth_pad: (shadow.normal_offset_texels.max(0.0) + 1.0)
+                * light.texel_size_m[0].max(light.texel_size_m[1])
+                / light.depth_range_m.max(1e-6),
             casters_total,
             mask_pad_texels: pcf_radius + shadow.normal_offset_texels.max(0.0).ceil() as u32 + 1,
             visible_flags: &self.visibility.visible_flags,

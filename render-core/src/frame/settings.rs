@@ -106,6 +106,9 @@ pub enum Method {
     Vfc,
     /// Occlusion culling in the camera and light views, no receiver mask (Bittner's REF).
     Ref,
+    /// REF with the light frustum fitted to the visible receivers' bounds (Bittner 5.2), from
+    /// the newest visible set that has come back: it follows the view a frame or two late.
+    Focus,
     /// Receiver mask from visible receivers' bounding boxes (Bittner 4.1).
     Bvol,
     /// Receiver mask from visible receivers' geometry, drawn into the shadow map at once (4.2).
@@ -114,20 +117,29 @@ pub enum Method {
     GeomBvol,
     /// Fragment mask: only the texels visible receiver pixels read (4.4).
     Frag,
+    /// DigitalRune: light frustum, light occlusion, and the caster's shadow volume, extruded
+    /// to the light's far plane, against the camera's frustum and depth. Never errs.
+    DrConservative,
+    /// DigitalRune's progressive mode: the shadow volume ends at the farthest depth behind the
+    /// caster in the light's view (last frame's), which can be too short: may err, and says so.
+    DrProgressive,
     /// Exactly the casters that shadow a visible pixel's filter tap: the floor for every
     /// conservative method, taken from a reference map of every caster.
     Oracle,
 }
 
 impl Method {
-    pub const ALL: [Self; 8] = [
+    pub const ALL: [Self; 11] = [
         Self::None,
         Self::Vfc,
         Self::Ref,
+        Self::Focus,
         Self::Bvol,
         Self::Geom,
         Self::GeomBvol,
         Self::Frag,
+        Self::DrConservative,
+        Self::DrProgressive,
         Self::Oracle,
     ];
 
@@ -136,10 +148,13 @@ impl Method {
             Self::None => "none",
             Self::Vfc => "vfc",
             Self::Ref => "ref",
+            Self::Focus => "focus",
             Self::Bvol => "bvol",
             Self::Geom => "geom",
             Self::GeomBvol => "geom-bvol",
             Self::Frag => "frag",
+            Self::DrConservative => "dr-conservative",
+            Self::DrProgressive => "dr-progressive",
             Self::Oracle => "oracle",
         }
     }
@@ -153,6 +168,12 @@ impl Method {
     /// reach its steady state (every frame is conservative on the way).
     pub fn temporal(self) -> bool {
         self.gpu_driven() && self != Self::Oracle
+    }
+
+    /// May cull a caster whose shadow is seen (DigitalRune's progressive mode); every other
+    /// method is conservative.
+    pub fn may_err(self) -> bool {
+        self == Self::DrProgressive
     }
 }
 

@@ -1,5 +1,5 @@
-//! Which objects the camera sees, from the object-id target: a flag per object and counts,
-//! computed on the GPU and read back without stalling.
+//! Which objects the camera sees, from the object-id target: a flag per object, counts and
+//! the visible receivers' bounds, computed on the GPU and read back without stalling.
 
 use super::{SceneGpu, ViewTargets};
 use crate::gpu::{GpuContext, GpuCounters};
@@ -7,11 +7,13 @@ use crate::gpu::{GpuContext, GpuCounters};
 pub(crate) const VISIBILITY_WGSL: &str = include_str!("visibility.wgsl");
 
 /// Counts of one frame's visible objects.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct VisibilityCounts {
     pub frame_index: u64,
     pub objects_visible: u32,
     pub receivers_visible: u32,
+    /// The visible receivers' world-space bounds (empty when none is visible).
+    pub receiver_bounds: crate::geom::Aabb,
 }
 
 /// Long-lived compute pipeline; per-scene flag buffer.
@@ -20,8 +22,9 @@ pub struct VisibilityPass {
     layout: wgpu::BindGroupLayout,
     /// One `u32` per instance: non-zero when some pixel shows it.
     pub visible_flags: wgpu::Buffer,
-    /// Visible objects, visible receivers (keep in sync with `Counters` in visibility.wgsl).
-    counters: GpuCounters<2>,
+    /// Visible objects, visible receivers, their bounds' keys (keep in sync with `Counters` in
+    /// visibility.wgsl).
+    counters: GpuCounters<8>,
     capacity: u32,
 }
 
@@ -60,6 +63,7 @@ impl VisibilityPass {
                 storage(1, true),
                 storage(2, false),
                 storage(3, false),
+                storage(4, true),
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -126,6 +130,10 @@ impl VisibilityPass {
                     binding: 3,
                     resource: self.counters.buffer().as_entire_binding(),
                 },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: scene_gpu.bounds_buffer.as_entire_binding(),
+                },
             ],
         });
         {
@@ -148,12 +156,28 @@ impl VisibilityPass {
     /// The newest counts that have come back, if any (needs a device poll first).
     pub fn take_latest(&mut self) -> Option<VisibilityCounts> {
         let (frame_index, words) = self.counters.take_latest()?;
+        let min = glam::Vec3::from_array(std::array::from_fn(|k| float_of_key(!words[2 + k])));
+        let max = glam::Vec3::from_array(std::array::from_fn(|k| float_of_key(words[5 + k])));
         Some(VisibilityCounts {
             frame_index,
             objects_visible: words[0],
             receivers_visible: words[1],
+            receiver_bounds: if words[1] == 0 {
+                crate::geom::Aabb::EMPTY
+            } else {
+                crate::geom::Aabb::new(min, max)
+            },
         })
     }
+}
+
+/// The float behind an order-preserving key of visibility.wgsl (`order_key`).
+fn float_of_key(key: u32) -> f32 {
+    f32::from_bits(if key & 0x8000_0000 != 0 {
+        key & 0x7fff_ffff
+    } else {
+        !key
+    })
 }
 
 fn create_flags(device: &wgpu::Device, count: u32) -> wgpu::Buffer {
@@ -165,4 +189,30 @@ fn create_flags(device: &wgpu::Device, count: u32) -> wgpu::Buffer {
             | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::float_of_key;
+
+    /// The CPU side of visibility.wgsl's `order_key`.
+    fn order_key(x: f32) -> u32 {
+        let b = x.to_bits();
+        if b & 0x8000_0000 != 0 {
+            !b
+        } else {
+            b | 0x8000_0000
+        }
+    }
+
+    #[test]
+    fn order_keys_sort_like_floats_and_invert() {
+        let values = [-1e30, -2.5, -0.0, 0.0, 1e-20, 3.0, 7e12];
+        for w in values.windows(2) {
+            assert!(order_key(w[0]) <= order_key(w[1]), "{} vs {}", w[0], w[1]);
+        }
+        for v in values {
+            assert_eq!(float_of_key(order_key(v)).to_bits(), v.to_bits());
+        }
+    }
 }

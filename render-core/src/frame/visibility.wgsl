@@ -1,16 +1,36 @@
-// Visible objects from the camera's object ids: one flag per object, and a count of visible
-// receivers. Prepended with frame/instance.wgsl.
+// Visible objects from the camera's object ids: one flag per object, a count of visible
+// receivers and their world-space bounds. Prepended with frame/instance.wgsl.
 
 
+// Keep in sync with frame/visibility.rs (`take_latest`).
 struct Counters {
     visible_objects: atomic<u32>,
     visible_receivers: atomic<u32>,
+    // The visible receivers' world box as order-preserving keys (`order_key`); the minimum
+    // is kept as the maximum of the inverted key, so zeroed counters start both empty.
+    receivers_min_inverted: array<atomic<u32>, 3>,
+    receivers_max: array<atomic<u32>, 3>,
+}
+
+// Per instance, as culling/cull_common.wgsl's `Bounds`: the world box.
+struct WorldBox {
+    min: vec3<f32>,
+    flags: u32,
+    max: vec3<f32>,
+    padding: u32,
 }
 
 @group(0) @binding(0) var object_ids: texture_2d<u32>;
 @group(0) @binding(1) var<storage, read> instances: array<InstanceData>;
 @group(0) @binding(2) var<storage, read_write> visible: array<atomic<u32>>;
 @group(0) @binding(3) var<storage, read_write> counters: Counters;
+@group(0) @binding(4) var<storage, read> boxes: array<WorldBox>;
+
+// A u32 that orders as the float does.
+fn order_key(x: f32) -> u32 {
+    let b = bitcast<u32>(x);
+    return select(b | 0x80000000u, ~b, (b & 0x80000000u) != 0u);
+}
 
 @compute @workgroup_size(8, 8)
 fn cs_mark_visible(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -27,6 +47,11 @@ fn cs_mark_visible(@builtin(global_invocation_id) id: vec3<u32>) {
         atomicAdd(&counters.visible_objects, 1u);
         if ((instances[index].flags.x & FLAG_RECEIVER) != 0u) {
             atomicAdd(&counters.visible_receivers, 1u);
+            let b = boxes[index];
+            for (var k = 0u; k < 3u; k++) {
+                atomicMax(&counters.receivers_min_inverted[k], ~order_key(b.min[k]));
+                atomicMax(&counters.receivers_max[k], order_key(b.max[k]));
+            }
         }
     }
 }

@@ -37,6 +37,27 @@ pub fn fit_directional_light(
     scene_bounds: &Aabb,
     resolution: u32,
 ) -> LightFrustum {
+    fit_focused_light(
+        camera,
+        aspect,
+        direction_to_sun,
+        scene_bounds,
+        None,
+        resolution,
+    )
+}
+
+/// Like [`fit_directional_light`], and where `receivers` (the visible receivers' bounds) is
+/// given, the map's x/y extent and far plane shrink to them (Bittner 5.2, FOCUS): only the
+/// light's near plane still reaches the scene's edge, for the casters between.
+pub fn fit_focused_light(
+    camera: &Camera,
+    aspect: f32,
+    direction_to_sun: Vec3,
+    scene_bounds: &Aabb,
+    receivers: Option<&Aabb>,
+    resolution: u32,
+) -> LightFrustum {
     let light_direction = (-direction_to_sun.as_dvec3())
         .try_normalize()
         .unwrap_or(DVec3::NEG_Y);
@@ -77,7 +98,19 @@ pub fn fit_directional_light(
         }
         None => (None, true),
     };
-    let (min, max) = extent.unwrap_or(scene_extent);
+    let (mut min, mut max) = extent.unwrap_or(scene_extent);
+    if let Some(focus) =
+        receivers.filter(|r| !r.is_empty() && r.min.is_finite() && r.max.is_finite())
+    {
+        let (lo, hi) = extent_of(&focus.corners().map(|c| to_light(c.as_dvec3())));
+        let (fmin, fmax) = (
+            DVec3::new(min.x.max(lo.x), min.y.max(lo.y), min.z),
+            DVec3::new(max.x.min(hi.x), max.y.min(hi.y), max.z.min(hi.z)),
+        );
+        if fmin.cmplt(fmax).all() {
+            (min, max) = (fmin, fmax);
+        }
+    }
     let resolution = resolution.max(16);
     let (min, max) = pad_and_snap((min, max), resolution);
 
