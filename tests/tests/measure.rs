@@ -319,3 +319,73 @@ fn the_oracle_leaves_out_a_caster_whose_shadow_falls_on_hidden_ground() {
         Some((0, 0))
     );
 }
+
+#[test]
+fn hard_views_have_zero_error_and_draw_the_oracle() {
+    // The camera inside a building's box: the biggest building of the small city.
+    let city = load_builtin("city-small", 0).expect("city-small");
+    let building = city
+        .instances
+        .iter()
+        .filter(|i| i.casts_shadow && i.aabb_in_world.max.y - i.aabb_in_world.min.y > 8.0)
+        .max_by(|a, b| {
+            let volume = |i: &Instance| {
+                let s = i.aabb_in_world.max - i.aabb_in_world.min;
+                s.x * s.y * s.z
+            };
+            volume(a).total_cmp(&volume(b))
+        })
+        .expect("a building");
+    let inside = building.aabb_in_world.center();
+    let camera = Camera::look_at(
+        inside,
+        inside + Vec3::new(30.0, -5.0, 10.0),
+        60f32.to_radians(),
+        0.1,
+        2000.0,
+    );
+    let settings = FrameSettings {
+        sun: city.sun,
+        ..FrameSettings::default()
+    };
+    assert_conservative("inside a building", &city, &camera, &settings);
+
+    // A tower behind the camera throws its shadow into view; its top is the scene's highest
+    // point, so it reaches the light's near plane.
+    let sun = Sun::from_azimuth_elevation_deg(180.0, 25.0);
+    let ground = box_mesh("ground", Vec3::new(60.0, 0.5, 60.0));
+    let tower = box_mesh("tower", Vec3::new(3.0, 40.0, 3.0));
+    let at = |x, y, z| Mat4::from_translation(Vec3::new(x, y, z));
+    let to_sun = sun.direction_to_sun;
+    let behind = Vec3::new(to_sun.x, 0.0, to_sun.z).normalize() * 30.0;
+    let instances = vec![
+        Instance::new("ground", 0, &ground, at(0.0, -0.5, 0.0)),
+        Instance::new("tower", 1, &tower, at(behind.x, 40.0, behind.z)),
+    ];
+    let scene = Scene::new("test:tower-behind", vec![ground, tower], instances, sun);
+    // The camera stands between the tower and its shadow, looking away from the tower.
+    let eye = Vec3::new(0.0, 2.0, 0.0);
+    let away = -Vec3::new(to_sun.x, 0.0, to_sun.z).normalize();
+    let camera = Camera::look_at(
+        eye,
+        eye + away * 20.0 - Vec3::Y * 2.0,
+        50f32.to_radians(),
+        0.1,
+        500.0,
+    );
+    let settings = FrameSettings {
+        sun,
+        ..FrameSettings::default()
+    };
+    let (_, _, oracle) = measured(
+        &scene,
+        &camera,
+        &FrameSettings {
+            method: Method::None,
+            ..settings
+        },
+        &[],
+    );
+    assert!(oracle[1], "the tower's shadow is in view");
+    assert_conservative("tower behind the camera", &scene, &camera, &settings);
+}

@@ -193,22 +193,32 @@ fn volume_outcome(box: LightBox, far_end: f32, count: bool) -> u32 {
     return 0u;
 }
 
-// The progressive volume's far end from last frame (state bits 16-31), or the far plane.
+// The progressive volume's far end from last frame's shadow map (state bits 16-31), or the
+// far plane when conservative or nothing is stored yet.
 fn stored_far_end(s: u32) -> f32 {
     if ((cull.params.x & METHOD_PROGRESSIVE) == 0u) {
         return 1.0;
     }
-    return f32(s >> STATE_EXTENT_SHIFT) / 65535.0;
+    let stored = s >> STATE_EXTENT_SHIFT;
+    // Nothing stored yet (a new scene): the far plane.
+    return select(f32(stored) / 65535.0, 1.0, stored == 0u);
 }
 
-// The progressive far end now: the farthest depth in the shadow map over the caster's box.
-fn far_end_bits(box: LightBox) -> u32 {
-    if ((cull.params.x & METHOD_PROGRESSIVE) == 0u) {
-        return 0u;
+// After the frame's shadow map is complete (progressive only): each caster's far end for
+// the next frame, the farthest depth in the map over its box. As in DigitalRune's occlusion
+// buffer, the caster is among the occluders it is tested against, so where it hides all
+// that lies behind it (or others do) the volume ends too soon, and its shadow can be lost.
+@compute @workgroup_size(64)
+fn cs_far_ends(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if (i >= cull.sizes.w || (flags_of(i) & CULL_CASTER) == 0u) {
+        return;
     }
+    let box = light_box(bounds[i], cull.light_clip_from_world);
     let r = texel_rect(box, cull.sizes.x, 1);
     let far_end = clamp(pyramid_max(OCCLUSION_PYRAMID, cull.sizes.x, r[0], r[1]), 0.0, 1.0);
-    return u32(ceil(far_end * 65535.0)) << STATE_EXTENT_SHIFT;
+    let bits = u32(ceil(far_end * 65535.0)) << STATE_EXTENT_SHIFT;
+    state[i] = (state[i] & ((1u << STATE_EXTENT_SHIFT) - 1u)) | bits;
 }
 
 // Receivers that fill the mask with their geometry, for GEOM and GEOM+BVOL (which takes
@@ -313,7 +323,8 @@ fn cs_second_phase(@builtin(global_invocation_id) id: vec3<u32>) {
     atomicAdd(&counters.in_frustum, 1u);
     let hidden = occluded(box);
     let method = cull.params.x;
-    let light_visible = select(STATE_LIGHT_VISIBLE, 0u, hidden) | far_end_bits(box);
+    let extent = s & ~((1u << STATE_EXTENT_SHIFT) - 1u);
+    let light_visible = select(STATE_LIGHT_VISIBLE, 0u, hidden) | extent;
     if (first) {
         atomicAdd(&counters.not_occluded, 1u);
         atomicAdd(&counters.in_mask, 1u);

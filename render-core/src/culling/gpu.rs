@@ -370,6 +370,7 @@ pub struct GpuCulling {
     receivers_pipeline: wgpu::ComputePipeline,
     first_pipeline: wgpu::ComputePipeline,
     second_pipeline: wgpu::ComputePipeline,
+    far_ends_pipeline: wgpu::ComputePipeline,
     reduce: ReducePipelines,
     mask_layout: wgpu::BindGroupLayout,
     box_pipeline: wgpu::RenderPipeline,
@@ -592,6 +593,7 @@ impl GpuCulling {
             receivers_pipeline: compute(&cull_module, Some(&cull_pipeline_layout), "cs_receivers"),
             first_pipeline: compute(&cull_module, Some(&cull_pipeline_layout), "cs_first_phase"),
             second_pipeline: compute(&cull_module, Some(&cull_pipeline_layout), "cs_second_phase"),
+            far_ends_pipeline: compute(&cull_module, Some(&cull_pipeline_layout), "cs_far_ends"),
             cull_layout,
             reduce: ReducePipelines {
                 depth: compute(&pyramid_module, None, "cs_reduce_depth"),
@@ -852,7 +854,7 @@ impl GpuCulling {
             let sized = self.sized.as_ref()?;
             self.reduce_chain(encoder, &sized.occlusion, &self.reduce.depth);
         }
-        let bind_group = self.cull_group.take()?;
+        let bind_group = self.cull_group.clone()?;
         let scene = self.scene.as_mut()?;
         {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -873,6 +875,28 @@ impl GpuCulling {
             self.in_flight.pop_front();
         }
         Some(())
+    }
+
+    /// After the shadow map's second pass, for DigitalRune's progressive mode: the pyramid of
+    /// the finished map and each caster's shadow-volume far end for the next frame.
+    pub fn encode_far_ends(&mut self, encoder: &mut wgpu::CommandEncoder, method: Method) {
+        let bind_group = self.cull_group.take();
+        let progressive = self
+            .effective_bits(method)
+            .is_some_and(|b| b & bits::PROGRESSIVE != 0);
+        let (Some(bind_group), Some(sized), Some(scene), true) =
+            (bind_group, &self.sized, &self.scene, progressive)
+        else {
+            return;
+        };
+        self.reduce_chain(encoder, &sized.occlusion, &self.reduce.depth);
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("GpuCulling::far_ends"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&self.far_ends_pipeline);
+        pass.set_bind_group(0, &bind_group, &[]);
+        pass.dispatch_workgroups(scene.instance_count.div_ceil(WORKGROUP).max(1), 1, 1);
     }
 
     /// The BVOL boxes and GEOM geometry of visible receivers into the mask target.

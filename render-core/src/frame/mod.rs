@@ -834,6 +834,9 @@ impl FrameRenderer {
             );
             self.timer.end_pass(encoder, query);
         }
+        let query = self.timer.begin_scope(pass_label::CULLING, encoder);
+        self.culling.encode_far_ends(encoder, settings.method);
+        self.timer.end_pass(encoder, query);
     }
 
     /// The reference map for measuring: every caster, with ids. Timed as its own pass so
