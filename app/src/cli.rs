@@ -42,6 +42,10 @@ pub struct OpenArgs {
     pub scene: SceneArgs,
     #[command(flatten)]
     pub view: ViewArgs,
+    /// Start with "compare all methods" on: the panel lists every method's counts, error and
+    /// GPU times for the current view.
+    #[arg(long)]
+    pub compare: bool,
     /// Smoke test: close the window after this many frames.
     #[arg(long, value_name = "N")]
     pub exit_after_frames: Option<u64>,

@@ -5,6 +5,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use anyhow::Context as _;
+use render_core::frame::compare::settled;
 use render_core::frame::{
     FrameCapture, FrameInput, FrameRenderer, FrameReport, FrameSettings, SceneGpu,
 };
@@ -87,13 +88,13 @@ impl Session {
             return Ok(());
         }
         let mut last = None;
-        for _ in 0..6 {
+        for frames in 1.. {
             let (_, report) = self.frame(camera, settings)?;
-            let drawn = Some(report.counts.casters_rendered);
-            if drawn == last {
+            let drawn = report.counts.casters_rendered;
+            if settled(settings.method, last, drawn, frames) {
                 break;
             }
-            last = drawn;
+            last = Some(drawn);
         }
         Ok(())
     }

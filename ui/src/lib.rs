@@ -79,4 +79,6 @@ pub struct PanelInput<'a> {
     pub fps: Option<f32>,
     /// The object clicked in the 3D view, if any.
     pub selection: Option<&'a Selection>,
+    /// Every method's row for the current view, while "compare all" is on.
+    pub compare: Option<&'a [render_core::frame::compare::CompareRow]>,
 }

@@ -11,6 +11,7 @@ use std::time::Instant;
 
 use anyhow::Context as _;
 use glam::Vec2;
+use render_core::frame::compare::{CompareAll, CompareRow};
 use render_core::frame::{FrameInput, FrameRenderer, FrameReport, FrameSettings, SceneGpu};
 use render_core::gpu::{GpuContext, read_texel, read_texture};
 use render_core::scene::{ChunkSettings, Scene, SceneFacts};
@@ -106,6 +107,9 @@ struct Running {
     /// The 3D view's rectangle in egui points, from the last egui pass.
     view_rect: egui::Rect,
     last_report: Option<FrameReport>,
+    /// The "compare all" table's renderer while it is on, and its rows.
+    compare: Option<CompareAll>,
+    compare_rows: Vec<CompareRow>,
     last_frame_ms: f64,
     message: Option<String>,
     last_screenshot: Option<String>,
@@ -172,6 +176,7 @@ impl Running {
         let scene_gpu = SceneGpu::new(&ctx, &scene);
         let mut settings = args.view.settings(&scene)?;
         settings.sun = scene.sun;
+        settings.compare_all = args.compare;
         if let Some(sun) = args.view.sun {
             settings.sun = render_core::scene::Sun::from_direction(sun);
         }
@@ -212,6 +217,8 @@ impl Running {
             light_view_texture,
             view_rect: egui::Rect::NOTHING,
             last_report: None,
+            compare: None,
+            compare_rows: Vec::new(),
             last_frame_ms: 0.0,
             message: None,
             last_screenshot: None,
@@ -508,6 +515,7 @@ impl Running {
             message: self.message.as_deref(),
             fps: self.fps,
             selection: selection.as_ref(),
+            compare: Some(&self.compare_rows),
         };
         let view_texture = self.view_texture;
         let full_output = self.egui_ctx.run_ui(raw_input, |ui| {
@@ -577,6 +585,20 @@ impl Running {
             .renderer
             .render(&self.ctx, &self.scene, &self.scene_gpu, &input);
         self.last_frame_ms = started.elapsed().as_secs_f64() * 1000.0;
+        if self.settings.compare_all {
+            let compare = self
+                .compare
+                .get_or_insert_with(|| CompareAll::new(&self.ctx));
+            if let Err(e) = compare.step(&self.ctx, &self.scene, &self.scene_gpu, &input) {
+                log::error!("compare all: {e}");
+                self.message = Some(format!("Compare all stopped: {e}"));
+                self.settings.compare_all = false;
+            }
+            self.compare_rows = compare.rows();
+        } else {
+            // Frees the second renderer's targets and maps.
+            self.compare = None;
+        }
         self.side_panel.record(
             self.started.elapsed().as_secs_f64(),
             &report,

@@ -1066,6 +1066,31 @@ impl GpuCulling {
             .map(|(f, o)| (*f, o.as_slice()))
     }
 
+    /// What the light's view inset shows of `method`'s mask: the mask raster, FRAG's
+    /// per-texel depths, and shadow texels per mask texel; `show` bits for the inset
+    /// (frame/light_inset.rs).
+    pub(crate) fn mask_for_inset(
+        &self,
+        method: Method,
+    ) -> Option<(&wgpu::TextureView, &wgpu::Buffer, u32, u32)> {
+        use crate::frame::light_inset::show;
+        let sized = self.sized.as_ref()?;
+        let bits = self.effective_bits(method).unwrap_or(0);
+        let mut shown = 0;
+        if bits & (bits::GEOM | bits::BVOL) != 0 {
+            shown |= show::RASTER_MASK;
+        }
+        if bits & bits::FRAG != 0 {
+            shown |= show::FRAGMENT_MASK;
+        }
+        Some((
+            &sized.mask_raster_view,
+            &sized.mask_bits,
+            sized.resolution / sized.mask_size,
+            shown,
+        ))
+    }
+
     /// Per-instance state words (outcome code in the low byte), bound by the `casters`
     /// overlay.
     pub fn state_buffer(&self) -> Option<&wgpu::Buffer> {

@@ -3,8 +3,10 @@
 // Casters are widened by the PCF footprint when tested against these masks (culling/cull.wgsl).
 // Prepended with frame/instance.wgsl, frame/common.wgsl and culling/cull_common.wgsl.
 
-// Marked texels hold a depth beyond every caster: only coverage counts.
-const MARKED: f32 = 2.0;
+// Marked texels hold a depth beyond every caster: only coverage counts. Boxes and geometry
+// mark different values so the light's view inset can colour them (frame/light_inset.wgsl).
+const MARKED_BOX: f32 = 2.0;
+const MARKED_GEOMETRY: f32 = 3.0;
 
 @group(1) @binding(0) var<uniform> cull: CullParams;
 @group(1) @binding(1) var<storage, read> bounds: array<Bounds>;
@@ -13,6 +15,7 @@ const MARKED: f32 = 2.0;
 
 struct MaskOut {
     @builtin(position) clip: vec4<f32>,
+    @location(0) @interpolate(flat) marked: f32,
 }
 
 // A screen-aligned rectangle around the light-space box of visible receiver `instance`,
@@ -23,6 +26,7 @@ struct MaskOut {
 fn vs_box(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32) -> MaskOut {
     var out: MaskOut;
     out.clip = vec4<f32>(2.0, 2.0, 2.0, 1.0);
+    out.marked = MARKED_BOX;
     let flags = bounds[instance].flags;
     var wanted = visible[instance] != 0u && (flags & CULL_RECEIVER) != 0u;
     if ((cull.params.x & METHOD_GEOM) != 0u) {
@@ -54,10 +58,11 @@ fn vs_geometry(@location(0) position: vec3<f32>, @builtin(instance_index) instan
     out.clip = frame.light_clip_from_world * vec4<f32>(world_position(instance, position), 1.0);
     // Depth is not tested: keep every fragment inside the clip volume's depth range.
     out.clip.z = 0.5 * out.clip.w;
+    out.marked = MARKED_GEOMETRY;
     return out;
 }
 
 @fragment
-fn fs_mark() -> @location(0) vec4<f32> {
-    return vec4<f32>(MARKED, 0.0, 0.0, 0.0);
+fn fs_mark(in: MaskOut) -> @location(0) vec4<f32> {
+    return vec4<f32>(in.marked, 0.0, 0.0, 0.0);
 }

@@ -15,7 +15,9 @@
 //! presents the colour target.
 
 mod capture;
+pub mod compare;
 pub(crate) mod gpu_data;
+pub(crate) mod light_inset;
 mod report;
 pub mod scene_gpu;
 mod settings;
@@ -106,6 +108,7 @@ pub struct FrameRenderer {
     reference_list: DrawList,
     measure: MeasureResources,
     heat_map: HeatMapOverlay,
+    light_inset: light_inset::LightInset,
     latest_measured: Option<Measured>,
     /// Whether the last frame measured; older measurements are not reported after a switch.
     measuring: bool,
@@ -249,6 +252,7 @@ impl FrameRenderer {
             reference_list: DrawList::new(ctx, "Frame::reference_draws"),
             measure,
             heat_map: HeatMapOverlay::new(device),
+            light_inset: light_inset::LightInset::new(device),
             latest_measured: None,
             measuring: false,
             outcome_layout,
@@ -525,7 +529,8 @@ impl FrameRenderer {
                 .upload(ctx, scene_gpu, self.selection.all());
         }
         let casters_total = self.selection.all().len() as u32;
-        if settings.overlays.casters && !settings.method.gpu_driven() {
+        // The casters overlay and the light's view inset colour objects by outcome.
+        if !settings.method.gpu_driven() {
             self.upload_outcomes(ctx);
         }
 
@@ -973,23 +978,71 @@ impl FrameRenderer {
         encoder: &mut wgpu::CommandEncoder,
         settings: &FrameSettings,
     ) {
-        self.shadow_map.draw_light_view(encoder);
+        let inset = self.light_inset_group(ctx, settings);
+        if let Some(inset) = &inset {
+            self.light_inset.draw(
+                encoder,
+                inset,
+                &self.shadow_map.light_view_view,
+                None,
+                wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+            );
+        }
         if settings.overlays.error && settings.measure {
             self.heat_map.draw(&ctx.device, encoder, self.targets_ref());
         }
-        if settings.overlays.light_view {
+        if settings.overlays.light_view
+            && let Some(inset) = &inset
+        {
             let targets = self.targets_ref();
             let side = (LIGHT_VIEW_SIZE as f32)
                 .min(targets.width.min(targets.height) as f32 * 0.4)
                 .max(1.0);
             let margin = (side * 0.05).round();
-            self.shadow_map.draw_light_view_into(
+            self.light_inset.draw(
                 encoder,
+                inset,
                 &targets.color_view,
                 Some([margin, margin, side, side]),
                 wgpu::LoadOp::Load,
             );
         }
+    }
+
+    /// The light's view inset's inputs this frame: the method's map and mask, and where the
+    /// reference map was drawn, the casters the method culled.
+    fn light_inset_group(
+        &self,
+        ctx: &GpuContext,
+        settings: &FrameSettings,
+    ) -> Option<wgpu::BindGroup> {
+        let (mask_raster, mask_bits, mask_scale, mask_shown) =
+            self.culling.mask_for_inset(settings.method)?;
+        let outcomes = if settings.method.gpu_driven() {
+            self.culling.state_buffer()?
+        } else {
+            &self.outcome_buffer.as_ref()?.0
+        };
+        let reference_drawn = settings.measure || settings.method == Method::Oracle;
+        let show = mask_shown
+            | if reference_drawn {
+                light_inset::show::OUTCOMES
+            } else {
+                0
+            };
+        Some(self.light_inset.bind(
+            &ctx.device,
+            &ctx.queue,
+            &light_inset::InsetSources {
+                shadow_depth: &self.shadow_map.depth_view,
+                reference_ids: &self.shadow_map.reference.ids_view,
+                outcomes,
+                mask_raster,
+                mask_bits,
+                show,
+                mask_scale,
+            },
+        ))
     }
 }
 

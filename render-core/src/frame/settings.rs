@@ -236,4 +236,8 @@ pub struct FrameSettings {
     pub measure: bool,
     /// Dynamic objects follow their scripted motion (cars drive) as time passes.
     pub animate: bool,
+    /// The window also runs every method on the current view for the panel's comparison
+    /// table (`frame::compare`); the frame itself does not change.
+    #[serde(skip)]
+    pub compare_all: bool,
 }

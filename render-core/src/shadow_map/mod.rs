@@ -1,10 +1,9 @@
-//! The directional shadow map: a depth texture rendered from the sun, and the light's view
-//! inset that shows it. The pass is long-lived; the depth texture is recreated when the
-//! resolution changes.
+//! The directional shadow map: a depth texture rendered from the sun, and the texture the
+//! light's view inset is drawn into (frame/light_inset.rs). The pass is long-lived; the depth
+//! texture is recreated when the resolution changes.
 
 use crate::frame::scene_gpu::{DrawList, SceneGpu, VERTEX_LAYOUT};
 use crate::frame::targets::COLOR_FORMAT;
-use crate::gpu::fullscreen_pipeline;
 
 /// Depth of the shadow map: 0 towards the sun, 1 at the far plane.
 pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
@@ -12,15 +11,13 @@ pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float
 pub const LIGHT_VIEW_SIZE: u32 = 256;
 
 pub(crate) const SHADOW_DEPTH_WGSL: &str = include_str!("shadow_depth.wgsl");
-pub(crate) const LIGHT_VIEW_WGSL: &str = include_str!("light_view.wgsl");
 
 /// Long-lived pipelines plus the current depth texture and inset.
 pub struct ShadowMapPass {
     pipeline: wgpu::RenderPipeline,
     id_pipeline: wgpu::RenderPipeline,
-    light_view_pipeline: wgpu::RenderPipeline,
-    /// The depth texture for fragment shaders (group layout): used by the light's view inset
-    /// and by the camera's shading pass.
+    /// The depth texture for fragment shaders (group layout): used by the camera's shading
+    /// pass.
     pub depth_layout: wgpu::BindGroupLayout,
     pub resolution: u32,
     pub depth: wgpu::Texture,
@@ -114,14 +111,6 @@ impl ShadowMapPass {
                 count: None,
             }],
         });
-        let light_view_pipeline = fullscreen_pipeline(
-            device,
-            "ShadowMap::light_view",
-            LIGHT_VIEW_WGSL,
-            "fs_light_view",
-            &depth_layout,
-            COLOR_FORMAT.into(),
-        );
         let (depth, depth_view) = create_depth(device, resolution);
         let light_view = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("ShadowMap::light_view"),
@@ -149,7 +138,6 @@ impl ShadowMapPass {
         Self {
             pipeline,
             id_pipeline,
-            light_view_pipeline,
             depth_layout,
             resolution,
             depth,
@@ -266,49 +254,6 @@ impl ShadowMapPass {
             occlusion_query_set: None,
             multiview_mask: None,
         })
-    }
-
-    /// Renders the light's view inset from the current depth texture.
-    pub fn draw_light_view(&self, encoder: &mut wgpu::CommandEncoder) {
-        self.draw_light_view_into(
-            encoder,
-            &self.light_view_view,
-            None,
-            wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-        );
-    }
-
-    /// Draws the light's view into `target` (an sRGB colour view), in `viewport` if given
-    /// (`[x, y, width, height]` in pixels), keeping what is outside it.
-    pub fn draw_light_view_into(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        target: &wgpu::TextureView,
-        viewport: Option<[f32; 4]>,
-        load: wgpu::LoadOp<wgpu::Color>,
-    ) {
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("ShadowMap::draw_light_view"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: target,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load,
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: None,
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        if let Some([x, y, w, h]) = viewport {
-            pass.set_viewport(x, y, w, h, 0.0, 1.0);
-        }
-        pass.set_pipeline(&self.light_view_pipeline);
-        pass.set_bind_group(0, &self.depth_bind_group, &[]);
-        pass.draw(0..3, 0..1);
     }
 }
 

@@ -1,4 +1,5 @@
-//! The light's view: the shadow map's depth as an inset image, and facts about the light frustum.
+//! The light's view: the shadow map's depth with the receiver mask and culled casters as an
+//! inset image, and facts about the light frustum.
 
 use super::grid;
 use crate::format::{length, metres};
@@ -17,9 +18,13 @@ pub fn ui(ui: &mut egui::Ui, input: &PanelInput<'_>) {
                 .alt_text("Light view"),
         );
         ui.label(
-            egui::RichText::new("shadow map depth, near = bright")
-                .small()
-                .color(theme::MUTED),
+            egui::RichText::new(
+                "shadow map depth, near = bright; receiver mask: BVOL blue, GEOM green, \
+                 FRAG red; stripes: casters the method culled (when measuring), orange by \
+                 the light frustum, red by a later stage",
+            )
+            .small()
+            .color(theme::MUTED),
         );
     } else {
         ui.label(egui::RichText::new("No light view this frame").color(theme::MUTED));

@@ -1,6 +1,7 @@
 //! The side panel: scene facts, sun, shadow settings, light view, frame statistics, timings
 //! plot and screenshots, one collapsible section each.
 
+mod compare;
 mod frame_stats;
 mod grid;
 mod light_view;
@@ -65,6 +66,14 @@ impl SidePanel {
         }
         section(ui, "Sun", |ui| self.sun.ui(ui, &mut settings.sun));
         section(ui, "Shadows", |ui| shadows::ui(ui, settings));
+        section(ui, "Compare methods", |ui| {
+            compare::ui(
+                ui,
+                &mut settings.compare_all,
+                settings.method,
+                input.compare,
+            );
+        });
         section(ui, "Light view", |ui| light_view::ui(ui, input));
         section(ui, "Frame", |ui| {
             frame_stats::ui(ui, input, self.history.newest());

@@ -12,11 +12,14 @@ use render_core::gpu::PassTiming;
 use render_core::metrics::ShadowError;
 use render_core::scene::{SceneFacts, Sun};
 
+use render_core::frame::Method;
+use render_core::frame::compare::CompareRow;
+
 use super::SidePanel;
 use crate::{PanelInput, ScreenshotSettings, UiAction};
 
 const WIDTH: f32 = 300.0;
-const HEIGHT: f32 = 1900.0;
+const HEIGHT: f32 = 2000.0;
 
 /// What the app would hold: settings, the panel, and the facts it feeds in.
 struct Lab {
@@ -29,6 +32,7 @@ struct Lab {
     selection: Option<crate::Selection>,
     has_gpu_timestamps: bool,
     light_view: Option<egui::TextureHandle>,
+    compare: Vec<CompareRow>,
     /// Draw through [`SidePanel::show`] (panel + scrolling) instead of [`SidePanel::ui`].
     in_own_panel: bool,
     actions: Vec<UiAction>,
@@ -116,6 +120,7 @@ impl Lab {
             selection: None,
             has_gpu_timestamps: true,
             light_view: None,
+            compare: Vec::new(),
             in_own_panel: false,
             actions: Vec::new(),
         }
@@ -139,6 +144,7 @@ impl Lab {
             message: self.message.as_deref(),
             fps: Some(59.9),
             selection: self.selection.as_ref(),
+            compare: Some(&self.compare),
         };
         let actions = if self.in_own_panel {
             self.panel
@@ -443,4 +449,46 @@ fn record_keeps_only_the_last_ten_seconds() {
 fn side_panel_snapshot() {
     let mut harness = harness(Lab::new());
     harness.snapshot("side_panel");
+}
+
+#[test]
+fn compare_all_switches_on_and_lists_every_row() {
+    let mut lab = Lab::new();
+    lab.compare = [
+        (Method::Ref, 420, Some(0)),
+        (Method::Frag, 150, Some(0)),
+        (Method::DrProgressive, 120, Some(37)),
+    ]
+    .into_iter()
+    .map(|(method, casters, error)| CompareRow {
+        method,
+        casters_rendered: casters,
+        triangles: u64::from(casters) * 100,
+        casters_oracle: Some(75),
+        error_px: error,
+        shadow_ms: Some(2.5),
+        culling_ms: Some(0.4),
+        stale: false,
+    })
+    .collect();
+    let mut harness = harness(lab);
+    // Off: the table is hidden even with rows.
+    assert!(harness.query_by_label("dr-progressive").is_none());
+    harness.get_by_label("Compare all methods").click();
+    harness.run();
+    assert!(harness.state().settings.compare_all);
+    for label in [
+        "ref",
+        "frag",
+        "dr-progressive",
+        "× oracle",
+        "2.00",
+        "5.60",
+        "37",
+    ] {
+        assert!(
+            harness.query_by_label(label).is_some(),
+            "'{label}' is not shown"
+        );
+    }
 }
