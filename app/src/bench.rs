@@ -168,7 +168,11 @@ fn run_path(
             template.near_m,
             template.far_m,
         );
-        session.settle(&camera, &settings)?;
+        if args.animate {
+            session.animate(args.view.time.unwrap_or(0.0) + f64::from(frame) / 30.0);
+        } else {
+            session.settle(&camera, &settings)?;
+        }
         let (wall_ms, mut report) = session.frame(&camera, &settings)?;
         let (_, measured) = session.frame(
             &camera,

@@ -370,6 +370,11 @@ pub struct BenchArgs {
     /// Also write the table as CSV.
     #[arg(long, value_name = "FILE")]
     pub csv: Option<PathBuf>,
+    /// Cars drive: each view is the scene 1/30 s after the one before (from `--time`, the
+    /// same poses for every method), rendered once it has moved, without settling. How the
+    /// incremental updates (`incr`) are measured.
+    #[arg(long)]
+    pub animate: bool,
     /// Speed-up is this method's GPU frame time over each method's (the first method run when
     /// this one is not among them).
     #[arg(long, default_value = "ref", value_name = "METHOD")]

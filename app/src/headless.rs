@@ -61,6 +61,13 @@ impl Session {
         self.width as f32 / self.height as f32
     }
 
+    /// Poses the dynamic objects as they are `time_s` into their motion, on the GPU too.
+    pub fn animate(&mut self, time_s: f64) {
+        let moved = self.scene.animate(time_s);
+        self.scene_gpu
+            .update_instances(&self.ctx, &self.scene, &moved);
+    }
+
     /// Renders one frame, waits for the GPU, and returns the report with its wall-clock time.
     pub fn frame(
         &mut self,

@@ -87,15 +87,25 @@ fn each_method_culls_exactly_the_expected_objects() {
             ..FrameSettings::default()
         };
         let runs = frames(&scene, &camera, &settings, 3);
+        // INCR draws its whole map once, then nothing while nothing moves.
+        let incremental = method == Method::Incr;
         for (frame, (report, drawn)) in runs.iter().enumerate() {
             assert_eq!(error_px(report), (0, 0), "{} frame {frame}", method.name());
+            if incremental && frame > 0 {
+                assert!(drawn.is_empty(), "incr redrew {drawn:?} in a still scene");
+                continue;
+            }
             assert!(
                 drawn.contains(&seen),
                 "{} frame {frame}: the box in view was culled",
                 method.name()
             );
         }
-        let (report, drawn) = runs.last().expect("frames");
+        let (report, drawn) = if incremental {
+            &runs[0]
+        } else {
+            runs.last().expect("frames")
+        };
         assert_eq!(
             drawn.contains(&hidden),
             expected_hidden_drawn(method),
@@ -244,7 +254,10 @@ fn focus_fits_the_map_to_the_visible_receivers() {
     let (r, f) = (&reference[2].0, &focused[2].0);
     assert_eq!(error_px(f), (0, 0));
     // The first frame has no visible receivers back yet: it is REF's map.
-    assert_eq!(focused[0].0.light.texel_size_m, r.light.texel_size_m);
+    assert_eq!(
+        focused[0].0.light.texel_size_m.map(f32::to_bits),
+        r.light.texel_size_m.map(f32::to_bits)
+    );
     // The visible receivers (a ground chunk and a few facades) cover less than the view
     // frustum does: smaller texels on both axes.
     assert!(
@@ -266,4 +279,57 @@ fn focus_fits_the_map_to_the_visible_receivers() {
         f.stages,
         r.stages
     );
+}
+
+#[test]
+fn incremental_updates_match_a_full_redraw_while_cars_drive() {
+    let ctx = gpu();
+    let mut city = load_builtin("city-small", 0).expect("city-small");
+    assert!(!city.motions.is_empty(), "the city has moving cars");
+    let scene_gpu = SceneGpu::new(ctx, &city);
+    let mut renderer = FrameRenderer::new(ctx);
+    let camera = Camera::look_at(
+        Vec3::new(-40.0, 3.5, 2.0),
+        Vec3::new(60.0, 8.0, 2.0),
+        60f32.to_radians(),
+        0.1,
+        2000.0,
+    );
+    let settings = FrameSettings {
+        sun: city.sun,
+        method: Method::Incr,
+        measure: true,
+        ..FrameSettings::default()
+    };
+    let input = FrameInput {
+        camera: &camera,
+        width: 256,
+        height: 192,
+        settings: &settings,
+    };
+    let mut drawn = Vec::new();
+    for frame in 0..5 {
+        let moved = city.animate(f64::from(frame) * 0.2);
+        scene_gpu.update_instances(ctx, &city, &moved);
+        let report = renderer
+            .render_and_wait(ctx, &city, &scene_gpu, &input)
+            .expect("frame");
+        // The reference map is a full redraw of every caster under the same static light.
+        assert_eq!(error_px(&report), (0, 0), "frame {frame}");
+        assert!(report.light.covers_whole_scene, "a statically focused map");
+        drawn.push(report.counts.casters_rendered);
+    }
+    // The first frame draws the whole map; later ones only the casters whose light-space
+    // rectangles touch the cars' old and new boxes (the ground, the cars, the trees and the
+    // buildings along the streets, whose rectangles reach over the road).
+    assert_eq!(drawn[0] as usize, city.caster_count(), "{drawn:?}");
+    for &d in &drawn[1..] {
+        assert!(d > 0 && d * 10 < drawn[0] * 8, "{drawn:?}");
+    }
+    // With nothing moving, nothing is drawn and the map stays right.
+    let report = renderer
+        .render_and_wait(ctx, &city, &scene_gpu, &input)
+        .expect("frame");
+    assert_eq!(report.counts.casters_rendered, 0);
+    assert_eq!(error_px(&report), (0, 0));
 }

@@ -35,10 +35,14 @@ const METHOD_FRAG: u32 = 128u;
 // (METHOD_PROGRESSIVE, which may be too short).
 const METHOD_VOLUME: u32 = 256u;
 const METHOD_PROGRESSIVE: u32 = 512u;
+// Bittner 5.1: the map persists; the mask is the moving objects' old and new boxes, which are
+// cleared and redrawn.
+const METHOD_INCREMENTAL: u32 = 1024u;
 
 // Per instance, in Bounds::flags.
 const CULL_CASTER: u32 = 1u;
 const CULL_RECEIVER: u32 = 2u;
+const CULL_DYNAMIC: u32 = 4u;
 
 // Per instance, in the state word: bits 0-7 the outcome code (frame/gpu_data.rs), then:
 const STATE_LIGHT_VISIBLE: u32 = 256u;

@@ -23,7 +23,7 @@ use bytemuck::{Pod, Zeroable};
 
 use crate::frame::scene_gpu::{SceneGpu, VERTEX_LAYOUT};
 use crate::frame::{CasterOutcome, Method, Stage};
-use crate::gpu::{AsyncReadback, GpuContext, GpuCounters};
+use crate::gpu::{AsyncReadback, GpuContext, GpuCounters, buffer_entry, view_entry};
 
 const CULL_COMMON_WGSL: &str = include_str!("cull_common.wgsl");
 const CULL_WGSL: &str = include_str!("cull.wgsl");
@@ -48,12 +48,14 @@ mod bits {
     pub const FRAG: u32 = 128;
     pub const VOLUME: u32 = 256;
     pub const PROGRESSIVE: u32 = 512;
+    pub const INCREMENTAL: u32 = 1024;
 }
 
 /// Which parts of the pipeline a method uses; `None` for the CPU methods.
 fn method_bits(method: Method) -> Option<u32> {
     use bits::{
-        BVOL, DRAW_RECEIVERS, FRAG, GEOM, MASK, OCCLUSION, ORACLE, PROGRESSIVE, TEMPORAL, VOLUME,
+        BVOL, DRAW_RECEIVERS, FRAG, GEOM, INCREMENTAL, MASK, OCCLUSION, ORACLE, PROGRESSIVE,
+        TEMPORAL, VOLUME,
     };
     let occlusion = OCCLUSION | TEMPORAL;
     Some(match method {
@@ -66,6 +68,7 @@ fn method_bits(method: Method) -> Option<u32> {
         Method::Geom => occlusion | MASK | GEOM | DRAW_RECEIVERS,
         Method::GeomBvol => occlusion | MASK | GEOM | BVOL | DRAW_RECEIVERS,
         Method::Frag => occlusion | MASK | FRAG | DRAW_RECEIVERS,
+        Method::Incr => MASK | INCREMENTAL,
         Method::Oracle => ORACLE,
     })
 }
@@ -115,6 +118,9 @@ pub struct CullFrame<'a> {
     /// How far a shadow volume starts before its caster, in normalised light depth.
     pub volume_depth_pad: f32,
     pub casters_total: u32,
+    /// For incremental updates: the map holds nothing usable (first frame, new light, scene
+    /// or exclusions): clear it and draw every caster.
+    pub full_redraw: bool,
     /// Texels a whole-receiver mask is widened by: the PCF radius, the normal offset, and a
     /// texel for rasterisation.
     pub mask_pad_texels: u32,
@@ -195,6 +201,8 @@ impl Pyramid {
 /// Per shadow-map resolution: pyramids and the mask.
 struct SizedResources {
     resolution: u32,
+    /// The shadow map's depth, where incremental updates clear the changed region.
+    shadow_depth: wgpu::TextureView,
     mask_size: u32,
     occlusion: Pyramid,
     mask: Pyramid,
@@ -251,6 +259,7 @@ impl SizedResources {
         );
         Self {
             resolution,
+            shadow_depth: shadow_depth.clone(),
             mask_size,
             occlusion,
             mask,
@@ -295,6 +304,8 @@ struct SceneResources {
     selection: wgpu::Buffer,
     /// Copied into `selection` every frame: the exclusion bits, oracle bits clear.
     selection_init: wgpu::Buffer,
+    /// Last frame's boxes (incremental updates).
+    previous_bounds: wgpu::Buffer,
     state_readback: AsyncReadback,
 }
 
@@ -344,6 +355,12 @@ impl SceneResources {
             state: storage("GpuCulling::state", wgpu::BufferUsages::COPY_SRC),
             selection: storage("GpuCulling::selection", wgpu::BufferUsages::empty()),
             selection_init: storage("GpuCulling::selection_init", wgpu::BufferUsages::COPY_SRC),
+            previous_bounds: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("GpuCulling::previous_bounds"),
+                size: scene_gpu.bounds_buffer.size(),
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
             state_readback: AsyncReadback::new(device, "GpuCulling::state_readback", words, 3),
         };
         resources.write_exclusions(ctx, excluded);
@@ -374,6 +391,8 @@ pub struct GpuCulling {
     reduce: ReducePipelines,
     mask_layout: wgpu::BindGroupLayout,
     box_pipeline: wgpu::RenderPipeline,
+    moved_box_pipeline: wgpu::RenderPipeline,
+    clear_moved_pipeline: wgpu::RenderPipeline,
     geometry_pipelines: Vec<wgpu::RenderPipeline>,
     receivers_layout: wgpu::BindGroupLayout,
     fragment_mask_pipeline: Option<wgpu::RenderPipeline>,
@@ -461,6 +480,7 @@ impl GpuCulling {
                 layout_entry(1, wgpu::ShaderStages::VERTEX, storage_binding(true)),
                 layout_entry(2, wgpu::ShaderStages::VERTEX, storage_binding(true)),
                 layout_entry(3, wgpu::ShaderStages::VERTEX, storage_binding(true)),
+                layout_entry(4, wgpu::ShaderStages::VERTEX, storage_binding(true)),
             ],
         });
         let masks_module = module(
@@ -523,6 +543,35 @@ impl GpuCulling {
                 "no conservative rasterisation or line polygons: GEOM masks use bounding boxes"
             );
         }
+
+        // Incremental updates clear the changed region of the shadow map to the far plane.
+        let clear_moved_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("GpuCulling::clear_moved"),
+            layout: Some(&masks_layout),
+            vertex: wgpu::VertexState {
+                module: &masks_module,
+                entry_point: Some("vs_clear_moved"),
+                compilation_options: wgpu::PipelineCompilationOptions::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: crate::shadow_map::SHADOW_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Always),
+                stencil: wgpu::StencilState::default(),
+                bias: wgpu::DepthBiasState::default(),
+            }),
+            multisample: wgpu::MultisampleState::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &masks_module,
+                entry_point: Some("fs_clear"),
+                compilation_options: wgpu::PipelineCompilationOptions::default(),
+                targets: &[],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
 
         let receivers_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("GpuCulling::receivers_layout"),
@@ -603,6 +652,13 @@ impl GpuCulling {
             },
             mask_layout,
             box_pipeline: mask_pipeline("vs_box", false, wgpu::PolygonMode::Fill, false),
+            moved_box_pipeline: mask_pipeline(
+                "vs_moved_box",
+                false,
+                wgpu::PolygonMode::Fill,
+                false,
+            ),
+            clear_moved_pipeline,
             geometry_pipelines,
             receivers_layout,
             fragment_mask_pipeline,
@@ -712,6 +768,16 @@ impl GpuCulling {
         Some(bits)
     }
 
+    /// This frame's bits: an incremental update that must redraw everything has no mask.
+    fn frame_bits(&self, frame: &CullFrame<'_>) -> Option<u32> {
+        let bits = self.effective_bits(frame.method)?;
+        Some(if bits & bits::INCREMENTAL != 0 && frame.full_redraw {
+            bits & !bits::MASK
+        } else {
+            bits
+        })
+    }
+
     fn write_params(&self, ctx: &GpuContext, frame: &CullFrame<'_>, method: u32) {
         let (Some(sized), Some(scene), Some(camera)) = (&self.sized, &self.scene, &self.camera)
         else {
@@ -782,7 +848,7 @@ impl GpuCulling {
         reference: (&wgpu::TextureView, &wgpu::TextureView),
         frame: &CullFrame<'_>,
     ) -> Option<()> {
-        let method = self.effective_bits(frame.method)?;
+        let method = self.frame_bits(frame)?;
         self.write_params(ctx, frame, method);
         let bind_group = self.cull_bind_group(ctx, scene_gpu, frame.visible_flags)?;
         self.cull_group = Some(bind_group.clone());
@@ -803,6 +869,9 @@ impl GpuCulling {
                 pass.dispatch_workgroups(groups, 1, 1);
             }
             self.rasterise_mask(ctx, encoder, scene_gpu, frame, method);
+            if method & bits::INCREMENTAL != 0 {
+                self.clear_moved(ctx, encoder, scene_gpu, frame);
+            }
         }
         let receiver_pipeline = if method & bits::FRAG != 0 {
             self.fragment_mask_pipeline.as_ref()
@@ -847,9 +916,10 @@ impl GpuCulling {
     pub fn encode_second_phase(
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
+        scene_gpu: &SceneGpu,
         frame: &CullFrame<'_>,
     ) -> Option<()> {
-        let method = self.effective_bits(frame.method)?;
+        let method = self.frame_bits(frame)?;
         if method & bits::OCCLUSION != 0 {
             let sized = self.sized.as_ref()?;
             self.reduce_chain(encoder, &sized.occlusion, &self.reduce.depth);
@@ -869,6 +939,15 @@ impl GpuCulling {
         scene
             .state_readback
             .copy(encoder, &scene.state, frame.frame_index);
+        if method & bits::INCREMENTAL != 0 {
+            encoder.copy_buffer_to_buffer(
+                &scene_gpu.bounds_buffer,
+                0,
+                &scene.previous_bounds,
+                0,
+                None,
+            );
+        }
         self.in_flight
             .push_back((frame.frame_index, frame.method, frame.casters_total));
         while self.in_flight.len() > 8 {
@@ -911,16 +990,7 @@ impl GpuCulling {
         let (Some(sized), Some(scene)) = (&self.sized, &self.scene) else {
             return;
         };
-        let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("GpuCulling::mask_bind_group"),
-            layout: &self.mask_layout,
-            entries: &[
-                buffer_entry(0, &self.params),
-                buffer_entry(1, &scene_gpu.bounds_buffer),
-                buffer_entry(2, frame.visible_flags),
-                buffer_entry(3, &scene.state),
-            ],
-        });
+        let group = self.mask_group(ctx, scene_gpu, frame.visible_flags, scene);
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("GpuCulling::rasterise_mask"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -943,6 +1013,10 @@ impl GpuCulling {
             pass.set_pipeline(&self.box_pipeline);
             pass.draw(0..6, 0..scene.instance_count);
         }
+        if method & bits::INCREMENTAL != 0 {
+            pass.set_pipeline(&self.moved_box_pipeline);
+            pass.draw(0..12, 0..scene.instance_count);
+        }
         if method & bits::GEOM != 0 {
             pass.set_vertex_buffer(0, scene_gpu.vertex_buffer.slice(..));
             pass.set_index_buffer(scene_gpu.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
@@ -951,6 +1025,60 @@ impl GpuCulling {
                 pass.multi_draw_indexed_indirect(&scene.receiver_draws, 0, scene.instance_count);
             }
         }
+    }
+
+    fn mask_group(
+        &self,
+        ctx: &GpuContext,
+        scene_gpu: &SceneGpu,
+        visible: &wgpu::Buffer,
+        scene: &SceneResources,
+    ) -> wgpu::BindGroup {
+        ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("GpuCulling::mask_bind_group"),
+            layout: &self.mask_layout,
+            entries: &[
+                buffer_entry(0, &self.params),
+                buffer_entry(1, &scene_gpu.bounds_buffer),
+                buffer_entry(2, visible),
+                buffer_entry(3, &scene.state),
+                buffer_entry(4, &scene.previous_bounds),
+            ],
+        })
+    }
+
+    /// Incremental updates: the moving objects' old and new boxes cleared in the shadow map
+    /// (to the far plane), before the casters that touch them are drawn again.
+    fn clear_moved(
+        &self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        scene_gpu: &SceneGpu,
+        frame: &CullFrame<'_>,
+    ) {
+        let (Some(sized), Some(scene)) = (&self.sized, &self.scene) else {
+            return;
+        };
+        let group = self.mask_group(ctx, scene_gpu, frame.visible_flags, scene);
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("GpuCulling::clear_moved"),
+            color_attachments: &[],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &sized.shadow_depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.clear_moved_pipeline);
+        pass.set_bind_group(0, frame.frame_bind_group, &[]);
+        pass.set_bind_group(1, &group, &[]);
+        pass.draw(0..12, 0..scene.instance_count);
     }
 
     /// FRAG's taps or the oracle's casters, from the camera's visible fragments.
@@ -1068,7 +1196,7 @@ impl GpuCulling {
 
     /// What the light's view inset shows of `method`'s mask: the mask raster, FRAG's
     /// per-texel depths, and shadow texels per mask texel; `show` bits for the inset
-    /// (frame/light_inset.rs).
+    /// (`frame/light_inset.rs`).
     pub(crate) fn mask_for_inset(
         &self,
         method: Method,
@@ -1115,7 +1243,9 @@ fn stages(method: Method, total: u32, words: &[u32; COUNTERS]) -> Vec<Stage> {
         words[Counter::NotOccluded as usize],
     ));
     let bits = method_bits(method).unwrap_or(0);
-    if bits & bits::MASK != 0 {
+    if bits & bits::INCREMENTAL != 0 {
+        out.push(stage("changed region", words[Counter::InMask as usize]));
+    } else if bits & bits::MASK != 0 {
         out.push(stage("receiver mask", words[Counter::InMask as usize]));
     }
     if bits & bits::VOLUME != 0 {
@@ -1160,20 +1290,6 @@ fn storage_binding(read_only: bool) -> wgpu::BindingType {
     }
 }
 
-fn buffer_entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
-    wgpu::BindGroupEntry {
-        binding,
-        resource: buffer.as_entire_binding(),
-    }
-}
-
-fn view_entry(binding: u32, view: &wgpu::TextureView) -> wgpu::BindGroupEntry<'_> {
-    wgpu::BindGroupEntry {
-        binding,
-        resource: wgpu::BindingResource::TextureView(view),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1192,7 +1308,7 @@ mod tests {
 
     #[test]
     fn every_gpu_method_reports_its_stages() {
-        let words = [90, 50, 20, 20, 4000, 7];
+        let words = [90, 50, 20, 20, 4000, 7, 15, 12];
         let frag = stages(Method::Frag, 100, &words);
         let names: Vec<_> = frag.iter().map(|s| s.name.as_str()).collect();
         assert_eq!(
@@ -1207,6 +1323,10 @@ mod tests {
         assert_eq!(frag.last().map(|s| s.remaining), Some(20));
         assert_eq!(stages(Method::Ref, 100, &words).len(), 3);
         assert_eq!(stages(Method::Oracle, 100, &words)[1].remaining, 20);
+        let dr = stages(Method::DrProgressive, 100, &words);
+        assert_eq!(dr.len(), 5);
+        assert_eq!(dr[4].remaining, 12);
+        assert_eq!(stages(Method::Incr, 100, &words)[3].name, "changed region");
         for m in Method::ALL {
             assert_eq!(GpuCulling::handles(m), m.gpu_driven(), "{}", m.name());
         }

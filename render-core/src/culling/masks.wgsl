@@ -12,6 +12,8 @@ const MARKED_GEOMETRY: f32 = 3.0;
 @group(1) @binding(1) var<storage, read> bounds: array<Bounds>;
 @group(1) @binding(2) var<storage, read> visible: array<u32>;
 @group(1) @binding(3) var<storage, read> state: array<u32>;
+// Last frame's boxes, for incremental updates (Bittner 5.1).
+@group(1) @binding(4) var<storage, read> previous_bounds: array<Bounds>;
 
 struct MaskOut {
     @builtin(position) clip: vec4<f32>,
@@ -49,6 +51,59 @@ fn vs_box(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance:
     let c = vec2<f32>(select(lo.x, hi.x, high_x), select(lo.y, hi.y, high_y));
     out.clip = vec4<f32>(c, 0.5, 1.0);
     return out;
+}
+
+// One corner of the two triangles covering a light-space rectangle.
+fn rectangle_corner(vertex: u32, lo: vec2<f32>, hi: vec2<f32>) -> vec4<f32> {
+    // Corners (lo, lo), (hi, lo), (lo, hi) and (lo, hi), (hi, lo), (hi, hi).
+    let v = vertex % 6u;
+    let high_x = v == 1u || v == 4u || v == 5u;
+    let high_y = v == 2u || v == 3u || v == 5u;
+    return vec4<f32>(select(lo.x, hi.x, high_x), select(lo.y, hi.y, high_y), 0.5, 1.0);
+}
+
+// Incremental updates: a moving object's box where it was last frame (vertices 0-5) and
+// where it is now (6-11), widened by `pad` in NDC; nothing for objects that did not move.
+fn moved_box_corner(vertex: u32, instance: u32, pad: f32) -> vec4<f32> {
+    let now = bounds[instance];
+    let before = previous_bounds[instance];
+    let moved = any(now.min != before.min) || any(now.max != before.max);
+    if ((now.flags & CULL_DYNAMIC) == 0u || !moved) {
+        return vec4<f32>(2.0, 2.0, 2.0, 1.0);
+    }
+    var which = now;
+    if (vertex < 6u) {
+        which = before;
+    }
+    let box = light_box(which, cull.light_clip_from_world);
+    if (!in_light_frustum(box)) {
+        return vec4<f32>(2.0, 2.0, 2.0, 1.0);
+    }
+    return rectangle_corner(vertex, box.lo.xy - pad, box.hi.xy + pad);
+}
+
+// The changed region into the mask, a mask texel wider on each side (as `vs_box`).
+@vertex
+fn vs_moved_box(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32) -> MaskOut {
+    var out: MaskOut;
+    out.clip = moved_box_corner(vertex, instance, 2.0 / f32(cull.sizes.y));
+    out.marked = MARKED_BOX;
+    return out;
+}
+
+// The changed region in the shadow map, exactly: cleared to the far plane before redrawing.
+@vertex
+fn vs_clear_moved(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32) -> @builtin(position) vec4<f32> {
+    return moved_box_corner(vertex, instance, 0.0);
+}
+
+struct ClearOut {
+    @builtin(frag_depth) depth: f32,
+}
+
+@fragment
+fn fs_clear() -> ClearOut {
+    return ClearOut(1.0);
 }
 
 // Receiver geometry in the light's view; which receivers is decided by the indirect draws.

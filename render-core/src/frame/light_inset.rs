@@ -1,13 +1,13 @@
-//! The light's view inset (frame/light_inset.wgsl): the method's shadow map, its receiver mask
+//! The light's view inset (`frame/light_inset.wgsl`): the method's shadow map, its receiver mask
 //! in Bittner's colours, and the casters the method culled, striped by stage. Long-lived
 //! pipeline; the bind group follows what the frame drew.
 
 use crate::frame::targets::COLOR_FORMAT;
-use crate::gpu::fullscreen_pipeline;
+use crate::gpu::{buffer_entry, fullscreen_pipeline, view_entry};
 
 const LIGHT_INSET_WGSL: &str = include_str!("light_inset.wgsl");
 
-/// Bits of the inset's `inset.x` (keep in sync with light_inset.wgsl).
+/// Bits of the inset's `inset.x` (keep in sync with `light_inset.wgsl`).
 pub(crate) mod show {
     pub const RASTER_MASK: u32 = 1;
     pub const FRAGMENT_MASK: u32 = 2;
@@ -100,28 +100,16 @@ impl LightInset {
             0,
             bytemuck::cast_slice(&[sources.show, sources.mask_scale.max(1), 0u32, 0]),
         );
-        fn view(binding: u32, view: &wgpu::TextureView) -> wgpu::BindGroupEntry<'_> {
-            wgpu::BindGroupEntry {
-                binding,
-                resource: wgpu::BindingResource::TextureView(view),
-            }
-        }
-        fn buffer(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
-            wgpu::BindGroupEntry {
-                binding,
-                resource: buffer.as_entire_binding(),
-            }
-        }
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("LightInset::bind_group"),
             layout: &self.layout,
             entries: &[
-                view(0, sources.shadow_depth),
-                view(1, sources.reference_ids),
-                buffer(2, sources.outcomes),
-                view(3, sources.mask_raster),
-                buffer(4, sources.mask_bits),
-                buffer(5, &self.params),
+                view_entry(0, sources.shadow_depth),
+                view_entry(1, sources.reference_ids),
+                buffer_entry(2, sources.outcomes),
+                view_entry(3, sources.mask_raster),
+                buffer_entry(4, sources.mask_bits),
+                buffer_entry(5, &self.params),
             ],
         })
     }

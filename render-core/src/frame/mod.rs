@@ -38,7 +38,7 @@ pub use targets::ViewTargets;
 pub use visibility::VisibilityCounts;
 
 use crate::culling::{CasterSelection, CullFrame, GpuCulling};
-use crate::geom::{Camera, Frustum, LightFrustum, fit_focused_light};
+use crate::geom::{Camera, Frustum, LightFrustum, fit_focused_light, fit_whole_scene};
 use crate::gpu::{FrameTimer, GpuContext, PassTiming};
 use crate::metrics::{HeatMapOverlay, MeasureResources, Measured};
 use crate::scene::Scene;
@@ -109,6 +109,9 @@ pub struct FrameRenderer {
     measure: MeasureResources,
     heat_map: HeatMapOverlay,
     light_inset: light_inset::LightInset,
+    /// Incremental updates: what last frame's map was drawn for (scene, exclusions, light).
+    static_map_key: Option<(u64, u64, [u32; 16])>,
+    exclusions_version: u64,
     latest_measured: Option<Measured>,
     /// Whether the last frame measured; older measurements are not reported after a switch.
     measuring: bool,
@@ -253,6 +256,8 @@ impl FrameRenderer {
             measure,
             heat_map: HeatMapOverlay::new(device),
             light_inset: light_inset::LightInset::new(device),
+            static_map_key: None,
+            exclusions_version: 0,
             latest_measured: None,
             measuring: false,
             outcome_layout,
@@ -313,14 +318,36 @@ impl FrameRenderer {
             .latest_visibility
             .filter(|_| settings.method == Method::Focus)
             .map(|v| v.receiver_bounds);
-        let light = fit_focused_light(
-            input.camera,
-            aspect,
-            settings.sun.direction_to_sun,
-            &scene.bounds(),
-            focus.as_ref(),
-            self.shadow_map.resolution,
-        );
+        let light = if settings.method.static_light() {
+            fit_whole_scene(
+                settings.sun.direction_to_sun,
+                &scene.bounds(),
+                self.shadow_map.resolution,
+            )
+        } else {
+            fit_focused_light(
+                input.camera,
+                aspect,
+                settings.sun.direction_to_sun,
+                &scene.bounds(),
+                focus.as_ref(),
+                self.shadow_map.resolution,
+            )
+        };
+        // An incremental update needs last frame's map under the same light, scene and
+        // exclusions; anything else redraws it whole.
+        let static_key = (settings.method == Method::Incr).then(|| {
+            (
+                scene_gpu.id,
+                self.exclusions_version,
+                light
+                    .light_clip_from_world
+                    .to_cols_array()
+                    .map(f32::to_bits),
+            )
+        });
+        let full_redraw = static_key.is_none() || static_key != self.static_map_key;
+        self.static_map_key = static_key;
         let culling_started = Instant::now();
         let (counts, stages) = self.prepare_draw_lists(
             ctx,
@@ -353,7 +380,7 @@ impl FrameRenderer {
                 scene_gpu,
                 (&light, input.camera.clip_from_world(aspect)),
                 settings,
-                counts.casters_total,
+                (counts.casters_total, full_redraw),
             );
         } else {
             self.draw_shadow_map(&mut encoder, scene_gpu);
@@ -556,6 +583,7 @@ impl FrameRenderer {
     /// reference map keeps them: shows what a caster contributes, and lets tests check that the
     /// error measure sees a missing caster.
     pub fn exclude_casters(&mut self, instances: &[u32]) {
+        self.exclusions_version += 1;
         self.selection.exclude(instances);
         self.culling.exclude(instances);
     }
@@ -782,7 +810,7 @@ impl FrameRenderer {
         scene_gpu: &SceneGpu,
         (light, camera_clip_from_world): (&LightFrustum, glam::Mat4),
         settings: &FrameSettings,
-        casters_total: u32,
+        (casters_total, full_redraw): (u32, bool),
     ) {
         let shadow = &settings.shadow;
         let pcf_radius = shadow.pcf.width().div_ceil(2);
@@ -797,6 +825,7 @@ impl FrameRenderer {
                 * light.texel_size_m[0].max(light.texel_size_m[1])
                 / light.depth_range_m.max(1e-6),
             casters_total,
+            full_redraw,
             mask_pad_texels: pcf_radius + shadow.normal_offset_texels.max(0.0).ceil() as u32 + 1,
             visible_flags: &self.visibility.visible_flags,
             frame_bind_group: &frame_bind_group,
@@ -819,7 +848,7 @@ impl FrameRenderer {
                     &frame,
                 )
             } else {
-                self.culling.encode_second_phase(encoder, &frame)
+                self.culling.encode_second_phase(encoder, scene_gpu, &frame)
             };
             self.timer.end_pass(encoder, query);
             let (Some(()), Some((draws, count))) = (encoded, self.culling.draws()) else {
@@ -835,7 +864,8 @@ impl FrameRenderer {
                 scene_gpu,
                 draws,
                 count,
-                phase == 0,
+                // Incremental updates keep last frame's map.
+                phase == 0 && (full_redraw || settings.method != Method::Incr),
             );
             self.timer.end_pass(encoder, query);
         }

@@ -88,7 +88,9 @@ impl SceneGpu {
         let bounds_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("SceneGpu::bounds"),
             contents: bytemuck::cast_slice(&bounds_data(&scene.instances)),
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            usage: wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::COPY_DST
+                | wgpu::BufferUsages::COPY_SRC,
         });
         let instance_ranges = scene
             .instances
@@ -186,7 +188,13 @@ fn bounds_data(instances: &[Instance]) -> Vec<InstanceBounds> {
     let mut data: Vec<InstanceBounds> = instances
         .iter()
         .map(|inst| {
-            let flags = shadow_flags(inst);
+            // Bit 4: moves (culling/cull_common.wgsl, `CULL_DYNAMIC`).
+            let dynamic = if inst.mobility == crate::scene::Mobility::Dynamic {
+                4
+            } else {
+                0
+            };
+            let flags = shadow_flags(inst) | dynamic;
             let b = inst.aabb_in_world;
             InstanceBounds {
                 min: b.min.to_array(),

@@ -123,13 +123,17 @@ pub enum Method {
     /// DigitalRune's progressive mode: the shadow volume ends at the farthest depth behind the
     /// caster in the light's view (last frame's), which can be too short: may err, and says so.
     DrProgressive,
+    /// Incremental updates of a statically focused map (Bittner 5.1, INCR): the map covers the
+    /// whole scene and persists; each frame only the old and new boxes of moving objects are
+    /// cleared and the casters touching them drawn again.
+    Incr,
     /// Exactly the casters that shadow a visible pixel's filter tap: the floor for every
     /// conservative method, taken from a reference map of every caster.
     Oracle,
 }
 
 impl Method {
-    pub const ALL: [Self; 11] = [
+    pub const ALL: [Self; 12] = [
         Self::None,
         Self::Vfc,
         Self::Ref,
@@ -140,6 +144,7 @@ impl Method {
         Self::Frag,
         Self::DrConservative,
         Self::DrProgressive,
+        Self::Incr,
         Self::Oracle,
     ];
 
@@ -155,6 +160,7 @@ impl Method {
             Self::Frag => "frag",
             Self::DrConservative => "dr-conservative",
             Self::DrProgressive => "dr-progressive",
+            Self::Incr => "incr",
             Self::Oracle => "oracle",
         }
     }
@@ -168,6 +174,11 @@ impl Method {
     /// reach its steady state (every frame is conservative on the way).
     pub fn temporal(self) -> bool {
         self.gpu_driven() && self != Self::Oracle
+    }
+
+    /// The light frustum covers the whole scene and does not follow the camera.
+    pub fn static_light(self) -> bool {
+        self == Self::Incr
     }
 
     /// May cull a caster whose shadow is seen (DigitalRune's progressive mode); every other

@@ -47,12 +47,38 @@ pub fn fit_directional_light(
     )
 }
 
+/// A light frustum over the whole scene, whatever the camera sees: a statically focused map
+/// (Bittner 5.1).
+pub fn fit_whole_scene(
+    direction_to_sun: Vec3,
+    scene_bounds: &Aabb,
+    resolution: u32,
+) -> LightFrustum {
+    fit(None, direction_to_sun, scene_bounds, None, resolution)
+}
+
 /// Like [`fit_directional_light`], and where `receivers` (the visible receivers' bounds) is
 /// given, the map's x/y extent and far plane shrink to them (Bittner 5.2, FOCUS): only the
 /// light's near plane still reaches the scene's edge, for the casters between.
 pub fn fit_focused_light(
     camera: &Camera,
     aspect: f32,
+    direction_to_sun: Vec3,
+    scene_bounds: &Aabb,
+    receivers: Option<&Aabb>,
+    resolution: u32,
+) -> LightFrustum {
+    fit(
+        Some((camera, aspect)),
+        direction_to_sun,
+        scene_bounds,
+        receivers,
+        resolution,
+    )
+}
+
+fn fit(
+    view: Option<(&Camera, f32)>,
     direction_to_sun: Vec3,
     scene_bounds: &Aabb,
     receivers: Option<&Aabb>,
@@ -78,7 +104,8 @@ pub fn fit_focused_light(
     let scene_corners = scene.corners().map(|c| to_light(c.as_dvec3()));
     let scene_extent = extent_of(&scene_corners);
 
-    let (extent, covers_whole_scene) = match view_extent(camera, aspect, &scene, &to_light) {
+    let view = view.and_then(|(camera, aspect)| view_extent(camera, aspect, &scene, &to_light));
+    let (extent, covers_whole_scene) = match view {
         Some(view) => {
             let min = DVec3::new(
                 view.0.x.max(scene_extent.0.x),

@@ -8,4 +8,4 @@ mod light_fit;
 pub use aabb::Aabb;
 pub use camera::{Camera, basis_for_direction};
 pub use frustum::{Containment, Frustum, Plane};
-pub use light_fit::{LightFrustum, fit_directional_light, fit_focused_light};
+pub use light_fit::{LightFrustum, fit_directional_light, fit_focused_light, fit_whole_scene};

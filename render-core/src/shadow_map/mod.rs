@@ -1,5 +1,5 @@
 //! The directional shadow map: a depth texture rendered from the sun, and the texture the
-//! light's view inset is drawn into (frame/light_inset.rs). The pass is long-lived; the depth
+//! light's view inset is drawn into (`frame/light_inset.rs`). The pass is long-lived; the depth
 //! texture is recreated when the resolution changes.
 
 use crate::frame::scene_gpu::{DrawList, SceneGpu, VERTEX_LAYOUT};
