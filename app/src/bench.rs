@@ -21,6 +21,8 @@ struct BenchRow {
     frame_ms: f64,
     gpu_frame_ms: Option<f64>,
     shadow_pass_ms: Option<f64>,
+    /// The GPU methods' receiver mask, pyramids and caster tests.
+    culling_ms: Option<f64>,
     casters_drawn: f64,
     shadow_triangles: f64,
     casters_total: u32,
@@ -214,6 +216,7 @@ fn summarise(setting: &str, method: &str, reports: &[(f64, FrameReport)]) -> Ben
         frame_ms: collect(&|(wall, _)| Some(*wall)).unwrap_or(0.0),
         gpu_frame_ms: collect(&|(_, r)| r.gpu_total_ms()),
         shadow_pass_ms: collect(&|(_, r)| r.gpu_ms(pass_label::SHADOW_MAP)),
+        culling_ms: collect(&|(_, r)| r.gpu_ms(pass_label::CULLING)),
         casters_drawn: collect(&|(_, r)| Some(f64::from(r.counts.casters_rendered))).unwrap_or(0.0),
         shadow_triangles: collect(&|(_, r)| Some(r.counts.triangles_shadow as f64)).unwrap_or(0.0),
         casters_total: reports.first().map_or(0, |(_, r)| r.counts.casters_total),
@@ -228,13 +231,14 @@ fn summarise(setting: &str, method: &str, reports: &[(f64, FrameReport)]) -> Ben
     }
 }
 
-const COLUMNS: [&str; 12] = [
+const COLUMNS: [&str; 13] = [
     "setting",
     "method",
     "frames",
     "frame ms",
     "GPU frame ms",
     "shadow pass ms",
+    "mask+cull ms",
     "casters drawn",
     "oracle",
     "tightness",
@@ -243,7 +247,7 @@ const COLUMNS: [&str; 12] = [
     "speed-up",
 ];
 
-fn row_cells(r: &BenchRow) -> [String; 12] {
+fn row_cells(r: &BenchRow) -> [String; 13] {
     let opt =
         |v: Option<f64>, digits: usize| v.map_or_else(|| "n/a".into(), |v| format!("{v:.digits$}"));
     [
@@ -253,6 +257,8 @@ fn row_cells(r: &BenchRow) -> [String; 12] {
         format!("{:.2}", r.frame_ms),
         opt(r.gpu_frame_ms, 2),
         opt(r.shadow_pass_ms, 2),
+        r.culling_ms
+            .map_or_else(|| "-".into(), |v| format!("{v:.2}")),
         format!("{:.0}", r.casters_drawn),
         format!("{:.0}", r.casters_oracle),
         opt(r.tightness, 2),
@@ -266,7 +272,7 @@ fn row_cells(r: &BenchRow) -> [String; 12] {
 fn format_table(rows: &[BenchRow], baseline: &str) -> String {
     let skip = usize::from(rows.iter().all(|r| r.setting.is_empty()));
     let mut header = COLUMNS.map(str::to_owned);
-    header[11] = format!("speed-up vs {baseline}");
+    header[12] = format!("speed-up vs {baseline}");
     let lines: Vec<Vec<String>> = std::iter::once(header.to_vec())
         .chain(rows.iter().map(|r| row_cells(r).to_vec()))
         .map(|l| l[skip..].to_vec())
@@ -302,13 +308,13 @@ fn format_table(rows: &[BenchRow], baseline: &str) -> String {
 
 fn format_csv(rows: &[BenchRow]) -> String {
     let mut out = String::from(
-        "setting,method,frames,frame_ms,gpu_frame_ms,shadow_pass_ms,casters_drawn,casters_oracle,tightness,shadow_triangles,error_px_max,casters_total,speed_up\n",
+        "setting,method,frames,frame_ms,gpu_frame_ms,shadow_pass_ms,casters_drawn,casters_oracle,tightness,shadow_triangles,error_px_max,casters_total,speed_up,culling_ms\n",
     );
     let opt = |v: Option<f64>| v.map_or_else(String::new, |v| format!("{v:.4}"));
     for r in rows {
         let _ = writeln!(
             out,
-            "{},{},{},{:.4},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{:.4},{},{},{},{},{},{},{},{},{},{}",
             r.setting,
             r.method,
             r.frames,
@@ -321,7 +327,8 @@ fn format_csv(rows: &[BenchRow]) -> String {
             r.shadow_triangles,
             r.error_px_max,
             r.casters_total,
-            opt(r.speed_up)
+            opt(r.speed_up),
+            opt(r.culling_ms)
         );
     }
     out

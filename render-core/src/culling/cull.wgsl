@@ -79,12 +79,12 @@ fn pyramid_load(which: u32, index: u32) -> f32 {
 // base texels (the last block of a level takes in the odd texel left over).
 fn pyramid_max(which: u32, base_size: u32, lo: vec2<i32>, hi: vec2<i32>) -> f32 {
     let extent = u32(max(hi.x - lo.x, hi.y - lo.y) + 1);
-    // Smallest block size 2^(m+1) >= extent / 4, so the rectangle spans at most 5x5 blocks:
+    // Smallest block size 2^(m+1) >= extent / 8, so the rectangle spans at most 9x9 blocks:
     // a finer level than 2x2 blocks hugs the rectangle closer for a few more loads.
     var width = max(base_size / 2u, 1u);
     var offset = 0u;
     var m = 0u;
-    while ((8u << m) < extent && width > 1u) {
+    while ((16u << m) < extent && width > 1u) {
         offset += width * width;
         width = max(width / 2u, 1u);
         m++;

@@ -1205,7 +1205,7 @@ impl GpuCulling {
         let sized = self.sized.as_ref()?;
         let bits = self.effective_bits(method).unwrap_or(0);
         let mut shown = 0;
-        if bits & (bits::GEOM | bits::BVOL) != 0 {
+        if bits & (bits::GEOM | bits::BVOL | bits::INCREMENTAL) != 0 {
             shown |= show::RASTER_MASK;
         }
         if bits & bits::FRAG != 0 {

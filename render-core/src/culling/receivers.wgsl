@@ -42,7 +42,13 @@ fn fs_fragment_mask(in: VsOut) {
                 continue;
             }
             let m = vec2<u32>(t) / scale;
-            atomicMax(&mask_bits[m.y * mask_size.x + m.x], bitcast<u32>(needed + MASK_MARGIN));
+            let index = m.y * mask_size.x + m.x;
+            // Positive floats order as their bits. Neighbouring pixels mostly mark the same
+            // texels with about the same depth: a plain load skips most read-modify-writes.
+            let bits = bitcast<u32>(needed + MASK_MARGIN);
+            if (bits > atomicLoad(&mask_bits[index])) {
+                atomicMax(&mask_bits[index], bits);
+            }
         }
     }
 }
