@@ -11,7 +11,7 @@ run shot builtin:city --size 1280x720 --shadow-res 2048 \
     --eye=-330,3.5,8 --target=-200,12,8 \
     --out screenshots/city-street.png --stats screenshots/city-street.json
 run shot builtin:city --size 1280x720 --shadow-res 2048 \
-    --eye=-330,3.5,8 --target=-200,12,8 --method frag --overlay light-view --overlay casters \
+    --eye=-330,30,8 --target=-220,4,20 --method frag --overlay light-view --overlay casters \
     --out screenshots/city-frag-casters.png --stats screenshots/city-frag-casters.json
 if command -v xvfb-run >/dev/null 2>&1 || [ -n "${DISPLAY:-}" ]; then
     wrap=(); [ -z "${DISPLAY:-}" ] && wrap=(xvfb-run -a -s "-screen 0 1600x1000x24")

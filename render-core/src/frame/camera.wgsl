@@ -21,7 +21,8 @@ fn outcome_tint(code: u32) -> vec4<f32> {
         case 1u: { return vec4<f32>(0.15, 0.85, 0.25, 0.55); }
         case 2u: { return vec4<f32>(0.6, 0.2, 0.9, 0.6); }
         case 3u, 4u: { return vec4<f32>(1.0, 0.55, 0.05, 0.6); }
-        default: { return vec4<f32>(0.95, 0.1, 0.2, 0.6); }
+        case 5u: { return vec4<f32>(0.95, 0.85, 0.1, 0.6); }
+        default: { return vec4<f32>(0.95, 0.1, 0.75, 0.6); }
     }
 }
 

@@ -1,7 +1,8 @@
 // The light's view inset: the method's shadow map as grey (near the sun bright), the receiver
 // mask in Bittner's colours (BVOL boxes blue, GEOM geometry green, FRAG texels red), and, where
-// the reference map shows a caster the method culled, stripes in the colour of the stage that
-// culled it (as the camera's `casters` overlay tints it). Keep in sync with frame/light_inset.rs.
+// the reference map shows a caster the method culled, thin stripes in the colour of the stage
+// that culled it (as the camera's `casters` overlay tints it: orange light frustum, yellow
+// light occlusion, magenta mask or shadow volume). Keep in sync with frame/light_inset.rs.
 
 @group(0) @binding(0) var shadow_map: texture_depth_2d;
 @group(0) @binding(1) var reference_ids: texture_2d<u32>;
@@ -33,11 +34,13 @@ fn vs_fullscreen(@builtin(vertex_index) index: u32) -> VsOut {
     return out;
 }
 
+// As the camera's `casters` tint (frame/camera.wgsl, `outcome_tint`).
 fn stage_colour(code: u32) -> vec3<f32> {
     switch code {
         case 2u: { return vec3<f32>(0.6, 0.2, 0.9); }
         case 3u, 4u: { return vec3<f32>(1.0, 0.55, 0.05); }
-        default: { return vec3<f32>(0.95, 0.1, 0.2); }
+        case 5u: { return vec3<f32>(0.95, 0.85, 0.1); }
+        default: { return vec3<f32>(0.95, 0.1, 0.75); }
     }
 }
 
@@ -74,7 +77,8 @@ fn fs_light_view(in: VsOut) -> @location(0) vec4<f32> {
         let id = textureLoad(reference_ids, texel, 0).x;
         if (id != 0u) {
             let code = outcomes[id - 1u] & 0xffu;
-            let stripe = ((u32(in.clip.x) + u32(in.clip.y)) / 3u) % 2u == 0u;
+            // Thin diagonal stripes, so the map and the mask show between them.
+            let stripe = (u32(in.clip.x) + u32(in.clip.y)) % 4u == 0u;
             if (code >= 2u && stripe) {
                 colour = stage_colour(code);
             }

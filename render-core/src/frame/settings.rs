@@ -210,7 +210,8 @@ pub struct Overlays {
     /// [`FrameSettings::measure`].
     pub error: bool,
     /// Objects in the camera view tinted by what happened to them in the shadow pass: green
-    /// rendered, orange or red culled (by stage), purple excluded; non-casters untinted.
+    /// rendered; culled orange by the light frustum, yellow by light occlusion, magenta by the
+    /// mask or shadow volume; purple excluded; non-casters untinted.
     pub casters: bool,
 }
 

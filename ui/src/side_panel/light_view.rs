@@ -20,8 +20,9 @@ pub fn ui(ui: &mut egui::Ui, input: &PanelInput<'_>) {
         ui.label(
             egui::RichText::new(
                 "shadow map depth, near = bright; receiver mask: BVOL blue, GEOM green, \
-                 FRAG red; stripes: casters the method culled (when measuring), orange by \
-                 the light frustum, red by a later stage",
+                 FRAG red; stripes: casters the method culled (when measuring): orange by \
+                 the light frustum, yellow by light occlusion, magenta by the mask or \
+                 shadow volume",
             )
             .small()
             .color(theme::MUTED),

@@ -83,7 +83,8 @@ pub fn ui(ui: &mut egui::Ui, settings: &mut FrameSettings) {
         .on_hover_text("Draw the shadow map's depth over the top-left corner of the 3D view");
     ui.checkbox(&mut settings.overlays.casters, "Tint casters by outcome")
         .on_hover_text(
-            "Green: drawn into the shadow map; orange or red: culled (by stage); purple: excluded",
+            "Green: drawn into the shadow map; culled: orange by the light frustum, yellow by light \
+             occlusion, magenta by the mask or shadow volume; purple: excluded",
         );
     ui.checkbox(&mut settings.measure, "Measure error and oracle")
         .on_hover_text(MEASURE_HELP);
