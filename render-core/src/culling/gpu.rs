@@ -1060,21 +1060,7 @@ impl GpuCulling {
             return;
         };
         let group = self.mask_group(ctx, scene_gpu, frame.visible_flags, scene);
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("GpuCulling::clear_moved"),
-            color_attachments: &[],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &sized.shadow_depth,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let mut pass = depth_pass(encoder, "GpuCulling::clear_moved", &sized.shadow_depth);
         pass.set_pipeline(&self.clear_moved_pipeline);
         pass.set_bind_group(0, frame.frame_bind_group, &[]);
         pass.set_bind_group(1, &group, &[]);
@@ -1108,21 +1094,7 @@ impl GpuCulling {
                 buffer_entry(4, &scene.selection),
             ],
         });
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("GpuCulling::receiver_pass"),
-            color_attachments: &[],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: frame.camera_depth,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let mut pass = depth_pass(encoder, "GpuCulling::receiver_pass", frame.camera_depth);
         pass.set_pipeline(pipeline);
         pass.set_bind_group(0, frame.frame_bind_group, &[]);
         pass.set_bind_group(1, &group, &[]);
@@ -1259,6 +1231,29 @@ fn stages(method: Method, total: u32, words: &[u32; COUNTERS]) -> Vec<Stage> {
         ));
     }
     out
+}
+
+/// A pass on `depth` alone, keeping what it holds.
+fn depth_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    label: &str,
+    depth: &wgpu::TextureView,
+) -> wgpu::RenderPass<'e> {
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: &[],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: depth,
+            depth_ops: Some(wgpu::Operations {
+                load: wgpu::LoadOp::Load,
+                store: wgpu::StoreOp::Store,
+            }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
 }
 
 fn layout_entry(
