@@ -11,7 +11,7 @@ use std::time::Instant;
 
 use anyhow::Context as _;
 use glam::Vec2;
-use render_core::frame::compare::{CompareAll, CompareRow};
+use render_core::frame::compare::CompareAll;
 use render_core::frame::{FrameInput, FrameRenderer, FrameReport, FrameSettings, SceneGpu};
 use render_core::gpu::{GpuContext, read_texel, read_texture};
 use render_core::scene::{ChunkSettings, Scene, SceneFacts};
@@ -107,9 +107,8 @@ struct Running {
     /// The 3D view's rectangle in egui points, from the last egui pass.
     view_rect: egui::Rect,
     last_report: Option<FrameReport>,
-    /// The "compare all" table's renderer while it is on, and its rows.
+    /// The "compare all" table's renderer while it is on.
     compare: Option<CompareAll>,
-    compare_rows: Vec<CompareRow>,
     last_frame_ms: f64,
     message: Option<String>,
     last_screenshot: Option<String>,
@@ -218,7 +217,6 @@ impl Running {
             view_rect: egui::Rect::NOTHING,
             last_report: None,
             compare: None,
-            compare_rows: Vec::new(),
             last_frame_ms: 0.0,
             message: None,
             last_screenshot: None,
@@ -515,7 +513,7 @@ impl Running {
             message: self.message.as_deref(),
             fps: self.fps,
             selection: selection.as_ref(),
-            compare: Some(&self.compare_rows),
+            compare: self.compare.as_ref().map(CompareAll::rows),
         };
         let view_texture = self.view_texture;
         let full_output = self.egui_ctx.run_ui(raw_input, |ui| {
@@ -594,7 +592,6 @@ impl Running {
                 self.message = Some(format!("Compare all stopped: {e}"));
                 self.settings.compare_all = false;
             }
-            self.compare_rows = compare.rows();
         } else {
             // Frees the second renderer's targets and maps.
             self.compare = None;

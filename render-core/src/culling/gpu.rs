@@ -868,9 +868,10 @@ impl GpuCulling {
                 pass.set_bind_group(0, &bind_group, &[]);
                 pass.dispatch_workgroups(groups, 1, 1);
             }
-            self.rasterise_mask(ctx, encoder, scene_gpu, frame, method);
+            let mask_group = self.mask_group(ctx, scene_gpu, frame.visible_flags, scene);
+            self.rasterise_mask(encoder, scene_gpu, frame, method, &mask_group);
             if method & bits::INCREMENTAL != 0 {
-                self.clear_moved(ctx, encoder, scene_gpu, frame);
+                self.clear_moved(encoder, frame, &mask_group);
             }
         }
         let receiver_pipeline = if method & bits::FRAG != 0 {
@@ -981,16 +982,15 @@ impl GpuCulling {
     /// The BVOL boxes and GEOM geometry of visible receivers into the mask target.
     fn rasterise_mask(
         &self,
-        ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
         scene_gpu: &SceneGpu,
         frame: &CullFrame<'_>,
         method: u32,
+        group: &wgpu::BindGroup,
     ) {
         let (Some(sized), Some(scene)) = (&self.sized, &self.scene) else {
             return;
         };
-        let group = self.mask_group(ctx, scene_gpu, frame.visible_flags, scene);
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("GpuCulling::rasterise_mask"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -1008,7 +1008,7 @@ impl GpuCulling {
             multiview_mask: None,
         });
         pass.set_bind_group(0, frame.frame_bind_group, &[]);
-        pass.set_bind_group(1, &group, &[]);
+        pass.set_bind_group(1, group, &[]);
         if method & bits::BVOL != 0 {
             pass.set_pipeline(&self.box_pipeline);
             pass.draw(0..6, 0..scene.instance_count);
@@ -1051,19 +1051,17 @@ impl GpuCulling {
     /// (to the far plane), before the casters that touch them are drawn again.
     fn clear_moved(
         &self,
-        ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
-        scene_gpu: &SceneGpu,
         frame: &CullFrame<'_>,
+        group: &wgpu::BindGroup,
     ) {
         let (Some(sized), Some(scene)) = (&self.sized, &self.scene) else {
             return;
         };
-        let group = self.mask_group(ctx, scene_gpu, frame.visible_flags, scene);
         let mut pass = depth_pass(encoder, "GpuCulling::clear_moved", &sized.shadow_depth);
         pass.set_pipeline(&self.clear_moved_pipeline);
         pass.set_bind_group(0, frame.frame_bind_group, &[]);
-        pass.set_bind_group(1, &group, &[]);
+        pass.set_bind_group(1, group, &[]);
         pass.draw(0..12, 0..scene.instance_count);
     }
 

@@ -35,19 +35,30 @@ fn cs_reduce(@builtin(global_invocation_id) id: vec3<u32>) {
     pyramid[level.x + id.y * level.y + id.x] = value;
 }
 
-@compute @workgroup_size(8, 8)
-fn cs_reduce_depth(@builtin(global_invocation_id) id: vec3<u32>) {
+// The first level from a depth texture, its values times `sign`; texels beyond the texture
+// (the camera's base is square over its larger side) count as 0, the camera's far plane.
+fn reduce_depth(id: vec3<u32>, sign: f32) {
     if (any(id.xy >= vec2<u32>(level.y))) {
         return;
     }
+    let size = textureDimensions(depth_source);
     let b = block(id.xy, level.w, level.y);
-    var value = 0.0;
+    var value = -3.4e38;
     for (var y = b[0].y; y <= b[1].y; y++) {
         for (var x = b[0].x; x <= b[1].x; x++) {
-            value = max(value, textureLoad(depth_source, vec2<u32>(x, y), 0));
+            var depth = 0.0;
+            if (x < size.x && y < size.y) {
+                depth = textureLoad(depth_source, vec2<u32>(x, y), 0);
+            }
+            value = max(value, sign * depth);
         }
     }
     pyramid[level.x + id.y * level.y + id.x] = value;
+}
+
+@compute @workgroup_size(8, 8)
+fn cs_reduce_depth(@builtin(global_invocation_id) id: vec3<u32>) {
+    reduce_depth(id, 1.0);
 }
 
 @compute @workgroup_size(8, 8)
@@ -66,24 +77,8 @@ fn cs_reduce_mask(@builtin(global_invocation_id) id: vec3<u32>) {
     pyramid[level.x + id.y * level.y + id.x] = value;
 }
 
-// The camera's reversed depth, negated, so the max pyramid holds the farthest surface; texels
-// beyond the view (the base is square) count as the far plane.
+// The camera's reversed depth, negated, so the max pyramid holds the farthest surface.
 @compute @workgroup_size(8, 8)
 fn cs_reduce_camera_depth(@builtin(global_invocation_id) id: vec3<u32>) {
-    if (any(id.xy >= vec2<u32>(level.y))) {
-        return;
-    }
-    let size = textureDimensions(depth_source);
-    let b = block(id.xy, level.w, level.y);
-    var value = -3.4e38;
-    for (var y = b[0].y; y <= b[1].y; y++) {
-        for (var x = b[0].x; x <= b[1].x; x++) {
-            var depth = 0.0;
-            if (x < size.x && y < size.y) {
-                depth = textureLoad(depth_source, vec2<u32>(x, y), 0);
-            }
-            value = max(value, -depth);
-        }
-    }
-    pyramid[level.x + id.y * level.y + id.x] = value;
+    reduce_depth(id, -1.0);
 }

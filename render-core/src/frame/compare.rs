@@ -58,7 +58,8 @@ impl CompareRow {
 /// The comparison's own renderer and where it is in its round.
 pub struct CompareAll {
     renderer: FrameRenderer,
-    rows: Vec<Option<CompareRow>>,
+    /// In [`Method::ALL`] order, those computed so far.
+    rows: Vec<CompareRow>,
     next: usize,
     frames: usize,
     last_drawn: Option<u32>,
@@ -71,7 +72,7 @@ impl CompareAll {
     pub fn new(ctx: &GpuContext) -> Self {
         Self {
             renderer: FrameRenderer::new(ctx),
-            rows: vec![None; Method::ALL.len()],
+            rows: Vec::new(),
             next: 0,
             frames: 0,
             last_drawn: None,
@@ -101,9 +102,9 @@ impl CompareAll {
         );
         if key != self.key || scene_gpu.id != self.scene_id {
             if scene_gpu.id != self.scene_id {
-                self.rows.iter_mut().for_each(|r| *r = None);
+                self.rows.clear();
             }
-            for row in self.rows.iter_mut().flatten() {
+            for row in &mut self.rows {
                 row.stale = true;
             }
             self.key = key;
@@ -124,7 +125,14 @@ impl CompareAll {
         self.frames += 1;
         let drawn = report.counts.casters_rendered;
         if settled(method, self.last_drawn, drawn, self.frames) {
-            self.rows[self.next] = Some(CompareRow::from_report(method, &report));
+            let row = CompareRow::from_report(method, &report);
+            if let Some(old) = self.rows.iter_mut().find(|r| r.method == method) {
+                *old = row;
+            } else {
+                self.rows.push(row);
+                let order = |r: &CompareRow| Method::ALL.iter().position(|m| *m == r.method);
+                self.rows.sort_by_key(order);
+            }
             self.next = (self.next + 1) % Method::ALL.len();
             (self.frames, self.last_drawn) = (0, None);
         } else {
@@ -134,7 +142,7 @@ impl CompareAll {
     }
 
     /// The rows computed so far, in [`Method::ALL`] order.
-    pub fn rows(&self) -> Vec<CompareRow> {
-        self.rows.iter().flatten().cloned().collect()
+    pub fn rows(&self) -> &[CompareRow] {
+        &self.rows
     }
 }

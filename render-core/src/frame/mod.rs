@@ -864,8 +864,8 @@ impl FrameRenderer {
                 scene_gpu,
                 draws,
                 count,
-                // Incremental updates keep last frame's map.
-                phase == 0 && (full_redraw || settings.method != Method::Incr),
+                // Incremental updates keep last frame's map (every other method redraws it).
+                phase == 0 && full_redraw,
             );
             self.timer.end_pass(encoder, query);
         }
