@@ -1,13 +1,24 @@
 //! Everything in shadowlab that computes or draws: scenes, geometry, GPU passes and metrics.
 //! No egui and no winit here; the UI reads the plain data types this crate reports.
+//!
+//! Modules, from the bottom up (each imports only those before it): `geom`, `scene`, `gpu`,
+//! `shaders`, `scene_gpu`, `shadow_view`, `view`, `culling`, `technique`, `shadow_map`,
+//! `metrics`, `overlays`, `frame`.
 
 pub mod culling;
 pub mod frame;
 pub mod geom;
 pub mod gpu;
 pub mod metrics;
+pub mod overlays;
 pub mod scene;
+pub mod scene_gpu;
 pub mod shadow_map;
+pub mod shadow_view;
+pub mod technique;
+pub mod view;
+
+mod shaders;
 
 #[cfg(test)]
 mod shader_validation;

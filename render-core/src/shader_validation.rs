@@ -1,8 +1,49 @@
-//! Every WGSL file in this crate parses and validates with naga, alone and as composed.
+//! Every shader the renderer builds parses and validates with naga, composed by the same
+//! functions the renderer calls; every WGSL file of the crate is part of one of them; and the
+//! constants that WGSL and Rust both name agree.
 
-use std::path::Path;
+use std::collections::HashSet;
 
-fn validate(name: &str, source: &str) {
+use crate::scene_gpu::gpu_data::{FLAG_CASTER, FLAG_DYNAMIC, FLAG_RECEIVER};
+use crate::view::gpu_data::OVERLAY_CASTERS;
+
+/// Every composed shader of the renderer: (label, WGSL).
+fn composed_shaders() -> Vec<(String, String)> {
+    let light_wgsl = crate::shadow_map::LIGHT_WGSL;
+    let mut shaders: Vec<(String, String)> = crate::culling::shader_sources()
+        .into_iter()
+        .map(|(label, source)| (label.to_owned(), source))
+        .collect();
+    shaders.extend([
+        (
+            "Frame::camera_shader".to_owned(),
+            crate::frame::camera_shader_source(light_wgsl, true),
+        ),
+        (
+            "Frame::camera_shader (no early depth test)".to_owned(),
+            crate::frame::camera_shader_source(light_wgsl, false),
+        ),
+        (
+            "Visibility::shader".to_owned(),
+            crate::view::visibility_shader_source(),
+        ),
+        (
+            "ShadowMap::shader".to_owned(),
+            crate::shadow_map::maps::shader_source(),
+        ),
+        (
+            "LightInset".to_owned(),
+            crate::overlays::light_inset::shader_source(),
+        ),
+        (
+            "HeatMap".to_owned(),
+            crate::metrics::heat_map_shader_source(),
+        ),
+    ]);
+    shaders
+}
+
+fn validate(name: &str, source: &str) -> naga::Module {
     let module = naga::front::wgsl::parse_str(source)
         .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(source)));
     naga::valid::Validator::new(
@@ -11,54 +52,65 @@ fn validate(name: &str, source: &str) {
     )
     .validate(&module)
     .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(source)));
+    module
 }
 
-fn wgsl_files(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
-    for entry in std::fs::read_dir(dir)
-        .expect("source dir is readable")
-        .flatten()
-    {
-        let path = entry.path();
-        if path.is_dir() {
-            wgsl_files(&path, out);
-        } else if path.extension().is_some_and(|e| e == "wgsl") {
-            out.push(path);
-        }
+/// The value of the named `u32` constant of `module`, if it has one.
+fn u32_constant(module: &naga::Module, name: &str) -> Option<u32> {
+    let (_, constant) = module
+        .constants
+        .iter()
+        .find(|(_, c)| c.name.as_deref() == Some(name))?;
+    match module.global_expressions[constant.init] {
+        naga::Expression::Literal(naga::Literal::U32(v)) => Some(v),
+        naga::Expression::Literal(naga::Literal::AbstractInt(v)) => u32::try_from(v).ok(),
+        _ => None,
     }
 }
 
-/// The files a shader's "Prepended with a.wgsl, b.wgsl and c.wgsl." comment names, joined.
-fn prelude_of(source: &str) -> String {
-    let Some(line) = source.lines().find(|l| l.contains("Prepended with ")) else {
-        return String::new();
-    };
-    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
-    line.split(|c: char| c.is_whitespace() || c == ',')
-        .map(|w| w.trim_end_matches('.'))
-        .filter(|w| Path::new(w).extension().is_some_and(|e| e == "wgsl"))
-        .map(|w| {
-            std::fs::read_to_string(src.join(w)).unwrap_or_else(|e| panic!("prelude {w}: {e}"))
-        })
-        .collect::<Vec<_>>()
-        .join("\n")
+#[test]
+fn every_composed_shader_validates() {
+    let shaders = composed_shaders();
+    assert!(
+        shaders.len() >= 9,
+        "expected every shader, found {}",
+        shaders.len()
+    );
+    for (name, source) in &shaders {
+        validate(name, source);
+    }
 }
 
 #[test]
-fn every_wgsl_file_validates() {
-    let mut files = Vec::new();
-    wgsl_files(
-        &Path::new(env!("CARGO_MANIFEST_DIR")).join("src"),
-        &mut files,
-    );
-    assert!(
-        files.len() >= 5,
-        "expected the crate's shaders, found {files:?}"
-    );
-    for path in files {
-        let source = std::fs::read_to_string(&path).expect("shader is readable");
-        let name = path.display().to_string();
-        // Files that use shared declarations are validated as the renderer composes them.
-        let composed = format!("{}\n{source}", prelude_of(&source));
-        validate(&name, &composed);
+fn every_wgsl_file_is_part_of_a_shader() {
+    let composed: Vec<String> = composed_shaders().into_iter().map(|(_, s)| s).collect();
+    let used: HashSet<&str> = crate::shaders::files()
+        .filter(|path| {
+            let marker = format!("// ---- {path}\n");
+            composed.iter().any(|s| s.contains(&marker))
+        })
+        .collect();
+    let unused: Vec<&str> = crate::shaders::files()
+        .filter(|p| !used.contains(p))
+        .collect();
+    assert!(unused.is_empty(), "files no shader uses: {unused:?}");
+}
+
+#[test]
+fn constants_named_on_both_sides_agree() {
+    let shaders = composed_shaders();
+    let camera = shaders
+        .iter()
+        .find(|(name, _)| name == "Frame::camera_shader")
+        .map(|(name, source)| validate(name, source))
+        .expect("the camera shader is composed");
+    for (name, value) in [
+        ("FLAG_CASTER", FLAG_CASTER),
+        ("FLAG_RECEIVER", FLAG_RECEIVER),
+        ("FLAG_DYNAMIC", FLAG_DYNAMIC),
+        ("OVERLAY_CASTERS", OVERLAY_CASTERS),
+        ("OUTCOME_RENDERED", crate::culling::codes::OUTCOME_RENDERED),
+    ] {
+        assert_eq!(u32_constant(&camera, name), Some(value), "{name}");
     }
 }

@@ -1,62 +1,31 @@
-// Culling parameters and per-instance bounds, shared by the caster tests (culling/cull.wgsl)
-// and the bounding-volume mask (culling/masks.wgsl). Keep in sync with culling/gpu.rs.
+// Culling parameters and per-instance light boxes, shared by the caster tests (culling/cull.wgsl)
+// and the masks (culling/masks.wgsl). Keep in sync with culling/gpu/gpu_data.rs. Per-view
+// data (state, draws, counters, pyramids, masks) lies in one block per shadow view.
+#import culling/codes.wgsl
+#import scene_gpu/instance.wgsl
+#import shadow_view/views.wgsl
 
-struct CullParams {
-    light_clip_from_world: mat4x4<f32>,
-    // For DigitalRune's shadow volumes: light clip space back to world, and the camera.
-    world_from_light_clip: mat4x4<f32>,
+// Shared by every view.
+struct CullFrame {
     camera_clip_from_world: mat4x4<f32>,
-    // x: shadow map size in texels; y: mask size in texels; z: shadow texels per mask texel;
-    // w: instance count.
-    sizes: vec4<u32>,
-    // x: method bits (METHOD_*); y: texels a mask built from whole receivers is widened by
-    // (PCF radius, normal offset, rasterisation); z, w: unused.
-    params: vec4<u32>,
-    // x, y: the camera's view in pixels; z: the camera pyramid's base size; w: unused.
+    // x: instance count (the stride of per-view blocks); y: view count; z: the camera
+    // pyramid's base size; w: unused.
+    counts: vec4<u32>,
+    // x, y: the camera's view in pixels; z, w: unused.
     camera: vec4<u32>,
+}
+
+// One view's culling parameters.
+struct CullView {
+    // x: method bits (METHOD_*) for this view this frame; y: texels a mask built from whole
+    // receivers is widened by (PCF radius, normal offset, rasterisation); z: shadow texels per
+    // mask texel; w: the mask's side in texels.
+    params: vec4<u32>,
     // x: how far a shadow volume starts before its caster (normalised light depth: the normal
     // offset and a texel); y, z, w: unused.
     volume: vec4<f32>,
-}
-
-const METHOD_OCCLUSION: u32 = 1u;
-const METHOD_MASK: u32 = 2u;
-const METHOD_DRAW_RECEIVERS: u32 = 4u;
-const METHOD_ORACLE: u32 = 8u;
-const METHOD_TEMPORAL: u32 = 16u;
-// Receivers mark the mask with their geometry (GEOM), their boxes (BVOL), or by what was
-// visible in the light's view last frame (GEOM+BVOL).
-const METHOD_GEOM: u32 = 32u;
-const METHOD_BVOL: u32 = 64u;
-// The mask holds, per texel, the depth a caster must be nearer than to matter (FRAG).
-const METHOD_FRAG: u32 = 128u;
-// DigitalRune: the caster's shadow volume against the camera's frustum and depth, extruded to
-// the far plane (conservative) or to the farthest depth behind it in the light's view
-// (METHOD_PROGRESSIVE, which may be too short).
-const METHOD_VOLUME: u32 = 256u;
-const METHOD_PROGRESSIVE: u32 = 512u;
-// Bittner 5.1: the map persists; the mask is the moving objects' old and new boxes, which are
-// cleared and redrawn.
-const METHOD_INCREMENTAL: u32 = 1024u;
-
-// Per instance, in Bounds::flags.
-const CULL_CASTER: u32 = 1u;
-const CULL_RECEIVER: u32 = 2u;
-const CULL_DYNAMIC: u32 = 4u;
-
-// Per instance, in the state word: bits 0-7 the outcome code (frame/gpu_data.rs), then:
-const STATE_LIGHT_VISIBLE: u32 = 256u;
-const STATE_FIRST_PHASE: u32 = 512u;
-// Bits 16-31: the progressive shadow volume's far end found last frame, in 1/65535 of the
-// light's depth range (rounded up).
-const STATE_EXTENT_SHIFT: u32 = 16u;
-
-struct Bounds {
-    // The world-space box and the CULL_* bits.
-    min: vec3<f32>,
-    flags: u32,
-    max: vec3<f32>,
-    padding: u32,
+    // Words per view of x: the occlusion pyramid, y: the mask pyramid; z, w: unused.
+    pyramids: vec4<u32>,
 }
 
 // The instance's box in light clip space: x, y in NDC, z in normalised depth.
@@ -65,7 +34,7 @@ struct LightBox {
     hi: vec3<f32>,
 }
 
-fn light_box(b: Bounds, light_clip_from_world: mat4x4<f32>) -> LightBox {
+fn light_box(b: InstanceBounds, light_clip_from_world: mat4x4<f32>) -> LightBox {
     var out: LightBox;
     out.lo = vec3<f32>(1e30);
     out.hi = vec3<f32>(-1e30);

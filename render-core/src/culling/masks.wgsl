@@ -1,19 +1,30 @@
 // Receiver masks rasterised in the light's view (Bittner 4.1, 4.2): the bounding boxes (BVOL)
 // or the geometry (GEOM) of visible receivers mark the mask target, at the mask's resolution.
 // Casters are widened by the PCF footprint when tested against these masks (culling/cull.wgsl).
-// Prepended with frame/instance.wgsl, frame/common.wgsl and culling/cull_common.wgsl.
+// One view per pass: the view's mask layer, or its square of the shadow map.
+// Marked texels hold a depth beyond every caster (MASK_MARKED_*, culling/codes.wgsl): only
+// coverage counts. Boxes and geometry mark different values so the light's view inset can
+// colour them (overlays/light_inset.wgsl).
+#import view/common.wgsl
+#import culling/cull_common.wgsl
 
-// Marked texels hold a depth beyond every caster: only coverage counts. Boxes and geometry
-// mark different values so the light's view inset can colour them (frame/light_inset.wgsl).
-const MARKED_BOX: f32 = 2.0;
-const MARKED_GEOMETRY: f32 = 3.0;
-
-@group(1) @binding(0) var<uniform> cull: CullParams;
-@group(1) @binding(1) var<storage, read> bounds: array<Bounds>;
-@group(1) @binding(2) var<storage, read> visible: array<u32>;
-@group(1) @binding(3) var<storage, read> state: array<u32>;
+@group(1) @binding(0) var<uniform> cull: CullFrame;
+@group(1) @binding(1) var<storage, read> cull_views: array<CullView>;
+@group(1) @binding(2) var<storage, read> bounds: array<InstanceBounds>;
+@group(1) @binding(3) var<storage, read> visible: array<u32>;
+@group(1) @binding(4) var<storage, read> state: array<u32>;
 // Last frame's boxes, for incremental updates (Bittner 5.1).
-@group(1) @binding(4) var<storage, read> previous_bounds: array<Bounds>;
+@group(1) @binding(5) var<storage, read> previous_bounds: array<InstanceBounds>;
+// The view this pass renders.
+@group(2) @binding(0) var<uniform> pass_view: ShadowView;
+
+fn pass_params() -> vec4<u32> {
+    return cull_views[pass_view.index.x].params;
+}
+
+fn pass_state(instance: u32) -> u32 {
+    return state[pass_view.index.x * cull.counts.x + instance];
+}
 
 struct MaskOut {
     @builtin(position) clip: vec4<f32>,
@@ -28,20 +39,20 @@ struct MaskOut {
 fn vs_box(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32) -> MaskOut {
     var out: MaskOut;
     out.clip = vec4<f32>(2.0, 2.0, 2.0, 1.0);
-    out.marked = MARKED_BOX;
+    out.marked = MASK_MARKED_BOX;
     let flags = bounds[instance].flags;
-    var wanted = visible[instance] != 0u && (flags & CULL_RECEIVER) != 0u;
-    if ((cull.params.x & METHOD_GEOM) != 0u) {
-        wanted = wanted && (state[instance] & STATE_LIGHT_VISIBLE) == 0u;
+    var wanted = visible[instance] != 0u && (flags & FLAG_RECEIVER) != 0u;
+    if ((pass_params().x & METHOD_GEOM) != 0u) {
+        wanted = wanted && (pass_state(instance) & STATE_LIGHT_VISIBLE) == 0u;
     }
     if (!wanted) {
         return out;
     }
-    let box = light_box(bounds[instance], cull.light_clip_from_world);
+    let box = light_box(bounds[instance], pass_view.light_clip_from_world);
     if (!in_light_frustum(box)) {
         return out;
     }
-    let pad = 2.0 / f32(cull.sizes.y);
+    let pad = 2.0 / f32(pass_params().w);
     let lo = box.lo.xy - pad;
     let hi = box.hi.xy + pad;
     // Two triangles: corners (lo, lo), (hi, lo), (lo, hi) and (lo, hi), (hi, lo), (hi, hi).
@@ -68,14 +79,14 @@ fn moved_box_corner(vertex: u32, instance: u32, pad: f32) -> vec4<f32> {
     let now = bounds[instance];
     let before = previous_bounds[instance];
     let moved = any(now.min != before.min) || any(now.max != before.max);
-    if ((now.flags & CULL_DYNAMIC) == 0u || !moved) {
+    if ((now.flags & FLAG_DYNAMIC) == 0u || !moved) {
         return vec4<f32>(2.0, 2.0, 2.0, 1.0);
     }
     var which = now;
     if (vertex < 6u) {
         which = before;
     }
-    let box = light_box(which, cull.light_clip_from_world);
+    let box = light_box(which, pass_view.light_clip_from_world);
     if (!in_light_frustum(box)) {
         return vec4<f32>(2.0, 2.0, 2.0, 1.0);
     }
@@ -86,8 +97,8 @@ fn moved_box_corner(vertex: u32, instance: u32, pad: f32) -> vec4<f32> {
 @vertex
 fn vs_moved_box(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32) -> MaskOut {
     var out: MaskOut;
-    out.clip = moved_box_corner(vertex, instance, 2.0 / f32(cull.sizes.y));
-    out.marked = MARKED_BOX;
+    out.clip = moved_box_corner(vertex, instance, 2.0 / f32(pass_params().w));
+    out.marked = MASK_MARKED_BOX;
     return out;
 }
 
@@ -110,10 +121,10 @@ fn fs_clear() -> ClearOut {
 @vertex
 fn vs_geometry(@location(0) position: vec3<f32>, @builtin(instance_index) instance: u32) -> MaskOut {
     var out: MaskOut;
-    out.clip = frame.light_clip_from_world * vec4<f32>(world_position(instance, position), 1.0);
+    out.clip = pass_view.light_clip_from_world * vec4<f32>(world_position(instance, position), 1.0);
     // Depth is not tested: keep every fragment inside the clip volume's depth range.
     out.clip.z = 0.5 * out.clip.w;
-    out.marked = MARKED_GEOMETRY;
+    out.marked = MASK_MARKED_GEOMETRY;
     return out;
 }
 

@@ -60,26 +60,14 @@ impl FrameRenderer {
         loop {
             ctx.wait_idle()?;
             self.collect_finished(ctx, &mut report);
-            let frame = self.frame_index;
-            let visible = self
-                .latest_visibility
-                .is_some_and(|v| v.frame_index == frame);
-            let measured =
-                !self.measuring || self.latest_measured.is_some_and(|m| m.frame_index == frame);
-            let culled = !self.method.gpu_driven()
-                || (self
-                    .culling
-                    .latest()
-                    .is_some_and(|c| c.frame_index == frame)
-                    && self
-                        .culling
-                        .latest_outcomes()
-                        .is_some_and(|(f, _)| f == frame));
-            if visible && measured && culled {
+            if self.last_frame_complete() {
                 return Ok(report);
             }
             if Instant::now() > deadline {
-                log::warn!("frame {frame}: GPU counts did not come back within 10 s");
+                log::warn!(
+                    "frame {}: GPU counts did not come back within 10 s",
+                    self.frame_index
+                );
                 return Ok(report);
             }
             std::thread::sleep(Duration::from_millis(1));

@@ -4,8 +4,9 @@
 //! settled; when the view or the settings change the table starts over (old rows stay, marked
 //! stale, until their method's turn comes).
 
-use super::{FrameInput, FrameRenderer, FrameReport, FrameSettings, Method, SceneGpu, pass_label};
+use super::{FrameInput, FrameRenderer, FrameReport, FrameSettings, Method, SceneGpu};
 use crate::gpu::GpuContext;
+use crate::gpu::pass_label;
 use crate::scene::Scene;
 
 /// Frames a method that relies on last frame's visibility may take to settle.

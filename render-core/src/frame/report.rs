@@ -1,16 +1,19 @@
-//! What a frame reports: counts, stages, timings. The stats JSON and the panels read this.
+//! What a frame reports: counts, stages, timings, per shadow view and in total. The stats
+//! JSON and the panels read this.
 
 use serde::Serialize;
 
-use crate::gpu::PassTiming;
-use crate::metrics::ShadowError;
+use crate::culling::Stage;
+use crate::gpu::{PassTiming, pass_label};
+use crate::metrics::{Measured, ShadowError};
+use crate::technique::{ShadowReport, ViewReport};
 
-/// Object and triangle counts of one frame.
+/// Object and triangle counts of one frame; shadow counts are summed over the views.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct FrameCounts {
     /// Objects that cast shadows in the scene.
     pub casters_total: u32,
-    /// Objects drawn into the shadow map.
+    /// Objects drawn into shadow maps (an object drawn into two views counts twice).
     pub casters_rendered: u32,
     /// Casters a shadow map identical where it is read needs (when measuring).
     pub casters_oracle: Option<u32>,
@@ -24,40 +27,6 @@ pub struct FrameCounts {
     pub triangles_camera: u64,
 }
 
-/// What happened to an object in a frame's shadow pass.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum CasterOutcome {
-    NotACaster,
-    Rendered,
-    /// Culled by the stage with this index in [`FrameReport::stages`].
-    Culled {
-        stage: usize,
-    },
-    /// Left out on request (`FrameRenderer::exclude_casters`).
-    Excluded,
-}
-
-impl CasterOutcome {
-    /// `rendered`, the culling stage's name, `excluded` or `not a caster`, as reports write it.
-    pub fn describe(self, stages: &[Stage]) -> String {
-        match self {
-            Self::NotACaster => "not a caster".into(),
-            Self::Rendered => "rendered".into(),
-            Self::Culled { stage } => stages
-                .get(stage)
-                .map_or_else(|| format!("stage {stage}"), |s| s.name.clone()),
-            Self::Excluded => "excluded".into(),
-        }
-    }
-}
-
-/// One caster-culling stage and how many casters remain after it.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Stage {
-    pub name: String,
-    pub remaining: u32,
-}
-
 /// CPU time of the frame's parts, milliseconds.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct CpuTimings {
@@ -65,7 +34,7 @@ pub struct CpuTimings {
     pub encode_submit_ms: f64,
 }
 
-/// Facts about the fitted light frustum.
+/// Facts about the first shadow view's light frustum.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct LightFacts {
     pub texel_size_m: [f32; 2],
@@ -79,8 +48,13 @@ pub struct FrameReport {
     pub frame_index: u64,
     pub width: u32,
     pub height: u32,
+    /// The shadow technique (`single`).
+    pub technique: &'static str,
     pub counts: FrameCounts,
+    /// Caster-culling stages summed over the views.
     pub stages: Vec<Stage>,
+    /// Per shadow view: stages, casters, oracle, texel size.
+    pub views: Vec<ViewReport>,
     pub cpu: CpuTimings,
     /// GPU time per pass of frame `gpu_frame_index` (timestamps arrive late in the window).
     pub gpu: Vec<PassTiming>,
@@ -91,22 +65,42 @@ pub struct FrameReport {
     pub measured_frame_index: Option<u64>,
     /// For the GPU culling methods: the frame whose counts and stages these are.
     pub culled_frame_index: Option<u64>,
-}
-
-/// Pass labels, shared by the renderer and readers of [`FrameReport::gpu`].
-pub mod pass_label {
-    pub const CAMERA_PREPASS: &str = "camera depth+id";
-    pub const VISIBILITY: &str = "visible objects";
-    pub const SHADOW_MAP: &str = "shadow map";
-    /// Measurement only: the reference map of every caster. Not part of a method's cost.
-    pub const REFERENCE_MAP: &str = "reference map (measure)";
-    /// The GPU culling methods: receiver mask, pyramids and caster tests (both phases).
-    pub const CULLING: &str = "mask + culling";
-    pub const SHADING: &str = "shading";
-    pub const OVERLAYS: &str = "overlays";
+    /// What the device changes about the method (a fallback), in words.
+    pub notes: Vec<String>,
+    /// Why this frame's shadow passes could not run as asked, and what was drawn instead.
+    pub shadow_failure: Option<String>,
 }
 
 impl FrameReport {
+    /// Takes the technique's newest report: per view, and summed into the totals.
+    pub(super) fn set_shadows(&mut self, shadows: ShadowReport) {
+        self.counts.casters_total = shadows.casters_total;
+        self.counts.casters_rendered = shadows.views.iter().map(|v| v.casters_rendered).sum();
+        self.counts.triangles_shadow = shadows.views.iter().map(|v| v.triangles_shadow).sum();
+        self.stages = summed_stages(&shadows.views);
+        if let Some(first) = shadows.views.first() {
+            self.light = LightFacts {
+                texel_size_m: first.texel_size_m,
+                depth_range_m: first.depth_range_m,
+                covers_whole_scene: first.covers_whole_scene,
+            };
+        }
+        self.views = shadows.views;
+        self.culled_frame_index = shadows.culled_frame_index;
+        self.notes = shadows.notes;
+        self.shadow_failure = shadows.failure;
+    }
+
+    /// Takes a measured frame: error, and the oracle per view and in total.
+    pub(super) fn set_measured(&mut self, measured: &Measured) {
+        self.counts.casters_oracle = Some(measured.casters_oracle);
+        self.error = Some(measured.error);
+        self.measured_frame_index = Some(measured.frame_index);
+        for (view, oracle) in self.views.iter_mut().zip(&measured.oracle_per_view) {
+            view.casters_oracle = Some(*oracle);
+        }
+    }
+
     /// GPU time of the passes called `label` (summed where a frame has several, like the
     /// culling methods' two shadow passes), if measured.
     pub fn gpu_ms(&self, label: &str) -> Option<f64> {
@@ -129,5 +123,70 @@ impl FrameReport {
     pub fn tightness(&self) -> Option<f64> {
         let oracle = self.counts.casters_oracle?;
         (oracle > 0).then(|| f64::from(self.counts.casters_rendered) / f64::from(oracle))
+    }
+}
+
+/// The views' stages, remaining counts summed stage by stage (every view of a frame runs the
+/// same method, so the same stages).
+fn summed_stages(views: &[ViewReport]) -> Vec<Stage> {
+    let mut stages: Vec<Stage> = views.first().map(|v| v.stages.clone()).unwrap_or_default();
+    for view in views.iter().skip(1) {
+        for (total, stage) in stages.iter_mut().zip(&view.stages) {
+            total.remaining += stage.remaining;
+        }
+    }
+    stages
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn view(rendered: u32, stages: &[(&str, u32)]) -> ViewReport {
+        ViewReport {
+            stages: stages.iter().map(|(n, r)| Stage::new(n, *r)).collect(),
+            casters_rendered: rendered,
+            triangles_shadow: u64::from(rendered) * 12,
+            ..ViewReport::default()
+        }
+    }
+
+    #[test]
+    fn totals_are_the_sums_of_the_views() {
+        let mut report = FrameReport::default();
+        report.set_shadows(ShadowReport {
+            casters_total: 10,
+            views: vec![
+                view(
+                    3,
+                    &[
+                        ("scene casters", 10),
+                        ("light frustum", 6),
+                        ("light occlusion", 3),
+                    ],
+                ),
+                view(
+                    4,
+                    &[
+                        ("scene casters", 10),
+                        ("light frustum", 7),
+                        ("light occlusion", 4),
+                    ],
+                ),
+            ],
+            ..ShadowReport::default()
+        });
+        assert_eq!(report.counts.casters_rendered, 7);
+        assert_eq!(report.counts.triangles_shadow, 84);
+        let remaining: Vec<u32> = report.stages.iter().map(|s| s.remaining).collect();
+        assert_eq!(remaining, [20, 13, 7]);
+        report.set_measured(&Measured {
+            frame_index: 1,
+            casters_oracle: 5,
+            oracle_per_view: vec![2, 3],
+            ..Measured::default()
+        });
+        assert_eq!(report.views[1].casters_oracle, Some(3));
+        assert_eq!(report.counts.casters_oracle, Some(5));
     }
 }

@@ -1,17 +1,20 @@
 //! A few `u32` counters that shaders add to atomically, cleared each frame and read back
-//! without stalling. Long-lived.
+//! without stalling. Long-lived; grown when a frame needs more (more shadow views).
 
 use super::AsyncReadback;
 
-/// `N` counters in one storage buffer plus a readback ring.
-pub struct GpuCounters<const N: usize> {
+/// Counters in one storage buffer plus a readback ring.
+pub struct GpuCounters {
+    label: String,
     buffer: wgpu::Buffer,
     readback: AsyncReadback,
+    words: usize,
 }
 
-impl<const N: usize> GpuCounters<N> {
-    pub fn new(device: &wgpu::Device, label: &str) -> Self {
-        let size = (N * 4) as u64;
+impl GpuCounters {
+    pub fn new(device: &wgpu::Device, label: &str, words: usize) -> Self {
+        let words = words.max(1);
+        let size = (words * 4) as u64;
         let buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some(label),
             size,
@@ -21,9 +24,21 @@ impl<const N: usize> GpuCounters<N> {
             mapped_at_creation: false,
         });
         Self {
+            label: label.to_owned(),
             buffer,
             readback: AsyncReadback::new(device, label, size, 3),
+            words,
         }
+    }
+
+    /// Makes room for at least `words` counters; returns true when the buffer was replaced
+    /// (bind groups that hold it must be rebuilt). Readbacks in flight are dropped.
+    pub fn ensure_words(&mut self, device: &wgpu::Device, words: usize) -> bool {
+        if words <= self.words {
+            return false;
+        }
+        *self = Self::new(device, &self.label, words.next_power_of_two());
+        true
     }
 
     /// The storage buffer shaders bind.
@@ -47,11 +62,10 @@ impl<const N: usize> GpuCounters<N> {
     }
 
     /// The newest counters that have come back and their frame (needs a device poll first).
-    pub fn take_latest(&mut self) -> Option<(u64, [u32; N])> {
+    pub fn take_latest(&mut self) -> Option<(u64, Vec<u32>)> {
         let (tag, bytes) = self.readback.take_latest()?;
-        let words: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes);
-        let mut out = [0; N];
-        out.copy_from_slice(words.get(..N)?);
-        Some((tag, out))
+        let mut words: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes);
+        words.truncate(self.words);
+        Some((tag, words))
     }
 }

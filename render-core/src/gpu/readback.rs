@@ -17,6 +17,22 @@ pub fn read_texture(
     texture: &wgpu::Texture,
     aspect: wgpu::TextureAspect,
 ) -> Result<TexelRows, GpuError> {
+    read_texture_layer(ctx, texture, aspect, 0)
+}
+
+/// Reads layer `layer` (mip 0) of a 2D texture array and blocks until the copy is done.
+pub fn read_texture_layer(
+    ctx: &GpuContext,
+    texture: &wgpu::Texture,
+    aspect: wgpu::TextureAspect,
+    layer: u32,
+) -> Result<TexelRows, GpuError> {
+    if layer >= texture.depth_or_array_layers() {
+        return Err(GpuError::Readback {
+            what: format!("layer {layer}"),
+            reason: format!("the texture has {} layers", texture.depth_or_array_layers()),
+        });
+    }
     let (width, height) = (texture.width(), texture.height());
     let bytes_per_texel = texture
         .format()
@@ -43,7 +59,11 @@ pub fn read_texture(
         wgpu::TexelCopyTextureInfo {
             texture,
             mip_level: 0,
-            origin: wgpu::Origin3d::ZERO,
+            origin: wgpu::Origin3d {
+                x: 0,
+                y: 0,
+                z: layer,
+            },
             aspect,
         },
         wgpu::TexelCopyBufferInfo {

@@ -5,6 +5,19 @@ use wgpu_profiler::{GpuProfiler, GpuProfilerQuery, GpuProfilerSettings, GpuTimer
 
 use super::GpuContext;
 
+/// Pass labels, shared by the renderer and readers of [`FrameReport::gpu`].
+pub mod pass_label {
+    pub const CAMERA_PREPASS: &str = "camera depth+id";
+    pub const VISIBILITY: &str = "visible objects";
+    pub const SHADOW_MAP: &str = "shadow map";
+    /// Measurement only: the reference map of every caster. Not part of a method's cost.
+    pub const REFERENCE_MAP: &str = "reference map (measure)";
+    /// The GPU culling methods: receiver mask, pyramids and caster tests (both phases).
+    pub const CULLING: &str = "mask + culling";
+    pub const SHADING: &str = "shading";
+    pub const OVERLAYS: &str = "overlays";
+}
+
 /// GPU time of one pass in one frame.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct PassTiming {

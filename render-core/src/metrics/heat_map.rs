@@ -1,9 +1,13 @@
 //! The error heat map overlay. Long-lived pipeline; the bind group follows the view targets.
 
-use crate::frame::targets::{COLOR_FORMAT, ViewTargets};
-use crate::gpu::fullscreen_pipeline;
+use crate::gpu::{bind_group_layout, color_attachment, fullscreen_pipeline, texture, view_entry};
+use crate::shaders::compose;
+use crate::view::targets::{COLOR_FORMAT, ViewTargets};
 
-const HEAT_MAP_WGSL: &str = include_str!("heat_map.wgsl");
+/// The heat map's shader, as the renderer and the validation test compose it.
+pub(crate) fn shader_source() -> String {
+    compose("metrics/heat_map.wgsl", &[])
+}
 
 pub struct HeatMapOverlay {
     pipeline: wgpu::RenderPipeline,
@@ -12,19 +16,15 @@ pub struct HeatMapOverlay {
 
 impl HeatMapOverlay {
     pub fn new(device: &wgpu::Device) -> Self {
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("HeatMap::layout"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::FRAGMENT,
-                ty: wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
-                },
-                count: None,
-            }],
-        });
+        let layout = bind_group_layout(
+            device,
+            "HeatMap::layout",
+            wgpu::ShaderStages::FRAGMENT,
+            &[texture(
+                wgpu::TextureSampleType::Float { filterable: false },
+                wgpu::TextureViewDimension::D2,
+            )],
+        );
         let target = wgpu::ColorTargetState {
             format: COLOR_FORMAT,
             blend: Some(wgpu::BlendState::ALPHA_BLENDING),
@@ -33,7 +33,7 @@ impl HeatMapOverlay {
         let pipeline = fullscreen_pipeline(
             device,
             "HeatMap",
-            HEAT_MAP_WGSL,
+            &shader_source(),
             "fs_heat_map",
             &layout,
             target,
@@ -51,22 +51,14 @@ impl HeatMapOverlay {
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("HeatMap::bind_group"),
             layout: &self.layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: wgpu::BindingResource::TextureView(&targets.shadow_view),
-            }],
+            entries: &[view_entry(0, &targets.shadow_view)],
         });
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("HeatMap::draw"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &targets.color_view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
+            color_attachments: &[Some(color_attachment(
+                &targets.color_view,
+                wgpu::LoadOp::Load,
+            ))],
             depth_stencil_attachment: None,
             timestamp_writes: None,
             occlusion_query_set: None,

@@ -1,20 +1,28 @@
 //! Measuring a method against the reference: shadow error (visible pixels whose shadow factor
-//! differs from the `none` reference with the same light frustum) and the oracle caster set.
+//! differs from the `none` reference with the same shadow views) and the oracle caster set,
+//! per shadow view.
 //!
-//! The shading pass computes each receiver pixel's shadow factor from both maps, counts the
-//! pixels that differ, and marks the reference casters that win the depth test at every
-//! shadowed PCF tap: the oracle. This module owns the buffers it writes (long-lived, resized
-//! with the scene) and reads the counts back without stalling.
+//! The shading pass computes each receiver pixel's light from the method and the reference
+//! (the technique's light term), counts the pixels that differ, and marks the reference
+//! casters that win the depth test at every shadowed PCF tap: the oracle. This module owns
+//! the buffers it writes (`metrics/measure.wgsl`; long-lived, grown with the scene and the
+//! views) and reads the counts back without stalling.
 
 mod heat_map;
 
 pub use heat_map::HeatMapOverlay;
+#[cfg(test)]
+pub(crate) use heat_map::shader_source as heat_map_shader_source;
 
 use serde::Serialize;
 
-use crate::frame::SceneGpu;
-use crate::gpu::{GpuContext, GpuCounters, GpuError, read_flags};
-use crate::shadow_map::ShadowMapPass;
+use crate::gpu::{
+    GpuContext, GpuCounters, GpuError, bind_group_layout, buffer_entry, read_buffer, storage,
+};
+use crate::scene_gpu::SceneGpu;
+
+/// Counter words before the per-view oracle counts (`Measured` in measure.wgsl).
+const ERROR_WORDS: usize = 3;
 
 /// Shadow error of one frame, in pixels.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
@@ -28,124 +36,90 @@ pub struct ShadowError {
 }
 
 /// What came back from one measured frame.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Measured {
     pub frame_index: u64,
     pub error: ShadowError,
-    /// Casters in the oracle set.
+    /// Casters in the oracle set, summed over the views.
     pub casters_oracle: u32,
+    /// Per view, casters in its oracle set.
+    pub oracle_per_view: Vec<u32>,
 }
 
-/// Oracle flags, counters and the shading pass's group 1 (both shadow maps and these buffers).
+/// Oracle flags, counters and the shading pass's group 2 (`metrics/measure.wgsl`).
 pub struct MeasureResources {
     pub layout: wgpu::BindGroupLayout,
+    /// Per view and instance.
     oracle_flags: wgpu::Buffer,
-    /// Keep in sync with `Measured` in frame/camera.wgsl: visible, missing, extra, oracle.
-    counters: GpuCounters<4>,
-    capacity: u32,
-    /// Rebuilt when the shadow resolution or the flag buffer changes.
-    bind_group: Option<(u32, wgpu::BindGroup)>,
+    counters: GpuCounters,
+    /// Instances and views the flags hold.
+    capacity: (u32, u32),
+    /// Views of the frames in flight, by frame index.
+    views_in_flight: std::collections::VecDeque<(u64, u32)>,
 }
 
 impl MeasureResources {
     pub fn new(device: &wgpu::Device) -> Self {
-        let texture = |binding, sample_type| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::FRAGMENT,
-            ty: wgpu::BindingType::Texture {
-                sample_type,
-                view_dimension: wgpu::TextureViewDimension::D2,
-                multisampled: false,
-            },
-            count: None,
-        };
-        let storage = |binding| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::FRAGMENT,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Storage { read_only: false },
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        };
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("Measure::layout"),
-            entries: &[
-                texture(0, wgpu::TextureSampleType::Depth),
-                texture(1, wgpu::TextureSampleType::Depth),
-                texture(2, wgpu::TextureSampleType::Uint),
-                storage(3),
-                storage(4),
-            ],
-        });
+        let layout = bind_group_layout(
+            device,
+            "Measure::layout",
+            wgpu::ShaderStages::FRAGMENT,
+            &[storage(false), storage(false), storage(true)],
+        );
         Self {
             layout,
             oracle_flags: create_flags(device, 1),
-            counters: GpuCounters::new(device, "Measure::counters"),
-            capacity: 1,
-            bind_group: None,
+            counters: GpuCounters::new(device, "Measure::counters", ERROR_WORDS + 1),
+            capacity: (1, 1),
+            views_in_flight: std::collections::VecDeque::new(),
         }
     }
 
-    /// Clears flags and counters for a new frame and returns the shading pass's group 1.
+    /// Clears flags and counters for a new frame of `views` views and returns the shading
+    /// pass's group 2, which also binds `outcomes` (per view and instance, for the overlay).
     pub fn prepare(
         &mut self,
         ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
-        shadow_map: &ShadowMapPass,
         scene_gpu: &SceneGpu,
-    ) -> &wgpu::BindGroup {
-        if scene_gpu.instance_count > self.capacity {
-            self.capacity = scene_gpu.instance_count.next_power_of_two();
-            self.oracle_flags = create_flags(&ctx.device, self.capacity);
-            self.bind_group = None;
+        views: u32,
+        outcomes: &wgpu::Buffer,
+    ) -> wgpu::BindGroup {
+        let wanted = (scene_gpu.instance_count.max(1), views.max(1));
+        if wanted.0 > self.capacity.0 || wanted.1 > self.capacity.1 {
+            self.capacity = (
+                wanted.0.max(self.capacity.0).next_power_of_two(),
+                wanted.1.max(self.capacity.1),
+            );
+            self.oracle_flags = create_flags(&ctx.device, self.capacity.0 * self.capacity.1);
         }
-        if self
-            .bind_group
-            .as_ref()
-            .is_none_or(|(resolution, _)| *resolution != shadow_map.resolution)
-        {
-            let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("Measure::bind_group"),
-                layout: &self.layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: wgpu::BindingResource::TextureView(&shadow_map.depth_view),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: wgpu::BindingResource::TextureView(
-                            &shadow_map.reference.depth_view,
-                        ),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 2,
-                        resource: wgpu::BindingResource::TextureView(
-                            &shadow_map.reference.ids_view,
-                        ),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 3,
-                        resource: self.oracle_flags.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 4,
-                        resource: self.counters.buffer().as_entire_binding(),
-                    },
-                ],
-            });
-            self.bind_group = Some((shadow_map.resolution, group));
-        }
+        self.counters
+            .ensure_words(&ctx.device, ERROR_WORDS + self.capacity.1 as usize);
         encoder.clear_buffer(&self.oracle_flags, 0, None);
         self.counters.clear(encoder);
-        &self.bind_group.as_ref().expect("created above").1
+        ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("Measure::bind_group"),
+            layout: &self.layout,
+            entries: &[
+                buffer_entry(0, &self.oracle_flags),
+                buffer_entry(1, self.counters.buffer()),
+                buffer_entry(2, outcomes),
+            ],
+        })
     }
 
     /// Copies this frame's counts for readback; call after the shading pass is recorded.
-    pub fn copy_counts(&mut self, encoder: &mut wgpu::CommandEncoder, frame_index: u64) {
+    pub fn copy_counts(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        frame_index: u64,
+        views: u32,
+    ) {
         self.counters.copy(encoder, frame_index);
+        self.views_in_flight.push_back((frame_index, views));
+        while self.views_in_flight.len() > 8 {
+            self.views_in_flight.pop_front();
+        }
     }
 
     /// Call after submit.
@@ -156,6 +130,12 @@ impl MeasureResources {
     /// The newest counts that came back (needs a device poll first).
     pub fn take_latest(&mut self) -> Option<Measured> {
         let (frame_index, w) = self.counters.take_latest()?;
+        let views = self
+            .views_in_flight
+            .iter()
+            .find(|(f, _)| *f == frame_index)
+            .map_or(1, |(_, v)| *v as usize);
+        let oracle_per_view: Vec<u32> = w.iter().skip(ERROR_WORDS).take(views).copied().collect();
         Some(Measured {
             frame_index,
             error: ShadowError {
@@ -163,18 +143,27 @@ impl MeasureResources {
                 missing_shadow_px: w[1],
                 extra_shadow_px: w[2],
             },
-            casters_oracle: w[3],
+            casters_oracle: oracle_per_view.iter().sum(),
+            oracle_per_view,
         })
     }
 
-    /// The oracle flag of every instance from the last submitted frame. Blocks: for tests and
-    /// reports, not the window loop.
+    /// The oracle flag of every instance from the last submitted frame, over its `views`
+    /// views: set where any view's oracle holds the instance. Blocks: for tests and reports,
+    /// not the window loop.
     pub fn read_oracle(
         &self,
         ctx: &GpuContext,
         instance_count: u32,
+        views: u32,
     ) -> Result<Vec<bool>, GpuError> {
-        read_flags(ctx, &self.oracle_flags, instance_count, "oracle flags")
+        let block = self.capacity.0 as usize;
+        let words = u64::from(self.capacity.0) * u64::from(views.clamp(1, self.capacity.1));
+        let bytes = read_buffer(ctx, &self.oracle_flags, words * 4, "oracle flags")?;
+        let flags: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes);
+        Ok((0..instance_count as usize)
+            .map(|i| flags.iter().skip(i).step_by(block).any(|w| *w != 0))
+            .collect())
     }
 }
 

@@ -1,349 +1,501 @@
-//! The directional shadow map: a depth texture rendered from the sun, and the texture the
-//! light's view inset is drawn into (`frame/light_inset.rs`). The pass is long-lived; the depth
-//! texture is recreated when the resolution changes.
+//! The single directional shadow map, the first shadow technique: one view of the sun fitted
+//! to the camera's view (FOCUS: to the visible receivers; `incr`: the whole scene, a map that
+//! persists between frames), its casters chosen by the frame's method, and the reference map
+//! of every caster the measures need. Its views render into layers of a depth array, so a
+//! frame may also render the same view several times ([`SingleMap::set_repeated_views`]),
+//! each culled and counted on its own.
+//!
+//! Long-lived: pipelines, textures (following resolution and layers), GPU culling, the CPU
+//! casters' lists, the persistent map's key. Per frame: the views and the draw lists.
 
-use crate::frame::scene_gpu::{DrawList, SceneGpu, VERTEX_LAYOUT};
-use crate::frame::targets::COLOR_FORMAT;
+mod cpu_casters;
+pub(crate) mod maps;
 
-/// Depth of the shadow map: 0 towards the sun, 1 at the far plane.
-pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
-/// Size of the light's view inset, in pixels.
-pub const LIGHT_VIEW_SIZE: u32 = 256;
+use std::time::Instant;
 
-pub(crate) const SHADOW_DEPTH_WGSL: &str = include_str!("shadow_depth.wgsl");
+use cpu_casters::CpuCasters;
+pub use maps::{CASTER_ID_FORMAT, MapKind};
+use maps::{MapArrays, ViewPass};
 
-/// Long-lived pipelines plus the current depth texture and inset.
-pub struct ShadowMapPass {
-    pipeline: wgpu::RenderPipeline,
-    id_pipeline: wgpu::RenderPipeline,
-    /// The depth texture for fragment shaders (group layout): used by the camera's shading
-    /// pass.
-    pub depth_layout: wgpu::BindGroupLayout,
-    pub resolution: u32,
-    pub depth: wgpu::Texture,
-    pub depth_view: wgpu::TextureView,
-    /// The light's view as an sRGB image, for the panel inset and the `light-view` overlay.
-    pub light_view: wgpu::Texture,
-    pub light_view_view: wgpu::TextureView,
-    /// The inset read as plain `Rgba8Unorm` (sRGB-encoded bytes), as egui displays it.
-    pub light_view_view_unorm: wgpu::TextureView,
-    /// The current depth texture bound with [`ShadowMapPass::depth_layout`].
-    pub depth_bind_group: wgpu::BindGroup,
-    /// The reference map for measurements: every caster, depth and caster ids.
-    pub reference: ReferenceMap,
+use crate::culling::{CullError, CullFrame, CullTargets, GpuCulling, Method};
+use crate::geom::{fit_focused_light, fit_whole_scene};
+use crate::gpu::{GpuContext, LogOnce, pass_label};
+use crate::shadow_view::{ShadowSettings, ShadowView, ViewTarget};
+use crate::technique::{
+    DrawInput, InsetSources, ShadowPasses, ShadowReport, ShadowTechnique, TechniqueInput,
+    ViewReport,
+};
+
+/// The technique's light term (imported as `technique/light.wgsl` by the shading pass).
+pub(crate) const LIGHT_WGSL: &str = "shadow_map/light.wgsl";
+
+/// The single map technique.
+pub struct SingleMap {
+    maps: MapArrays,
+    cpu: CpuCasters,
+    culling: GpuCulling,
+    /// The method of the last frame, after fallbacks.
+    method: Method,
+    indirect_first_instance: bool,
+    warned_no_indirect: LogOnce,
+    /// How many times the view is rendered (1 but in tests of the view seam).
+    repeated_views: u32,
+    /// Incremental updates: what the persistent maps were drawn for (scene, exclusions, light).
+    static_map_key: Option<(u64, u64, [u32; 16])>,
+    exclusions_version: u64,
+    /// The last frame: its views' facts, whether GPU culling ran, and what failed.
+    last: LastFrame,
+    failures: LogOnce,
 }
 
-/// Depth and caster ids (instance index + 1, 0 where nothing was drawn) of the reference map.
-pub struct ReferenceMap {
-    pub depth: wgpu::Texture,
-    pub depth_view: wgpu::TextureView,
-    pub ids: wgpu::Texture,
-    pub ids_view: wgpu::TextureView,
+#[derive(Default)]
+struct LastFrame {
+    views: Vec<ShadowView>,
+    /// Instances of the scene: the stride of per-view blocks.
+    instances: u32,
+    gpu_culled: bool,
+    failure: Option<String>,
+    cpu_culling_ms: f64,
 }
 
-/// Which shadow map a pass draws into.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum MapKind {
-    /// The map the selected method renders and the picture uses.
-    Method,
-    /// Every caster, with ids: what error and the oracle are measured against.
-    Reference,
-}
-
-/// Caster ids of the reference map.
-pub const CASTER_ID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
-
-impl ReferenceMap {
-    fn new(device: &wgpu::Device, resolution: u32) -> Self {
-        let (depth, depth_view) = create_texture(
-            device,
-            "ShadowMap::reference_depth",
-            SHADOW_FORMAT,
-            resolution,
-        );
-        let (ids, ids_view) = create_texture(
-            device,
-            "ShadowMap::reference_ids",
-            CASTER_ID_FORMAT,
-            resolution,
-        );
-        Self {
-            depth,
-            depth_view,
-            ids,
-            ids_view,
-        }
-    }
-}
-
-impl ShadowMapPass {
-    /// `frame_layout` is the camera passes' group 0 (frame uniforms and instances), declared by
-    /// the WGSL in `scene_prelude`.
+impl SingleMap {
+    /// `frame_layout` is group 0 of scene passes, `pass_view_layout` one shadow view alone.
     pub fn new(
-        device: &wgpu::Device,
+        ctx: &GpuContext,
         frame_layout: &wgpu::BindGroupLayout,
-        scene_prelude: &str,
-        resolution: u32,
+        pass_view_layout: &wgpu::BindGroupLayout,
     ) -> Self {
-        let source = format!("{scene_prelude}\n{SHADOW_DEPTH_WGSL}");
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("ShadowMap::shader"),
-            source: wgpu::ShaderSource::Wgsl(source.into()),
-        });
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("ShadowMap::layout"),
-            bind_group_layouts: &[Some(frame_layout)],
-            immediate_size: 0,
-        });
-        let pipeline = caster_pipeline(device, &layout, &module, false);
-        let id_pipeline = caster_pipeline(device, &layout, &module, true);
-
-        let depth_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("ShadowMap::depth_layout"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::FRAGMENT,
-                ty: wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Depth,
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
-                },
-                count: None,
-            }],
-        });
-        let (depth, depth_view) = create_depth(device, resolution);
-        let light_view = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("ShadowMap::light_view"),
-            size: wgpu::Extent3d {
-                width: LIGHT_VIEW_SIZE,
-                height: LIGHT_VIEW_SIZE,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: COLOR_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                | wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[wgpu::TextureFormat::Rgba8Unorm],
-        });
-        let light_view_view = light_view.create_view(&wgpu::TextureViewDescriptor::default());
-        let light_view_view_unorm = light_view.create_view(&wgpu::TextureViewDescriptor {
-            label: Some("ShadowMap::light_view_unorm"),
-            format: Some(wgpu::TextureFormat::Rgba8Unorm),
-            ..Default::default()
-        });
-        let depth_bind_group = depth_bind_group(device, &depth_layout, &depth_view);
         Self {
-            pipeline,
-            id_pipeline,
-            depth_layout,
-            resolution,
-            depth,
-            depth_view,
-            light_view,
-            light_view_view,
-            light_view_view_unorm,
-            depth_bind_group,
-            reference: ReferenceMap::new(device, resolution),
+            maps: MapArrays::new(
+                &ctx.device,
+                frame_layout,
+                pass_view_layout,
+                ShadowSettings::default().resolution,
+            ),
+            cpu: CpuCasters::new(ctx),
+            culling: GpuCulling::new(ctx, frame_layout, pass_view_layout),
+            method: Method::None,
+            indirect_first_instance: ctx
+                .features()
+                .contains(wgpu::Features::INDIRECT_FIRST_INSTANCE),
+            warned_no_indirect: LogOnce::default(),
+            repeated_views: 1,
+            static_map_key: None,
+            exclusions_version: 0,
+            last: LastFrame::default(),
+            failures: LogOnce::default(),
         }
     }
 
-    /// Recreates the depth texture (and its bind group) when `resolution` differs.
-    pub fn ensure_resolution(&mut self, device: &wgpu::Device, resolution: u32) {
-        if resolution == self.resolution {
-            return;
-        }
-        let (depth, depth_view) = create_depth(device, resolution);
-        self.depth_bind_group = depth_bind_group(device, &self.depth_layout, &depth_view);
-        self.reference = ReferenceMap::new(device, resolution);
-        self.depth = depth;
-        self.depth_view = depth_view;
-        self.resolution = resolution;
+    /// Renders the map's view `count` times (at least once), each into its own layer, culled
+    /// and counted on its own. The shading pass takes the least light of them, so the picture
+    /// is the one view's. A test of the per-view path that cascades and many lights use, not
+    /// a shadow setup of its own.
+    pub fn set_repeated_views(&mut self, count: u32) {
+        self.repeated_views = count.max(1);
     }
 
-    /// Clears a map and draws `casters` into it: the method's map (depth only) or the
-    /// reference map (depth and caster ids).
-    #[expect(clippy::too_many_arguments, reason = "one pass, all of its inputs")]
-    pub fn draw_casters(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
-        frame_bind_group: &wgpu::BindGroup,
-        scene_gpu: &SceneGpu,
-        casters: &DrawList,
-        indirect_first_instance: bool,
-        map: MapKind,
-    ) {
-        let ids = map == MapKind::Reference;
-        let mut pass = self.begin_caster_pass(encoder, timestamp_writes, map, true);
-        pass.set_pipeline(if ids {
-            &self.id_pipeline
-        } else {
-            &self.pipeline
-        });
-        pass.set_bind_group(0, frame_bind_group, &[]);
-        casters.draw(&mut pass, scene_gpu, indirect_first_instance);
+    /// The method's depth array, for tests that read its layers back.
+    pub fn depth_texture(&self) -> &wgpu::Texture {
+        self.maps.depth_texture()
     }
 
-    /// Draws into the method's map with one indirect draw per instance (`count` of them in
-    /// `draws`), on top of what is there unless `clear`. The GPU culling methods' passes.
-    #[expect(clippy::too_many_arguments, reason = "one pass, all of its inputs")]
-    pub fn draw_culled(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
-        frame_bind_group: &wgpu::BindGroup,
-        scene_gpu: &SceneGpu,
-        draws: &wgpu::Buffer,
-        count: u32,
-        clear: bool,
-    ) {
-        let mut pass = self.begin_caster_pass(encoder, timestamp_writes, MapKind::Method, clear);
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, frame_bind_group, &[]);
-        pass.set_vertex_buffer(0, scene_gpu.vertex_buffer.slice(..));
-        pass.set_index_buffer(scene_gpu.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
-        pass.multi_draw_indexed_indirect(draws, 0, count);
-    }
-
-    fn begin_caster_pass<'e>(
-        &self,
-        encoder: &'e mut wgpu::CommandEncoder,
-        timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
-        map: MapKind,
-        clear: bool,
-    ) -> wgpu::RenderPass<'e> {
-        let (depth_view, ids_view) = match map {
-            MapKind::Method => (&self.depth_view, None),
-            MapKind::Reference => (&self.reference.depth_view, Some(&self.reference.ids_view)),
-        };
-        let id_attachment = ids_view.map(|view| wgpu::RenderPassColorAttachment {
-            view,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                store: wgpu::StoreOp::Store,
-            },
-        });
-        encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some(match map {
-                MapKind::Method => "ShadowMap::draw_casters",
-                MapKind::Reference => "ShadowMap::draw_reference",
-            }),
-            color_attachments: if id_attachment.is_some() {
-                std::slice::from_ref(&id_attachment)
-            } else {
-                &[]
-            },
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: depth_view,
-                depth_ops: Some(wgpu::Operations {
-                    load: if clear {
-                        wgpu::LoadOp::Clear(1.0)
-                    } else {
-                        wgpu::LoadOp::Load
-                    },
-                    store: wgpu::StoreOp::Store,
+    /// Whether an incremental update needs last frame's maps under the same light, scene and
+    /// exclusions; anything else redraws them whole. Updates the key.
+    fn full_redraw(&mut self, input: &TechniqueInput<'_>, views: &[ShadowView]) -> bool {
+        let key = (self.method == Method::Incr).then(|| {
+            (
+                input.scene_gpu.id,
+                self.exclusions_version,
+                views.first().map_or([0; 16], |v| {
+                    v.light
+                        .light_clip_from_world
+                        .to_cols_array()
+                        .map(f32::to_bits)
                 }),
-                stencil_ops: None,
-            }),
-            timestamp_writes,
-            occlusion_query_set: None,
-            multiview_mask: None,
+            )
+        });
+        let full = key.is_none() || key != self.static_map_key;
+        self.static_map_key = key;
+        full
+    }
+
+    /// Each view's casters into its map, from the CPU's draw lists.
+    fn draw_lists(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        input: &TechniqueInput<'_>,
+        draw: &DrawInput<'_>,
+        map: MapKind,
+    ) {
+        let label = match map {
+            MapKind::Method => pass_label::SHADOW_MAP,
+            MapKind::Reference => pass_label::REFERENCE_MAP,
+        };
+        for (v, view) in (0..).zip(draw.views) {
+            let (Some(pass_group), Some(list)) = (
+                draw.view_buffer.pass_group(v),
+                match map {
+                    MapKind::Method => self.cpu.draws(v as usize),
+                    MapKind::Reference => Some(self.cpu.reference()),
+                },
+            ) else {
+                continue;
+            };
+            let query = draw.timer.begin_pass(label, encoder);
+            self.maps.draw_list(
+                encoder,
+                ViewPass {
+                    view,
+                    frame_group: draw.frame_group,
+                    pass_group,
+                    timestamp_writes: query
+                        .as_ref()
+                        .and_then(wgpu_profiler::GpuProfilerQuery::render_pass_timestamp_writes),
+                },
+                (input.scene_gpu, list, draw.indirect_first_instance),
+                map,
+            );
+            draw.timer.end_pass(encoder, query);
+        }
+    }
+
+    /// The GPU methods: masks and first phase, each view's casters, the occlusion pyramids
+    /// and second phase, the survivors (culling/gpu).
+    fn draw_culled(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        input: &TechniqueInput<'_>,
+        draw: &DrawInput<'_>,
+        full_redraw: bool,
+    ) -> Result<(), CullError> {
+        let frame = CullFrame {
+            method: self.method,
+            frame_index: input.frame_index,
+            views: draw.views,
+            view_buffer: draw.view_buffer,
+            camera_clip_from_world: draw.camera_clip_from_world,
+            shadow: input.shadow,
+            casters_total: self.cpu.casters_total(),
+            full_redraw,
+            visible_flags: draw.visible_flags,
+            frame_bind_group: draw.frame_group,
+            camera_depth: &draw.targets.depth_view,
+            camera_draws: draw.camera_draws,
+            indirect_first_instance: draw.indirect_first_instance,
+            reference: self.maps.reference_arrays(),
+            shadow_layers: self.maps.depth_layers(),
+        };
+        let query = draw.timer.begin_scope(pass_label::CULLING, encoder);
+        let pass = self
+            .culling
+            .encode_first_phase(draw.ctx, encoder, input.scene_gpu, &frame);
+        draw.timer.end_pass(encoder, query);
+        let pass = pass?;
+        // Incremental updates keep last frame's maps (every other method redraws them).
+        self.draw_culled_views(encoder, input, draw, full_redraw)?;
+        let query = draw.timer.begin_scope(pass_label::CULLING, encoder);
+        let second = self
+            .culling
+            .encode_second_phase(encoder, input.scene_gpu, &frame, &pass);
+        draw.timer.end_pass(encoder, query);
+        second?;
+        self.draw_culled_views(encoder, input, draw, false)?;
+        let query = draw.timer.begin_scope(pass_label::CULLING, encoder);
+        self.culling.encode_far_ends(encoder, pass);
+        draw.timer.end_pass(encoder, query);
+        Ok(())
+    }
+
+    /// Every view's culled casters into its map, on top of what is there unless `clear`.
+    fn draw_culled_views(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        input: &TechniqueInput<'_>,
+        draw: &DrawInput<'_>,
+        clear: bool,
+    ) -> Result<(), CullError> {
+        for (v, view) in (0..).zip(draw.views) {
+            let not_prepared = |what| CullError::NotPrepared { what };
+            let draws = self.culling.view_draws(v).ok_or(not_prepared("draws"))?;
+            let pass_group = draw
+                .view_buffer
+                .pass_group(v)
+                .ok_or(not_prepared("view bind groups"))?;
+            let query = draw.timer.begin_pass(pass_label::SHADOW_MAP, encoder);
+            self.maps.draw_indirect(
+                encoder,
+                ViewPass {
+                    view,
+                    frame_group: draw.frame_group,
+                    pass_group,
+                    timestamp_writes: query
+                        .as_ref()
+                        .and_then(wgpu_profiler::GpuProfilerQuery::render_pass_timestamp_writes),
+                },
+                input.scene_gpu,
+                draws,
+                clear,
+            );
+            draw.timer.end_pass(encoder, query);
+        }
+        Ok(())
+    }
+
+    fn view_report(&self, v: usize, view: &ShadowView) -> ViewReport {
+        let light = &view.light;
+        let mut report = ViewReport {
+            name: view.name.clone(),
+            texel_size_m: light.texel_size_m,
+            depth_range_m: light.depth_range_m,
+            covers_whole_scene: light.covers_whole_scene,
+            ..ViewReport::default()
+        };
+        if !self.last.gpu_culled {
+            report.stages = self.cpu.stages(v).to_vec();
+            if let Some(list) = self.cpu.draws(v) {
+                report.casters_rendered = list.len();
+                report.triangles_shadow = list.triangles;
+            }
+        } else if let Some(counts) = self
+            .culling
+            .latest()
+            .filter(|c| c.method == self.method)
+            .and_then(|c| c.views.get(v))
+        {
+            report.stages.clone_from(&counts.stages);
+            report.casters_rendered = counts.casters_rendered;
+            report.triangles_shadow = counts.triangles;
+        } else {
+            report.stages = self.cpu.stages(v).to_vec();
+        }
+        report
+    }
+}
+
+impl ShadowTechnique for SingleMap {
+    fn name(&self) -> &'static str {
+        "single"
+    }
+
+    fn light_term(&self) -> (&'static str, &wgpu::BindGroupLayout) {
+        (LIGHT_WGSL, self.maps.light_layout())
+    }
+
+    /// The GPU methods need indirect draws with a first instance; without, `vfc` (with a
+    /// warning).
+    fn effective_method(&self, requested: Method) -> Method {
+        if requested.gpu_driven() && !self.indirect_first_instance {
+            Method::Vfc
+        } else {
+            requested
+        }
+    }
+
+    fn prepare(&mut self, ctx: &GpuContext, input: &TechniqueInput<'_>) -> Vec<ShadowView> {
+        self.method = self.effective_method(input.method);
+        if self.method != input.method {
+            self.warned_no_indirect.warn(&format!(
+                "this adapter has no INDIRECT_FIRST_INSTANCE: '{}' runs as 'vfc'",
+                input.method.name()
+            ));
+        }
+        let limits = ctx.device.limits();
+        let resolution = input.shadow.resolution.clamp(
+            ShadowSettings::MIN_RESOLUTION,
+            ShadowSettings::MAX_RESOLUTION.min(limits.max_texture_dimension_2d),
+        );
+        let layers = self.repeated_views.min(limits.max_texture_array_layers);
+        self.maps.ensure(&ctx.device, resolution, layers);
+        let resolution = self.maps.resolution();
+        let bounds = input.scene.bounds();
+        let light = if self.method.static_light() {
+            fit_whole_scene(input.direction_to_sun, &bounds, resolution)
+        } else {
+            // FOCUS fits to the newest visible receivers that have come back.
+            let focus = input
+                .visible_receivers
+                .filter(|_| self.method == Method::Focus);
+            fit_focused_light(
+                input.camera,
+                input.aspect,
+                input.direction_to_sun,
+                &bounds,
+                focus.as_ref(),
+                resolution,
+            )
+        };
+        (0..self.maps.layers())
+            .map(|layer| {
+                let name = if layer == 0 {
+                    "sun".to_owned()
+                } else {
+                    format!("sun (copy {layer})")
+                };
+                ShadowView::covering_all_depths(&name, light, ViewTarget::layer(layer, resolution))
+            })
+            .collect()
+    }
+
+    fn draw(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        input: &TechniqueInput<'_>,
+        draw: &DrawInput<'_>,
+    ) -> ShadowPasses {
+        let (ctx, method) = (draw.ctx, self.method);
+        let full_redraw = self.full_redraw(input, draw.views);
+        let started = Instant::now();
+        let lights: Vec<_> = draw.views.iter().map(|v| &v.light).collect();
+        let gpu = method.gpu_driven();
+        self.cpu
+            .select(ctx, (input.scene, input.scene_gpu), method, &lights, !gpu);
+        let reference_needed = input.measure || method == Method::Oracle;
+        if reference_needed {
+            self.cpu.upload_reference(ctx, input.scene_gpu);
+        }
+        let cpu_culling_ms = started.elapsed().as_secs_f64() * 1000.0;
+        // The resources stay prepared for CPU methods too: the inset shows their masks' size.
+        self.culling.prepare(
+            ctx,
+            input.scene_gpu,
+            &CullTargets {
+                resolution: self.maps.resolution(),
+                capacity: self.maps.layers(),
+                maps_generation: self.maps.generation(),
+                shadow_maps: self.maps.depth_array(),
+                views: draw.view_buffer,
+                camera_size: (draw.targets.width, draw.targets.height),
+                camera_depth: &draw.targets.depth_view,
+            },
+        );
+        // The oracle method reads the reference maps before its own maps are drawn.
+        if method == Method::Oracle {
+            self.draw_lists(encoder, input, draw, MapKind::Reference);
+        }
+        let mut failure = None;
+        if gpu {
+            if let Err(e) = self.draw_culled(encoder, input, draw, full_redraw) {
+                let message = format!("{}: {e}; every caster was drawn instead", method.name());
+                self.failures.warn(&message);
+                failure = Some(message);
+                self.cpu.select(
+                    ctx,
+                    (input.scene, input.scene_gpu),
+                    Method::None,
+                    &lights,
+                    true,
+                );
+                self.draw_lists(encoder, input, draw, MapKind::Method);
+            } else {
+                self.failures.clear();
+            }
+        } else {
+            self.draw_lists(encoder, input, draw, MapKind::Method);
+        }
+        if input.measure && method != Method::Oracle {
+            self.draw_lists(encoder, input, draw, MapKind::Reference);
+        }
+        let gpu_culled = gpu && failure.is_none();
+        self.last = LastFrame {
+            views: draw.views.to_vec(),
+            instances: input.scene_gpu.instance_count,
+            gpu_culled,
+            failure,
+            cpu_culling_ms,
+        };
+        let outcomes = if gpu_culled {
+            self.culling.state_buffer()
+        } else {
+            None
+        };
+        ShadowPasses {
+            light_group: self.maps.light_group().clone(),
+            outcomes: outcomes
+                .unwrap_or_else(|| self.cpu.outcome_buffer())
+                .clone(),
+        }
+    }
+
+    fn after_submit(&mut self) {
+        self.culling.after_submit();
+    }
+
+    fn collect(&mut self) -> ShadowReport {
+        self.culling.collect();
+        let views = (0..)
+            .zip(&self.last.views)
+            .map(|(v, view)| self.view_report(v, view))
+            .collect();
+        let culled_frame_index = self
+            .culling
+            .latest()
+            .filter(|c| self.last.gpu_culled && c.method == self.method)
+            .map(|c| c.frame_index);
+        ShadowReport {
+            casters_total: self.cpu.casters_total(),
+            views,
+            culled_frame_index,
+            notes: self.culling.device_notes(self.method),
+            failure: self.last.failure.clone(),
+            cpu_culling_ms: self.last.cpu_culling_ms,
+        }
+    }
+
+    fn has_results_of(&self, frame_index: u64) -> bool {
+        !self.last.gpu_culled
+            || (self
+                .culling
+                .latest()
+                .is_some_and(|c| c.frame_index == frame_index)
+                && self
+                    .culling
+                    .latest_outcomes()
+                    .is_some_and(|(f, _)| f == frame_index))
+    }
+
+    fn inset(&self, view: u32, show_outcomes: bool) -> Option<InsetSources<'_>> {
+        let target = self.last.views.get(view as usize)?.target;
+        let (shadow_depth, reference_ids) = self.maps.layer(target.layer)?;
+        let mask = self.culling.mask_for_inset(self.method, view)?;
+        let outcomes = if self.last.gpu_culled {
+            self.culling.state_buffer()?
+        } else {
+            self.cpu.outcome_buffer()
+        };
+        Some(InsetSources {
+            shadow_depth,
+            reference_ids,
+            origin: target.origin,
+            size: target.size,
+            outcomes,
+            outcomes_offset: view * self.last.instances,
+            mask_raster: mask.raster,
+            mask_bits: mask.bits,
+            mask_offset: mask.bits_offset,
+            mask_size: mask.mask_size,
+            mask_scale: mask.scale,
+            show_raster_mask: mask.raster_shown,
+            show_fragment_mask: mask.fragment_shown,
+            show_outcomes,
         })
     }
-}
 
-fn create_texture(
-    device: &wgpu::Device,
-    label: &str,
-    format: wgpu::TextureFormat,
-    resolution: u32,
-) -> (wgpu::Texture, wgpu::TextureView) {
-    let resolution = resolution.clamp(1, device.limits().max_texture_dimension_2d);
-    let texture = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width: resolution,
-            height: resolution,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-            | wgpu::TextureUsages::TEXTURE_BINDING
-            | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    });
-    let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
-    (texture, view)
-}
-
-fn create_depth(device: &wgpu::Device, resolution: u32) -> (wgpu::Texture, wgpu::TextureView) {
-    create_texture(device, "ShadowMap::depth", SHADOW_FORMAT, resolution)
-}
-
-/// Casters into a shadow map: depth only, or (`with_ids`) depth and caster ids.
-fn caster_pipeline(
-    device: &wgpu::Device,
-    layout: &wgpu::PipelineLayout,
-    module: &wgpu::ShaderModule,
-    with_ids: bool,
-) -> wgpu::RenderPipeline {
-    let id_target = [Some(CASTER_ID_FORMAT.into())];
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some(if with_ids {
-            "ShadowMap::id_pipeline"
+    fn view_outcomes(&self) -> Vec<&[crate::culling::CasterOutcome]> {
+        let views = self.last.views.len();
+        if self.last.gpu_culled {
+            self.culling
+                .latest_outcomes()
+                .map(|(_, o)| o.iter().take(views).map(Vec::as_slice).collect())
+                .unwrap_or_default()
         } else {
-            "ShadowMap::pipeline"
-        }),
-        layout: Some(layout),
-        vertex: wgpu::VertexState {
-            module,
-            entry_point: Some("vs_shadow"),
-            compilation_options: wgpu::PipelineCompilationOptions::default(),
-            buffers: &[Some(VERTEX_LAYOUT)],
-        },
-        primitive: wgpu::PrimitiveState {
-            // Both faces: imported meshes may be open or single-sided.
-            cull_mode: None,
-            ..Default::default()
-        },
-        depth_stencil: Some(wgpu::DepthStencilState {
-            format: SHADOW_FORMAT,
-            depth_write_enabled: Some(true),
-            depth_compare: Some(wgpu::CompareFunction::Less),
-            stencil: wgpu::StencilState::default(),
-            bias: wgpu::DepthBiasState::default(),
-        }),
-        multisample: wgpu::MultisampleState::default(),
-        fragment: with_ids.then(|| wgpu::FragmentState {
-            module,
-            entry_point: Some("fs_shadow_id"),
-            compilation_options: wgpu::PipelineCompilationOptions::default(),
-            targets: &id_target,
-        }),
-        multiview_mask: None,
-        cache: None,
-    })
-}
+            (0..views).map(|v| self.cpu.outcomes(v)).collect()
+        }
+    }
 
-fn depth_bind_group(
-    device: &wgpu::Device,
-    layout: &wgpu::BindGroupLayout,
-    depth_view: &wgpu::TextureView,
-) -> wgpu::BindGroup {
-    device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("ShadowMap::depth_bind_group"),
-        layout,
-        entries: &[wgpu::BindGroupEntry {
-            binding: 0,
-            resource: wgpu::BindingResource::TextureView(depth_view),
-        }],
-    })
+    fn exclude(&mut self, instances: &[u32]) {
+        self.exclusions_version += 1;
+        self.cpu.exclude(instances);
+        self.culling.exclude(instances);
+    }
 }

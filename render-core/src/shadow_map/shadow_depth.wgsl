@@ -1,6 +1,9 @@
-// Casters into the shadow map: depth only, or depth and caster id (instance index + 1) for the
+// Casters into one shadow view: depth only, or depth and caster id (instance index + 1) for the
 // reference map that error and oracle are measured against.
-// Prepended with frame/instance.wgsl and frame/common.wgsl.
+#import view/common.wgsl
+
+// The view this pass renders.
+@group(1) @binding(0) var<uniform> pass_view: ShadowView;
 
 struct ShadowOut {
     @builtin(position) clip: vec4<f32>,
@@ -10,7 +13,7 @@ struct ShadowOut {
 @vertex
 fn vs_shadow(@location(0) position: vec3<f32>, @builtin(instance_index) instance: u32) -> ShadowOut {
     var out: ShadowOut;
-    out.clip = frame.light_clip_from_world * vec4<f32>(world_position(instance, position), 1.0);
+    out.clip = pass_view.light_clip_from_world * vec4<f32>(world_position(instance, position), 1.0);
     out.instance = instance;
     return out;
 }

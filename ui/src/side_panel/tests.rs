@@ -99,7 +99,7 @@ fn report(frame_index: u64) -> FrameReport {
             visible_px: 65_432,
         }),
         measured_frame_index: frame_index.checked_sub(1),
-        culled_frame_index: None,
+        ..FrameReport::default()
     }
 }
 

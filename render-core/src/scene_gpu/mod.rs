@@ -1,12 +1,18 @@
-//! The scene's GPU copy: one vertex and index buffer for all meshes, one instance buffer, and
-//! indirect draw lists. Long-lived per scene; instance data is rewritten when objects move.
+//! The scene's GPU copy: one vertex and index buffer for all meshes, one instance buffer, the
+//! instances' bounds for GPU culling, and indirect draw lists. Long-lived per scene; instance
+//! data is rewritten when objects move.
+
+mod draw_list;
+pub(crate) mod gpu_data;
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use glam::{Mat3, Mat4};
 use wgpu::util::DeviceExt;
 
-use super::gpu_data::{FLAG_CASTER, FLAG_RECEIVER, InstanceData, Vertex};
+pub use draw_list::DrawList;
+use gpu_data::{FLAG_CASTER, FLAG_DYNAMIC, FLAG_RECEIVER, InstanceBounds, InstanceData, Vertex};
+
 use crate::gpu::GpuContext;
 use crate::scene::{Instance, Scene};
 
@@ -173,24 +179,12 @@ fn shadow_flags(inst: &Instance) -> u32 {
         }
 }
 
-/// One instance's box and flags as `culling/cull_common.wgsl` reads them.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
-pub(crate) struct InstanceBounds {
-    min: [f32; 3],
-    /// [`FLAG_CASTER`] | [`FLAG_RECEIVER`].
-    flags: u32,
-    max: [f32; 3],
-    padding: u32,
-}
-
 fn bounds_data(instances: &[Instance]) -> Vec<InstanceBounds> {
     let mut data: Vec<InstanceBounds> = instances
         .iter()
         .map(|inst| {
-            // Bit 4: moves (culling/cull_common.wgsl, `CULL_DYNAMIC`).
             let dynamic = if inst.mobility == crate::scene::Mobility::Dynamic {
-                4
+                FLAG_DYNAMIC
             } else {
                 0
             };
@@ -200,7 +194,7 @@ fn bounds_data(instances: &[Instance]) -> Vec<InstanceBounds> {
                 min: b.min.to_array(),
                 flags,
                 max: b.max.to_array(),
-                padding: 0,
+                _pad: 0,
             }
         })
         .collect();
@@ -217,100 +211,6 @@ fn normal_from_local(world_from_local: &Mat4) -> Mat3 {
         m.inverse().transpose()
     } else {
         m
-    }
-}
-
-/// Instances to draw in one pass, as indirect draw arguments. Long-lived, refilled per frame.
-pub struct DrawList {
-    label: &'static str,
-    buffer: wgpu::Buffer,
-    capacity: u32,
-    args: Vec<wgpu::util::DrawIndexedIndirectArgs>,
-    /// `args` as bytes for the upload, kept to avoid a per-frame allocation.
-    bytes: Vec<u8>,
-    pub triangles: u64,
-}
-
-impl DrawList {
-    pub fn new(ctx: &GpuContext, label: &'static str) -> Self {
-        Self {
-            label,
-            buffer: Self::create_buffer(ctx, label, 64),
-            capacity: 64,
-            args: Vec::new(),
-            bytes: Vec::new(),
-            triangles: 0,
-        }
-    }
-
-    fn create_buffer(ctx: &GpuContext, label: &str, capacity: u32) -> wgpu::Buffer {
-        ctx.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some(label),
-            size: u64::from(capacity) * size_of::<wgpu::util::DrawIndexedIndirectArgs>() as u64,
-            usage: wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        })
-    }
-
-    pub fn len(&self) -> u32 {
-        self.args.len() as u32
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.args.is_empty()
-    }
-
-    /// Fills the list with `instances` and uploads it.
-    pub fn upload(&mut self, ctx: &GpuContext, scene_gpu: &SceneGpu, instances: &[u32]) {
-        self.args.clear();
-        self.triangles = 0;
-        for &i in instances {
-            let range = scene_gpu.instance_ranges[i as usize];
-            self.triangles += u64::from(range.index_count / 3);
-            self.args.push(wgpu::util::DrawIndexedIndirectArgs {
-                index_count: range.index_count,
-                instance_count: 1,
-                first_index: range.first_index,
-                base_vertex: range.base_vertex,
-                first_instance: i,
-            });
-        }
-        if self.len() > self.capacity {
-            self.capacity = self.len().next_power_of_two();
-            self.buffer = Self::create_buffer(ctx, self.label, self.capacity);
-        }
-        if !self.args.is_empty() {
-            self.bytes.clear();
-            for a in &self.args {
-                self.bytes.extend_from_slice(a.as_bytes());
-            }
-            ctx.queue.write_buffer(&self.buffer, 0, &self.bytes);
-        }
-    }
-
-    /// Records the draws; uses one multi-draw when the device can start at any instance.
-    pub fn draw(
-        &self,
-        pass: &mut wgpu::RenderPass<'_>,
-        scene_gpu: &SceneGpu,
-        indirect_first_instance: bool,
-    ) {
-        if self.args.is_empty() {
-            return;
-        }
-        pass.set_vertex_buffer(0, scene_gpu.vertex_buffer.slice(..));
-        pass.set_index_buffer(scene_gpu.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
-        if indirect_first_instance {
-            pass.multi_draw_indexed_indirect(&self.buffer, 0, self.len());
-        } else {
-            for a in &self.args {
-                pass.draw_indexed(
-                    a.first_index..a.first_index + a.index_count,
-                    a.base_vertex,
-                    a.first_instance..a.first_instance + 1,
-                );
-            }
-        }
     }
 }
 

@@ -1,10 +1,21 @@
 //! Which objects the camera sees, from the object-id target: a flag per object, counts and
 //! the visible receivers' bounds, computed on the GPU and read back without stalling.
 
-use super::{SceneGpu, ViewTargets};
-use crate::gpu::{GpuContext, GpuCounters};
+use super::ViewTargets;
+use crate::gpu::{
+    FrameTimer, GpuContext, GpuCounters, bind_group_layout, buffer_entry, compute_pipeline,
+    pass_label, pipeline_layout, shader_module, storage, texture, view_entry,
+};
+use crate::scene_gpu::SceneGpu;
 
-pub(crate) const VISIBILITY_WGSL: &str = include_str!("visibility.wgsl");
+/// The visibility pass's shader, as the renderer and the validation test compose it.
+pub(crate) fn shader_source() -> String {
+    crate::shaders::compose("view/visibility.wgsl", &[])
+}
+
+/// Counter words: objects, receivers, the receivers' box as 3 + 3 keys (`Counters` in
+/// visibility.wgsl).
+const COUNTER_WORDS: usize = 8;
 
 /// Counts of one frame's visible objects.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -24,76 +35,46 @@ pub struct VisibilityPass {
     pub visible_flags: wgpu::Buffer,
     /// Visible objects, visible receivers, their bounds' keys (keep in sync with `Counters` in
     /// visibility.wgsl).
-    counters: GpuCounters<8>,
+    counters: GpuCounters,
     capacity: u32,
 }
 
 impl VisibilityPass {
     pub fn new(ctx: &GpuContext) -> Self {
         let device = &ctx.device;
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("Visibility::shader"),
-            source: wgpu::ShaderSource::Wgsl(
-                format!("{}\n{VISIBILITY_WGSL}", super::INSTANCE_WGSL).into(),
-            ),
-        });
-        let storage = |binding, read_only| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Storage { read_only },
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        };
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("Visibility::layout"),
-            entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::COMPUTE,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Uint,
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                    count: None,
-                },
-                storage(1, true),
-                storage(2, false),
-                storage(3, false),
-                storage(4, true),
+        let module = shader_module(device, "Visibility::shader", shader_source());
+        let layout = bind_group_layout(
+            device,
+            "Visibility::layout",
+            wgpu::ShaderStages::COMPUTE,
+            &[
+                texture(
+                    wgpu::TextureSampleType::Uint,
+                    wgpu::TextureViewDimension::D2,
+                ),
+                storage(true),
+                storage(false),
+                storage(false),
+                storage(true),
             ],
-        });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("Visibility::pipeline_layout"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("Visibility::pipeline"),
-            layout: Some(&pipeline_layout),
-            module: &module,
-            entry_point: Some("cs_mark_visible"),
-            compilation_options: wgpu::PipelineCompilationOptions::default(),
-            cache: None,
-        });
+        );
+        let pipeline_layout = pipeline_layout(device, "Visibility::pipeline_layout", &[&layout]);
+        let pipeline = compute_pipeline(device, &module, Some(&pipeline_layout), "cs_mark_visible");
         Self {
             pipeline,
             layout,
             visible_flags: create_flags(device, 1),
-            counters: GpuCounters::new(device, "Visibility::counters"),
+            counters: GpuCounters::new(device, "Visibility::counters", COUNTER_WORDS),
             capacity: 1,
         }
     }
 
-    /// Clears the flags and counters and marks every object some pixel of `ids_view` shows.
+    /// Clears the flags and counters and marks every object some pixel of the object-id
+    /// target shows; timed as its own pass.
     pub fn mark_visible(
         &mut self,
         ctx: &GpuContext,
-        encoder: &mut wgpu::CommandEncoder,
-        timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
+        (encoder, timer): (&mut wgpu::CommandEncoder, &FrameTimer),
         targets: &ViewTargets,
         scene_gpu: &SceneGpu,
         frame_index: u64,
@@ -114,37 +95,26 @@ impl VisibilityPass {
             label: Some("Visibility::bind_group"),
             layout: &self.layout,
             entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(ids_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: instances.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: self.visible_flags.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: self.counters.buffer().as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: scene_gpu.bounds_buffer.as_entire_binding(),
-                },
+                view_entry(0, ids_view),
+                buffer_entry(1, instances),
+                buffer_entry(2, &self.visible_flags),
+                buffer_entry(3, self.counters.buffer()),
+                buffer_entry(4, &scene_gpu.bounds_buffer),
             ],
         });
+        let query = timer.begin_pass(pass_label::VISIBILITY, encoder);
         {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("Visibility::mark_visible"),
-                timestamp_writes,
+                timestamp_writes: query
+                    .as_ref()
+                    .and_then(wgpu_profiler::GpuProfilerQuery::compute_pass_timestamp_writes),
             });
             pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, &bind_group, &[]);
             pass.dispatch_workgroups(size.0.div_ceil(8), size.1.div_ceil(8), 1);
         }
+        timer.end_pass(encoder, query);
         self.counters.copy(encoder, frame_index);
     }
 

@@ -1,8 +1,8 @@
 // Visible objects from the camera's object ids: one flag per object, a count of visible
-// receivers and their world-space bounds. Prepended with frame/instance.wgsl.
+// receivers and their world-space bounds.
+#import scene_gpu/instance.wgsl
 
-
-// Keep in sync with frame/visibility.rs (`take_latest`).
+// Keep in sync with view/visibility.rs (`take_latest`).
 struct Counters {
     visible_objects: atomic<u32>,
     visible_receivers: atomic<u32>,
@@ -12,19 +12,11 @@ struct Counters {
     receivers_max: array<atomic<u32>, 3>,
 }
 
-// Per instance, as culling/cull_common.wgsl's `Bounds`: the world box.
-struct WorldBox {
-    min: vec3<f32>,
-    flags: u32,
-    max: vec3<f32>,
-    padding: u32,
-}
-
 @group(0) @binding(0) var object_ids: texture_2d<u32>;
 @group(0) @binding(1) var<storage, read> instances: array<InstanceData>;
 @group(0) @binding(2) var<storage, read_write> visible: array<atomic<u32>>;
 @group(0) @binding(3) var<storage, read_write> counters: Counters;
-@group(0) @binding(4) var<storage, read> boxes: array<WorldBox>;
+@group(0) @binding(4) var<storage, read> boxes: array<InstanceBounds>;
 
 // A u32 that orders as the float does.
 fn order_key(x: f32) -> u32 {

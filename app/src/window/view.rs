@@ -1,0 +1,139 @@
+//! The per-frame egui pass (the side panel's input, the actions it returns) and the 3D view:
+//! rendered at the central panel's size and registered with egui as a texture.
+
+use std::time::Instant;
+
+use render_core::frame::FrameInput;
+use render_core::frame::compare::CompareAll;
+
+use super::Running;
+use super::surface::EguiFrame;
+
+impl Running {
+    /// Runs the egui pass: side panel and the 3D view's place. Acts on what the user asked.
+    pub(super) fn run_egui(&mut self) -> EguiFrame {
+        let raw_input = self.egui_state.take_egui_input(&self.window);
+        let mut actions = Vec::new();
+        let mut view_rect = self.view_rect;
+        let adapter = self.ctx.adapter_description();
+        let selection = self.selection();
+        let input = ui::PanelInput {
+            scene: &self.facts,
+            report: self.last_report.as_ref(),
+            light_view: Some(self.light_view_texture),
+            adapter: &adapter,
+            has_gpu_timestamps: self.renderer.has_gpu_timestamps(),
+            last_screenshot: self.last_screenshot.as_deref(),
+            message: self.message.as_deref(),
+            fps: self.fps,
+            selection: selection.as_ref(),
+            compare: self.compare.as_ref().map(CompareAll::rows),
+        };
+        let view_texture = self.view_texture;
+        let full_output = self.egui_ctx.run_ui(raw_input, |ui| {
+            egui::Panel::left("settings")
+                .default_size(330.0)
+                .resizable(true)
+                .show(ui, |ui| {
+                    egui::ScrollArea::vertical().show(ui, |ui| {
+                        actions = self.side_panel.ui(
+                            ui,
+                            &mut self.settings,
+                            &mut self.screenshot_settings,
+                            &input,
+                        );
+                    });
+                });
+            egui::CentralPanel::default()
+                .frame(egui::Frame::NONE)
+                .show(ui, |ui| {
+                    view_rect = ui.available_rect_before_wrap();
+                    if let Some(id) = view_texture {
+                        let uv =
+                            egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
+                        ui.painter().image(id, view_rect, uv, egui::Color32::WHITE);
+                    }
+                });
+        });
+        self.view_rect = view_rect;
+        self.egui_state
+            .handle_platform_output(&self.window, full_output.platform_output);
+        for action in actions {
+            match action {
+                ui::UiAction::OpenFile => self.open_file_dialog(),
+                ui::UiAction::Screenshot => self.screenshot_requested = true,
+                ui::UiAction::FrameScene => self.frame_scene(),
+                ui::UiAction::ReloadScene => {
+                    let spec = self.scene_spec.clone();
+                    self.open_scene(&spec);
+                }
+            }
+        }
+        EguiFrame {
+            paint_jobs: self
+                .egui_ctx
+                .tessellate(full_output.shapes, full_output.pixels_per_point),
+            textures_delta: full_output.textures_delta,
+            pixels_per_point: full_output.pixels_per_point,
+        }
+    }
+
+    /// Renders the 3D view at the central panel's size in pixels and hands it to egui.
+    pub(super) fn draw_view(&mut self) {
+        let ppp = self.egui_ctx.pixels_per_point();
+        let width = (self.view_rect.width() * ppp).round();
+        let height = (self.view_rect.height() * ppp).round();
+        if !(width >= 1.0 && height >= 1.0) {
+            return;
+        }
+        let started = Instant::now();
+        let input = FrameInput {
+            camera: &self.controller.camera,
+            width: width as u32,
+            height: height as u32,
+            settings: &self.settings,
+        };
+        let report = self
+            .renderer
+            .render(&self.ctx, &self.scene, &self.scene_gpu, &input);
+        self.last_frame_ms = started.elapsed().as_secs_f64() * 1000.0;
+        if self.settings.compare_all {
+            let compare = self
+                .compare
+                .get_or_insert_with(|| CompareAll::new(&self.ctx));
+            if let Err(e) = compare.step(&self.ctx, &self.scene, &self.scene_gpu, &input) {
+                log::error!("compare all: {e}");
+                self.message = Some(format!("Compare all stopped: {e}"));
+                self.settings.compare_all = false;
+            }
+        } else {
+            // Frees the second renderer's targets and maps.
+            self.compare = None;
+        }
+        self.side_panel.record(
+            self.started.elapsed().as_secs_f64(),
+            &report,
+            self.fps
+                .map_or(self.last_frame_ms, |f| 1000.0 / f64::from(f)),
+        );
+        self.last_report = Some(report);
+        if let Some(targets) = self.renderer.targets() {
+            let renderer = &mut self.surface.egui_renderer;
+            match self.view_texture {
+                Some(id) => renderer.update_egui_texture_from_wgpu_texture(
+                    &self.ctx.device,
+                    &targets.color_view_unorm,
+                    wgpu::FilterMode::Linear,
+                    id,
+                ),
+                None => {
+                    self.view_texture = Some(renderer.register_native_texture(
+                        &self.ctx.device,
+                        &targets.color_view_unorm,
+                        wgpu::FilterMode::Linear,
+                    ));
+                }
+            }
+        }
+    }
+}

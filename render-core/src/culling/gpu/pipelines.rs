@@ -1,0 +1,286 @@
+//! GPU culling's long-lived pipelines and layouts, and the shaders they are built from (the
+//! validation test composes the same sources). What a device lacks becomes a fallback that
+//! the report names (`GpuCulling::device_notes`).
+
+use super::resources::{MASK_FORMAT, ReducePipelines};
+use crate::culling::codes;
+use crate::gpu::{
+    GpuContext, bind_group_layout, compute_pipeline, pipeline_layout, shader_module, storage,
+    texture, uniform,
+};
+use crate::scene_gpu::VERTEX_LAYOUT;
+use crate::shaders::compose;
+use crate::shadow_view::SHADOW_FORMAT;
+use crate::view::camera_pipeline;
+
+/// The culling shaders as the renderer builds them: (label, composed WGSL).
+pub(crate) fn shader_sources() -> Vec<(&'static str, String)> {
+    let codes = codes::wgsl();
+    let generated = [(codes::WGSL_PATH, codes.as_str())];
+    [
+        ("GpuCulling::cull", "culling/cull.wgsl"),
+        ("GpuCulling::pyramid", "culling/pyramid.wgsl"),
+        ("GpuCulling::masks", "culling/masks.wgsl"),
+        ("GpuCulling::receivers", "culling/receivers.wgsl"),
+    ]
+    .into_iter()
+    .map(|(label, root)| (label, compose(root, &generated)))
+    .collect()
+}
+
+fn source(label: &str) -> String {
+    shader_sources()
+        .into_iter()
+        .find(|(l, _)| *l == label)
+        .map(|(_, s)| s)
+        .unwrap_or_default()
+}
+
+/// Every pipeline of GPU culling.
+pub(super) struct CullPipelines {
+    pub cull_layout: wgpu::BindGroupLayout,
+    pub receivers: wgpu::ComputePipeline,
+    pub first_phase: wgpu::ComputePipeline,
+    pub second_phase: wgpu::ComputePipeline,
+    pub far_ends: wgpu::ComputePipeline,
+    pub reduce: ReducePipelines,
+    pub mask_layout: wgpu::BindGroupLayout,
+    pub boxes: wgpu::RenderPipeline,
+    pub moved_boxes: wgpu::RenderPipeline,
+    pub clear_moved: wgpu::RenderPipeline,
+    /// Receiver geometry into the mask: one conservative pipeline, or filled then outlined
+    /// triangles; none without either (GEOM then takes boxes).
+    pub geometry: Vec<wgpu::RenderPipeline>,
+    pub receivers_layout: wgpu::BindGroupLayout,
+    /// The receiver passes; `None` without forced early depth tests.
+    pub fragment_mask: Option<wgpu::RenderPipeline>,
+    pub oracle: Option<wgpu::RenderPipeline>,
+}
+
+/// The groups every scene pass and every single-view pass start with.
+pub(super) struct SharedLayouts<'a> {
+    /// Group 0 of scene passes (`view/common.wgsl`).
+    pub frame: &'a wgpu::BindGroupLayout,
+    /// One shadow view (`shadow_view::ViewBuffer::pass_layout`).
+    pub pass_view: &'a wgpu::BindGroupLayout,
+}
+
+impl CullPipelines {
+    pub fn new(ctx: &GpuContext, layouts: &SharedLayouts<'_>) -> Self {
+        let device = &ctx.device;
+        let compute = wgpu::ShaderStages::COMPUTE;
+        let cull_module = shader_module(device, "GpuCulling::cull", source("GpuCulling::cull"));
+        let mut cull_types = vec![uniform()];
+        cull_types.extend(
+            [
+                true, true, true, true, false, false, false, true, true, true,
+            ]
+            .map(storage),
+        );
+        cull_types.extend([false, true].map(storage));
+        let cull_layout =
+            bind_group_layout(device, "GpuCulling::cull_layout", compute, &cull_types);
+        let cull_pipeline_layout =
+            pipeline_layout(device, "GpuCulling::cull_pipeline_layout", &[&cull_layout]);
+        let cull =
+            |entry| compute_pipeline(device, &cull_module, Some(&cull_pipeline_layout), entry);
+        let pyramid = shader_module(device, "GpuCulling::pyramid", source("GpuCulling::pyramid"));
+        let reduce = |entry| compute_pipeline(device, &pyramid, None, entry);
+
+        let mask_layout = bind_group_layout(
+            device,
+            "GpuCulling::mask_layout",
+            wgpu::ShaderStages::VERTEX,
+            &[
+                uniform(),
+                storage(true),
+                storage(true),
+                storage(true),
+                storage(true),
+                storage(true),
+            ],
+        );
+        let masks = MaskPipelines::new(ctx, layouts, &mask_layout);
+        let receivers_layout = bind_group_layout(
+            device,
+            "GpuCulling::receivers_layout",
+            wgpu::ShaderStages::FRAGMENT,
+            &[
+                storage(true),
+                storage(false),
+                texture(
+                    wgpu::TextureSampleType::Depth,
+                    wgpu::TextureViewDimension::D2Array,
+                ),
+                texture(
+                    wgpu::TextureSampleType::Uint,
+                    wgpu::TextureViewDimension::D2Array,
+                ),
+                storage(false),
+            ],
+        );
+        let (fragment_mask, oracle) = receiver_pipelines(ctx, layouts.frame, &receivers_layout);
+        Self {
+            receivers: cull("cs_receivers"),
+            first_phase: cull("cs_first_phase"),
+            second_phase: cull("cs_second_phase"),
+            far_ends: cull("cs_far_ends"),
+            cull_layout,
+            reduce: ReducePipelines {
+                depth: reduce("cs_reduce_depth"),
+                mask: reduce("cs_reduce_mask"),
+                camera_depth: reduce("cs_reduce_camera_depth"),
+                level: reduce("cs_reduce"),
+            },
+            mask_layout,
+            boxes: masks.boxes,
+            moved_boxes: masks.moved_boxes,
+            clear_moved: masks.clear_moved,
+            geometry: masks.geometry,
+            receivers_layout,
+            fragment_mask,
+            oracle,
+        }
+    }
+}
+
+struct MaskPipelines {
+    boxes: wgpu::RenderPipeline,
+    moved_boxes: wgpu::RenderPipeline,
+    clear_moved: wgpu::RenderPipeline,
+    geometry: Vec<wgpu::RenderPipeline>,
+}
+
+impl MaskPipelines {
+    fn new(
+        ctx: &GpuContext,
+        layouts: &SharedLayouts<'_>,
+        mask_layout: &wgpu::BindGroupLayout,
+    ) -> Self {
+        let device = &ctx.device;
+        let module = shader_module(device, "GpuCulling::masks", source("GpuCulling::masks"));
+        let layout = pipeline_layout(
+            device,
+            "GpuCulling::masks_layout",
+            &[layouts.frame, mask_layout, layouts.pass_view],
+        );
+        let pipeline = |entry, with_vertices: bool, polygon_mode, conservative| {
+            let vertex_buffers = [Some(VERTEX_LAYOUT)];
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(entry),
+                layout: Some(&layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some(entry),
+                    compilation_options: wgpu::PipelineCompilationOptions::default(),
+                    buffers: if with_vertices { &vertex_buffers } else { &[] },
+                },
+                primitive: wgpu::PrimitiveState {
+                    polygon_mode,
+                    conservative,
+                    ..Default::default()
+                },
+                depth_stencil: None,
+                multisample: wgpu::MultisampleState::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some("fs_mark"),
+                    compilation_options: wgpu::PipelineCompilationOptions::default(),
+                    targets: &[Some(MASK_FORMAT.into())],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        // GEOM must mark every texel a receiver touches, however thin: conservative
+        // rasterisation where the device has it, else its triangles filled and outlined.
+        let features = ctx.features();
+        let fill = wgpu::PolygonMode::Fill;
+        let geometry = if features.contains(wgpu::Features::CONSERVATIVE_RASTERIZATION) {
+            vec![pipeline("vs_geometry", true, fill, true)]
+        } else if features.contains(wgpu::Features::POLYGON_MODE_LINE) {
+            vec![
+                pipeline("vs_geometry", true, fill, false),
+                pipeline("vs_geometry", true, wgpu::PolygonMode::Line, false),
+            ]
+        } else {
+            Vec::new()
+        };
+        // Incremental updates clear the changed region of the shadow map to the far plane.
+        let clear_moved = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("GpuCulling::clear_moved"),
+            layout: Some(&layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_clear_moved"),
+                compilation_options: wgpu::PipelineCompilationOptions::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: SHADOW_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Always),
+                stencil: wgpu::StencilState::default(),
+                bias: wgpu::DepthBiasState::default(),
+            }),
+            multisample: wgpu::MultisampleState::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_clear"),
+                compilation_options: wgpu::PipelineCompilationOptions::default(),
+                targets: &[],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        Self {
+            boxes: pipeline("vs_box", false, fill, false),
+            moved_boxes: pipeline("vs_moved_box", false, fill, false),
+            clear_moved,
+            geometry,
+        }
+    }
+}
+
+/// FRAG's mask and the oracle's marks, from the camera's visible fragments: they need forced
+/// early depth tests, without which FRAG has no mask and the oracle method draws every caster.
+fn receiver_pipelines(
+    ctx: &GpuContext,
+    frame_layout: &wgpu::BindGroupLayout,
+    receivers_layout: &wgpu::BindGroupLayout,
+) -> (Option<wgpu::RenderPipeline>, Option<wgpu::RenderPipeline>) {
+    if !ctx
+        .features()
+        .contains(wgpu::Features::SHADER_EARLY_DEPTH_TEST)
+    {
+        return (None, None);
+    }
+    let device = &ctx.device;
+    let module = shader_module(
+        device,
+        "GpuCulling::receivers",
+        source("GpuCulling::receivers"),
+    );
+    let layout = pipeline_layout(
+        device,
+        "GpuCulling::receivers_pipeline_layout",
+        &[frame_layout, receivers_layout],
+    );
+    // Depth EQUAL, no writes, no colour: exactly the camera's visible fragments.
+    let pipeline = |entry| {
+        camera_pipeline(
+            device,
+            entry,
+            &layout,
+            &module,
+            entry,
+            &[],
+            (false, wgpu::CompareFunction::Equal),
+        )
+    };
+    (
+        Some(pipeline("fs_fragment_mask")),
+        Some(pipeline("fs_oracle")),
+    )
+}

@@ -1,0 +1,143 @@
+//! What comes back from the GPU after a frame (pass times, visible counts, measurements, the
+//! technique's counts) and the blocking reads tests and reports make of the last frame.
+
+use std::collections::VecDeque;
+
+use super::{FrameRenderer, FrameReport, FrameSettings, SceneGpu};
+use crate::culling::{CasterOutcome, Method};
+use crate::gpu::{GpuContext, GpuError, PassTiming};
+use crate::metrics::Measured;
+use crate::technique::{ShadowTechnique, combined_outcomes};
+use crate::view::VisibilityCounts;
+
+/// The newest results that have come back, and what the last frame asked for.
+#[derive(Default)]
+pub(super) struct Latest {
+    pub gpu: Option<(u64, Vec<PassTiming>)>,
+    pub visibility: Option<VisibilityCounts>,
+    pub measured: Option<Measured>,
+    gpu_frames_in_flight: VecDeque<u64>,
+    /// Whether the last frame measured; older measurements are not reported after a switch.
+    pub measuring: bool,
+    /// The last frame's method, after fallbacks.
+    pub method: Method,
+    /// CPU time of the last frame's camera culling (the BVH), milliseconds.
+    pub camera_culling_ms: f64,
+}
+
+impl Latest {
+    pub fn submitted(
+        &mut self,
+        frame_index: u64,
+        settings: &FrameSettings,
+        camera_culling_ms: f64,
+    ) {
+        self.gpu_frames_in_flight.push_back(frame_index);
+        self.camera_culling_ms = camera_culling_ms;
+        self.measuring = settings.measure;
+        self.method = settings.method;
+    }
+}
+
+impl FrameRenderer {
+    /// Takes GPU times, visible counts, measurements and the technique's counts that have
+    /// come back, without waiting, and puts the newest into `report`. After
+    /// [`GpuContext::wait_idle`] they belong to the last frame.
+    pub fn collect_finished(&mut self, ctx: &GpuContext, report: &mut FrameReport) {
+        // A non-blocking poll runs the map callbacks of finished work.
+        if let Err(e) = ctx.device.poll(wgpu::PollType::Poll) {
+            log::warn!("device poll failed: {e}");
+        }
+        let latest = &mut self.latest;
+        while let Some(timings) = self.timer.take_finished() {
+            let frame = latest
+                .gpu_frames_in_flight
+                .pop_front()
+                .unwrap_or(self.frame_index);
+            latest.gpu = Some((frame, timings));
+        }
+        if let Some(counts) = self.visibility.take_latest() {
+            latest.visibility = Some(counts);
+        }
+        if let Some(m) = self.measure.take_latest() {
+            latest.measured = Some(m);
+        }
+        if let Some((frame, timings)) = &latest.gpu {
+            report.gpu.clone_from(timings);
+            report.gpu_frame_index = Some(*frame);
+        }
+        let shadows = self.single.collect();
+        report.cpu.culling_ms = shadows.cpu_culling_ms + latest.camera_culling_ms;
+        report.set_shadows(shadows);
+        if let Some(m) = latest.measured.as_ref().filter(|_| latest.measuring) {
+            report.set_measured(m);
+        }
+        if let Some(v) = latest.visibility {
+            report.counts.receivers_visible = Some(v.receivers_visible);
+            report.counts.objects_visible = Some(v.objects_visible);
+        }
+    }
+
+    /// Whether every result of the last frame has come back (headless frames wait for it).
+    pub(super) fn last_frame_complete(&self) -> bool {
+        let frame = self.frame_index;
+        let latest = &self.latest;
+        latest.visibility.is_some_and(|v| v.frame_index == frame)
+            && (!latest.measuring
+                || latest
+                    .measured
+                    .as_ref()
+                    .is_some_and(|m| m.frame_index == frame))
+            && self.single.has_results_of(frame)
+    }
+
+    /// What happened to each instance in the shadow pass, over every view (rendered where any
+    /// view drew it): the last frame's for the CPU methods, the newest that came back for the
+    /// GPU methods.
+    pub fn caster_outcomes(&self) -> Vec<CasterOutcome> {
+        combined_outcomes(&self.single.view_outcomes())
+    }
+
+    /// Per shadow view, what happened to each instance (as [`FrameRenderer::caster_outcomes`]).
+    pub fn view_caster_outcomes(&self) -> Vec<Vec<CasterOutcome>> {
+        self.single
+            .view_outcomes()
+            .into_iter()
+            .map(<[CasterOutcome]>::to_vec)
+            .collect()
+    }
+
+    /// Which instances some pixel of the last frame shows. Blocks: for tests and reports.
+    pub fn read_visible(
+        &self,
+        ctx: &GpuContext,
+        scene_gpu: &SceneGpu,
+    ) -> Result<Vec<bool>, GpuError> {
+        crate::gpu::read_flags(
+            ctx,
+            &self.visibility.visible_flags,
+            scene_gpu.instance_count,
+            "visible flags",
+        )
+    }
+
+    /// The instances drawn into the method's shadow maps, in any view, sorted.
+    pub fn drawn_casters(&self) -> Vec<u32> {
+        (0..)
+            .zip(self.caster_outcomes())
+            .filter(|(_, o)| *o == CasterOutcome::Rendered)
+            .map(|(i, _)| i)
+            .collect()
+    }
+
+    /// The oracle flag of every instance from the last measured frame (in any view's oracle).
+    /// Blocks: for tests and reports, never the window loop.
+    pub fn read_oracle(
+        &self,
+        ctx: &GpuContext,
+        scene_gpu: &SceneGpu,
+    ) -> Result<Vec<bool>, GpuError> {
+        self.measure
+            .read_oracle(ctx, scene_gpu.instance_count, self.views.count())
+    }
+}

@@ -1,0 +1,199 @@
+//! The node trees of a glTF document flattened into instances: world transforms, names, and one
+//! shared scene mesh per (glTF mesh, primitive), read the first time a node uses it.
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use glam::Mat4;
+use gltf::mesh::Mode;
+
+use super::super::{Instance, Mesh, MeshId};
+use super::primitives::read_triangle_mesh;
+
+/// The meshes and instances of the document's node trees, and a warning for each part skipped.
+pub(super) fn flatten_node_trees(
+    document: &gltf::Document,
+    buffers: &[Vec<u8>],
+    path: &Path,
+) -> (Vec<Mesh>, Vec<Instance>, Vec<String>) {
+    let mut builder = SceneBuilder::new(path, buffers);
+    builder.add_node_trees(document);
+    (builder.meshes, builder.instances, builder.warnings)
+}
+
+/// Turns the node trees of a document into meshes and instances.
+struct SceneBuilder<'a> {
+    path: &'a Path,
+    buffers: &'a [Vec<u8>],
+    meshes: Vec<Mesh>,
+    /// The mesh made from each (glTF mesh, primitive), or `None` when the primitive was rejected.
+    mesh_ids: HashMap<(usize, usize), Option<MeshId>>,
+    instances: Vec<Instance>,
+    /// What was skipped or repaired, each naming the file.
+    warnings: Vec<String>,
+}
+
+impl<'a> SceneBuilder<'a> {
+    fn new(path: &'a Path, buffers: &'a [Vec<u8>]) -> Self {
+        Self {
+            path,
+            buffers,
+            meshes: Vec::new(),
+            mesh_ids: HashMap::new(),
+            instances: Vec::new(),
+            warnings: Vec::new(),
+        }
+    }
+
+    /// Walks the node trees depth first, in document order. A node reached twice (the file
+    /// has a cycle or shares a child) is only imported the first time.
+    fn add_node_trees(&mut self, document: &gltf::Document) {
+        let mut visited = vec![false; document.nodes().len()];
+        let mut stack: Vec<(gltf::Node, Mat4)> = root_nodes(document)
+            .into_iter()
+            .rev()
+            .map(|node| (node, Mat4::IDENTITY))
+            .collect();
+        while let Some((node, world_from_parent)) = stack.pop() {
+            match visited.get_mut(node.index()) {
+                Some(seen) if !*seen => *seen = true,
+                _ => {
+                    let file = self.path.display();
+                    self.warnings.push(format!(
+                        "{file}: node {} appears twice in the node tree; imported once",
+                        node.index()
+                    ));
+                    continue;
+                }
+            }
+            let world_from_local =
+                world_from_parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+            if !world_from_local.is_finite() {
+                let file = self.path.display();
+                self.warnings.push(format!(
+                    "{file}: node '{}' and its children skipped: transform overflows",
+                    node_name(&node)
+                ));
+                continue;
+            }
+            self.add_node(&node, world_from_local);
+            let children: Vec<gltf::Node> = node.children().collect();
+            stack.extend(
+                children
+                    .into_iter()
+                    .rev()
+                    .map(|child| (child, world_from_local)),
+            );
+        }
+    }
+
+    /// One instance per triangle primitive of the node's mesh.
+    fn add_node(&mut self, node: &gltf::Node, world_from_local: Mat4) {
+        let Some(mesh) = node.mesh() else { return };
+        let node_name = node_name(node);
+        for primitive in mesh.primitives() {
+            let instance_name = with_primitive_suffix(&node_name, primitive.index());
+            if !matches!(
+                primitive.mode(),
+                Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
+            ) {
+                let (file, mode) = (self.path.display(), primitive.mode());
+                self.warnings.push(format!(
+                    "{file}: node '{node_name}', primitive {} skipped: it draws {mode:?}, not triangles",
+                    primitive.index()
+                ));
+                continue;
+            }
+            let Some(mesh_id) = self.mesh_for(&mesh, &primitive, &instance_name) else {
+                continue;
+            };
+            let base_color = primitive
+                .material()
+                .pbr_metallic_roughness()
+                .base_color_factor();
+            let instance = Instance::new(
+                instance_name,
+                mesh_id,
+                &self.meshes[mesh_id as usize],
+                world_from_local,
+            )
+            .with_color(base_color);
+            self.instances.push(instance);
+        }
+    }
+
+    /// The scene mesh of a primitive, read the first time a node uses it.
+    fn mesh_for(
+        &mut self,
+        mesh: &gltf::Mesh,
+        primitive: &gltf::Primitive,
+        instance_name: &str,
+    ) -> Option<MeshId> {
+        let key = (mesh.index(), primitive.index());
+        if let Some(&mesh_id) = self.mesh_ids.get(&key) {
+            return mesh_id;
+        }
+        let base_name = mesh
+            .name()
+            .map_or_else(|| format!("mesh{}", mesh.index()), str::to_owned);
+        let mesh_name = with_primitive_suffix(&base_name, primitive.index());
+        let context = format!(
+            "{}: node '{instance_name}', mesh '{mesh_name}'",
+            self.path.display()
+        );
+        let read = read_triangle_mesh(
+            primitive,
+            self.buffers,
+            mesh_name,
+            &context,
+            &mut self.warnings,
+        );
+        let mesh_id = match read {
+            Ok(mesh) => {
+                self.meshes.push(mesh);
+                Some((self.meshes.len() - 1) as MeshId)
+            }
+            Err(reason) => {
+                self.warnings.push(format!("{context} skipped: {reason}"));
+                None
+            }
+        };
+        self.mesh_ids.insert(key, mesh_id);
+        mesh_id
+    }
+}
+
+/// The nodes the default scene (or else the first scene) lists; without scenes, every node
+/// that is nobody's child.
+fn root_nodes(document: &gltf::Document) -> Vec<gltf::Node<'_>> {
+    if let Some(scene) = document
+        .default_scene()
+        .or_else(|| document.scenes().next())
+    {
+        return scene.nodes().collect();
+    }
+    let mut is_child = vec![false; document.nodes().len()];
+    for child in document.nodes().flat_map(|node| node.children()) {
+        if let Some(flag) = is_child.get_mut(child.index()) {
+            *flag = true;
+        }
+    }
+    document
+        .nodes()
+        .filter(|node| !is_child.get(node.index()).copied().unwrap_or(true))
+        .collect()
+}
+
+fn node_name(node: &gltf::Node) -> String {
+    node.name()
+        .map_or_else(|| format!("node{}", node.index()), str::to_owned)
+}
+
+/// `name` for a mesh's first primitive, `name/p<k>` for primitive `k > 0`.
+fn with_primitive_suffix(name: &str, primitive_index: usize) -> String {
+    if primitive_index == 0 {
+        name.to_owned()
+    } else {
+        format!("{name}/p{primitive_index}")
+    }
+}

@@ -1,0 +1,73 @@
+// The shadow-map technique's "light reaching this point": the fraction of PCF taps that see
+// the light in each view that shades the point (`view_shades`), the least of them, from the
+// method's maps and, when measuring, from the reference maps (marking the oracle). Bound as
+// group 1 of the shading pass (shadow_map/mod.rs).
+#import shadow_view/lookup.wgsl
+#import metrics/measure.wgsl
+
+@group(1) @binding(0) var shadow_maps: texture_depth_2d_array;
+@group(1) @binding(1) var reference_maps: texture_depth_2d_array;
+@group(1) @binding(2) var reference_ids: texture_2d_array<u32>;
+
+// The light reaching a point, from the method's shadow and from the reference.
+struct LightReaching {
+    method: f32,
+    reference: f32,
+    // The first view that shades the point (the `casters` overlay reads its outcomes).
+    view: u32,
+}
+
+// Fraction of kernel taps that see the light. With `mark`, every shadowed tap marks the
+// reference caster that won its texel (the oracle).
+fn shadow_factor(reference: bool, l: ShadowLookup, mark: bool) -> f32 {
+    if (!l.inside) {
+        return 1.0;
+    }
+    var lit = 0.0;
+    for (var j = 0; j < l.kernel; j++) {
+        for (var i = 0; i < l.kernel; i++) {
+            let t = l.first + vec2<i32>(i, j);
+            if (!tap_in_map(l, t)) {
+                lit += 1.0;
+                continue;
+            }
+            let texel = map_texel(l, t);
+            var stored: f32;
+            if (reference) {
+                stored = textureLoad(reference_maps, texel, l.layer, 0);
+            } else {
+                stored = textureLoad(shadow_maps, texel, l.layer, 0);
+            }
+            let tap_lit = tap_threshold(l, t) <= stored;
+            lit += select(0.0, 1.0, tap_lit);
+            if (mark && !tap_lit) {
+                mark_oracle(l.view, textureLoad(reference_ids, texel, l.layer, 0).x);
+            }
+        }
+    }
+    return lit / f32(l.kernel * l.kernel);
+}
+
+// `measuring`: also the reference's factor (else equal to the method's) and the oracle.
+fn light_reaching(world_pos: vec3<f32>, geometric: vec3<f32>, measuring: bool) -> LightReaching {
+    var out = LightReaching(1.0, 1.0, 0u);
+    var first = true;
+    for (var v = 0u; v < frame.views.x; v++) {
+        if (!view_shades(v, world_pos)) {
+            continue;
+        }
+        if (first) {
+            out.view = v;
+            first = false;
+        }
+        let lookup = shadow_lookup(world_pos, geometric, v);
+        let visibility = shadow_factor(false, lookup, false);
+        var reference = visibility;
+        if (measuring) {
+            reference = shadow_factor(true, lookup, true);
+        }
+        out.method = min(out.method, visibility);
+        out.reference = min(out.reference, reference);
+    }
+    return out;
+}

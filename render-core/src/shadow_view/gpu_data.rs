@@ -1,0 +1,51 @@
+//! The GPU mirror of a shadow view. Keep in sync with `shadow_view/views.wgsl`.
+
+use bytemuck::{Pod, Zeroable};
+
+use super::ShadowView;
+
+/// `ShadowView` in `views.wgsl`: 256 bytes, the largest uniform-offset alignment wgpu allows,
+/// so one buffer serves as the array of views and as one uniform slice per view.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct ShadowViewGpu {
+    pub light_clip_from_world: [[f32; 4]; 4],
+    pub world_from_light_clip: [[f32; 4]; 4],
+    /// xyz: light-space x axis in world; w: texel size along x in metres.
+    pub light_right: [f32; 4],
+    /// xyz: light-space y axis in world; w: texel size along y in metres.
+    pub light_up: [f32; 4],
+    /// xyz: direction the light travels; w: depth range in metres.
+    pub light_dir: [f32; 4],
+    /// Layer, first texel x and y, side in texels (`square` in WGSL).
+    pub square: [u32; 4],
+    /// x, y: the camera view depths whose points the view shades; z, w: unused.
+    pub shades_depth_m: [f32; 4],
+    /// x: the view's index; y, z, w: unused.
+    pub index: [u32; 4],
+    pub _pad: [[f32; 4]; 2],
+}
+const _: () = assert!(size_of::<ShadowViewGpu>() == ShadowViewGpu::STRIDE as usize);
+
+impl ShadowViewGpu {
+    /// Bytes per view in the buffer.
+    pub const STRIDE: u64 = 256;
+
+    pub fn new(view: &ShadowView, index: u32) -> Self {
+        let light = &view.light;
+        let rows = light.light_from_world.transpose();
+        let (right, up) = (rows.x_axis.truncate(), rows.y_axis.truncate());
+        let t = view.target;
+        Self {
+            light_clip_from_world: light.light_clip_from_world.to_cols_array_2d(),
+            world_from_light_clip: light.light_clip_from_world.inverse().to_cols_array_2d(),
+            light_right: right.extend(light.texel_size_m[0]).to_array(),
+            light_up: up.extend(light.texel_size_m[1]).to_array(),
+            light_dir: light.light_direction.extend(light.depth_range_m).to_array(),
+            square: [t.layer, t.origin[0], t.origin[1], t.size],
+            shades_depth_m: [view.shades_depth_m[0], view.shades_depth_m[1], 0.0, 0.0],
+            index: [index, 0, 0, 0],
+            _pad: [[0.0; 4]; 2],
+        }
+    }
+}

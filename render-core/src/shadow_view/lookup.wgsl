@@ -1,0 +1,72 @@
+// Where a camera fragment reads a shadow view: the PCF taps and the receiver's plane across
+// them. Shading (shadow_map/light.wgsl) and the receiver passes that must agree with it bit
+// for bit (culling/receivers.wgsl) share these functions. Texel coordinates are the view's
+// own (0 at its square's first texel); `map_texel` places them in the depth array.
+#import view/common.wgsl
+
+struct ShadowLookup {
+    // Lookup position in the view's texels.
+    p: vec2<f32>,
+    // Normalised light depth of the (normal-offset) receiver point.
+    depth: f32,
+    // Depth change per texel along the receiver's plane.
+    ddepth_per_texel: vec2<f32>,
+    bias: f32,
+    // The first tap and the kernel width.
+    first: vec2<i32>,
+    kernel: i32,
+    // False outside the light frustum, where everything is lit.
+    inside: bool,
+    // The view, its side in texels, its layer and first texel in the depth array.
+    view: u32,
+    size: i32,
+    layer: i32,
+    origin: vec2<i32>,
+}
+
+fn shadow_lookup(world_pos: vec3<f32>, geometric: vec3<f32>, v: u32) -> ShadowLookup {
+    var l: ShadowLookup;
+    let view = shadow_views[v];
+    let texel_m = vec2<f32>(view.light_right.w, view.light_up.w);
+    let range_m = max(view.light_dir.w, 1e-6);
+    let size = f32(view.square.w);
+    let offset_pos = world_pos + geometric * (frame.shadow.z * max(texel_m.x, texel_m.y));
+    let clip = view.light_clip_from_world * vec4<f32>(offset_pos, 1.0);
+    let ndc = clip.xyz / clip.w;
+    l.inside = !(abs(ndc.x) > 1.0 || abs(ndc.y) > 1.0 || ndc.z > 1.0);
+    l.p = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5) * size;
+    l.depth = ndc.z;
+
+    let a = dot(geometric, view.light_right.xyz);
+    let b = dot(geometric, view.light_up.xyz);
+    let c = dot(geometric, view.light_dir.xyz);
+    let c_safe = select(min(c, -1e-3), max(c, 1e-3), c > 0.0);
+    l.ddepth_per_texel = vec2<f32>(-a / c_safe * texel_m.x, b / c_safe * texel_m.y) / range_m;
+    let slope = min(abs(l.ddepth_per_texel.x) + abs(l.ddepth_per_texel.y), 10.0 * max(texel_m.x, texel_m.y) / range_m);
+    l.bias = frame.shadow.x / range_m + frame.shadow.y * slope;
+    l.kernel = i32(frame.params.x);
+    l.first = vec2<i32>(floor(l.p - 0.5 * f32(l.kernel - 1)));
+    l.view = v;
+    l.size = i32(view.square.w);
+    l.layer = i32(view.square.x);
+    l.origin = vec2<i32>(view.square.yz);
+    return l;
+}
+
+// Whether tap `t` lies in the view's square; taps outside it count as lit.
+fn tap_in_map(l: ShadowLookup, t: vec2<i32>) -> bool {
+    return all(t >= vec2<i32>(0)) && all(t <= vec2<i32>(l.size - 1));
+}
+
+// Tap `t` in the depth array.
+fn map_texel(l: ShadowLookup, t: vec2<i32>) -> vec2<i32> {
+    return l.origin + t;
+}
+
+// Tap `t` is lit when the stored depth is at least this: the receiver's plane extended to the
+// tap's texel centre, minus the bias. A caster shadows the tap only if it is nearer.
+fn tap_threshold(l: ShadowLookup, t: vec2<i32>) -> f32 {
+    let delta = vec2<f32>(t) + 0.5 - l.p;
+    let receiver = l.depth + dot(l.ddepth_per_texel, delta);
+    return receiver - l.bias;
+}

@@ -1,0 +1,64 @@
+//! Shadow views, the unit every shadow technique multiplies: one light projection, its texel
+//! size and depth range, and where it renders (a square of a layer of a depth array; a whole
+//! layer, or a tile of an atlas). A single map is one view, a cascade one view each, a spot
+//! light one, a point light six. Caster culling runs per view (`culling/`).
+//!
+//! [`ShadowView`] is per-frame data; [`ViewBuffer`] is the long-lived GPU buffer the frame
+//! writes them into each frame, read by every scene pass (group 0) and, one slice per view,
+//! by the passes that render one view.
+
+mod buffer;
+mod gpu_data;
+mod settings;
+
+pub use buffer::ViewBuffer;
+pub use gpu_data::ShadowViewGpu;
+pub use settings::{PcfKernel, ShadowSettings};
+
+use crate::geom::LightFrustum;
+
+/// Depth of every shadow view: 0 towards the light, 1 at the far plane.
+pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// Where a view renders: the square of `size` texels from `origin` in layer `layer`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ViewTarget {
+    pub layer: u32,
+    pub origin: [u32; 2],
+    pub size: u32,
+}
+
+impl ViewTarget {
+    /// All of layer `layer` of a depth array `size` texels square.
+    pub fn layer(layer: u32, size: u32) -> Self {
+        Self {
+            layer,
+            origin: [0, 0],
+            size,
+        }
+    }
+}
+
+/// One shadow view of one frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShadowView {
+    /// What reports call it ("sun"; later "cascade 2", "spot 3", "point 1 +X").
+    pub name: String,
+    /// The light's projection and facts about it.
+    pub light: LightFrustum,
+    pub target: ViewTarget,
+    /// The camera view depths `[near, far)` in metres whose points this view shades.
+    pub shades_depth_m: [f32; 2],
+}
+
+impl ShadowView {
+    /// A view that shades every point it covers.
+    pub fn covering_all_depths(name: &str, light: LightFrustum, target: ViewTarget) -> Self {
+        Self {
+            name: name.to_owned(),
+            light,
+            target,
+            shades_depth_m: [f32::MIN, f32::MAX],
+        }
+    }
+}

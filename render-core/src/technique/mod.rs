@@ -1,0 +1,214 @@
+//! The seam between the frame and its shadows. A **shadow technique** (the single map today;
+//! cascades, shadow volumes, many lights and virtual maps to come, a folder each) is what the
+//! frame asks for "how much light reaches this point":
+//!
+//! ```text
+//! prepare   its shadow views for this frame (shadow_view/), long-lived resources following
+//!           the scene and the settings
+//! draw      its passes for those views: masks, caster culling per view, maps (or stencil
+//!           volumes); returns the bind group its light term reads
+//! light     the WGSL of "light reaching this point" (`technique/light.wgsl` as the shading
+//!           pass composes it) for the method and the reference, and its bind-group layout
+//! report    per view and in total: stages, casters, outcomes; the light view inset's sources
+//! ```
+//!
+//! The frame knows techniques only through [`ShadowTechnique`]; how a technique culls, which
+//! maps it keeps between frames and what it falls back to are its own.
+
+use glam::Mat4;
+use serde::Serialize;
+
+use crate::culling::{CasterOutcome, Method, Stage};
+use crate::geom::{Aabb, Camera};
+use crate::gpu::{FrameTimer, GpuContext};
+use crate::scene::Scene;
+use crate::scene_gpu::{DrawList, SceneGpu};
+use crate::shadow_view::{ShadowSettings, ShadowView, ViewBuffer};
+use crate::view::ViewTargets;
+
+/// The virtual file a technique's light term is composed as.
+pub const LIGHT_WGSL_PATH: &str = "technique/light.wgsl";
+
+/// What a technique knows of the frame when it prepares its views.
+pub struct TechniqueInput<'a> {
+    pub scene: &'a Scene,
+    pub scene_gpu: &'a SceneGpu,
+    pub camera: &'a Camera,
+    /// Width over height of the view.
+    pub aspect: f32,
+    pub method: Method,
+    pub shadow: &'a ShadowSettings,
+    pub direction_to_sun: glam::Vec3,
+    /// The frame measures error and the oracle against the reference.
+    pub measure: bool,
+    pub frame_index: u64,
+    /// The newest visible receivers' world bounds that have come back (for FOCUS).
+    pub visible_receivers: Option<Aabb>,
+}
+
+/// What a technique draws with: the frame's bindings, the camera's passes so far, and this
+/// frame's views (already in the view buffer).
+pub struct DrawInput<'a> {
+    pub ctx: &'a GpuContext,
+    pub views: &'a [ShadowView],
+    pub view_buffer: &'a ViewBuffer,
+    /// Group 0 of every scene pass (frame uniforms, instances, views).
+    pub frame_group: &'a wgpu::BindGroup,
+    pub camera_clip_from_world: Mat4,
+    pub camera_draws: &'a DrawList,
+    pub targets: &'a ViewTargets,
+    /// One word per instance, non-zero where a pixel shows it (`view::VisibilityPass`).
+    pub visible_flags: &'a wgpu::Buffer,
+    pub timer: &'a FrameTimer,
+    pub indirect_first_instance: bool,
+}
+
+/// What the shading pass binds after a technique has drawn.
+pub struct ShadowPasses {
+    /// Group 1 of the shading pass, read by the technique's light term.
+    pub light_group: wgpu::BindGroup,
+    /// Per view and instance, the outcome code in the low byte (`culling/codes.wgsl`), for the
+    /// `casters` overlay.
+    pub outcomes: wgpu::Buffer,
+}
+
+/// One view's part of the report.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct ViewReport {
+    pub name: String,
+    pub stages: Vec<Stage>,
+    pub casters_rendered: u32,
+    /// Casters in this view's oracle set (when measuring).
+    pub casters_oracle: Option<u32>,
+    pub triangles_shadow: u64,
+    pub texel_size_m: [f32; 2],
+    pub depth_range_m: f32,
+    pub covers_whole_scene: bool,
+}
+
+/// A technique's part of the report, the newest it has.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ShadowReport {
+    pub casters_total: u32,
+    pub views: Vec<ViewReport>,
+    /// For counts that come back from the GPU: the frame they belong to.
+    pub culled_frame_index: Option<u64>,
+    /// What the device changes about the method (a fallback), in words.
+    pub notes: Vec<String>,
+    /// Why this frame's shadow passes could not run as asked, and what was drawn instead.
+    pub failure: Option<String>,
+    /// CPU time of choosing casters this frame, milliseconds.
+    pub cpu_culling_ms: f64,
+}
+
+/// One view of the light's view inset: its map, mask and outcomes.
+pub struct InsetSources<'a> {
+    /// The view's layer of the method's and the reference's maps (2D views).
+    pub shadow_depth: &'a wgpu::TextureView,
+    pub reference_ids: &'a wgpu::TextureView,
+    /// The view's square in the layer: first texel and side.
+    pub origin: [u32; 2],
+    pub size: u32,
+    /// Per view and instance, outcome codes; the view's first word.
+    pub outcomes: &'a wgpu::Buffer,
+    pub outcomes_offset: u32,
+    /// The view's mask layer and FRAG's depths with the view's first word and the mask side.
+    pub mask_raster: &'a wgpu::TextureView,
+    pub mask_bits: &'a wgpu::Buffer,
+    pub mask_offset: u32,
+    pub mask_size: u32,
+    /// Shadow texels per mask texel.
+    pub mask_scale: u32,
+    pub show_raster_mask: bool,
+    pub show_fragment_mask: bool,
+    /// The reference map holds caster ids this frame, so culled casters can be striped.
+    pub show_outcomes: bool,
+}
+
+/// A way of rendering shadows. Long-lived (pipelines, textures, culling state); per frame it
+/// prepares views, draws, and reports.
+pub trait ShadowTechnique {
+    /// Its name in reports (`single`).
+    fn name(&self) -> &'static str;
+
+    /// The WGSL file that defines `light_reaching` (the shading pass imports it as
+    /// [`LIGHT_WGSL_PATH`]) and the layout of the group it reads (group 1 of the shading pass).
+    fn light_term(&self) -> (&'static str, &wgpu::BindGroupLayout);
+
+    /// The method this frame runs with, after the technique's fallbacks.
+    fn effective_method(&self, requested: Method) -> Method;
+
+    /// This frame's views; long-lived resources follow the scene and the settings.
+    fn prepare(&mut self, ctx: &GpuContext, input: &TechniqueInput<'_>) -> Vec<ShadowView>;
+
+    /// Records the technique's passes for this frame's views. A pass that cannot run does
+    /// not fail the frame: the technique draws what it can, and [`ShadowReport::failure`]
+    /// says what happened.
+    fn draw(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        input: &TechniqueInput<'_>,
+        draw: &DrawInput<'_>,
+    ) -> ShadowPasses;
+
+    /// Call after the frame is submitted.
+    fn after_submit(&mut self);
+
+    /// Takes what has come back from the GPU (after a device poll) and returns the newest
+    /// report.
+    fn collect(&mut self) -> ShadowReport;
+
+    /// Whether frame `frame_index`'s counts and outcomes have come back (or need not).
+    fn has_results_of(&self, frame_index: u64) -> bool;
+
+    /// View `view`'s part of the light's view inset.
+    fn inset(&self, view: u32, show_outcomes: bool) -> Option<InsetSources<'_>>;
+
+    /// What happened to each instance in each view (the newest known).
+    fn view_outcomes(&self) -> Vec<&[CasterOutcome]>;
+
+    /// Leaves these instances out of the method's shadows from the next frame on.
+    fn exclude(&mut self, instances: &[u32]);
+}
+
+/// The outcome of each instance over all views: the furthest it got in any view.
+pub fn combined_outcomes(per_view: &[&[CasterOutcome]]) -> Vec<CasterOutcome> {
+    let mut out: Vec<CasterOutcome> = per_view.first().map(|v| v.to_vec()).unwrap_or_default();
+    for view in per_view.iter().skip(1) {
+        for (o, v) in out.iter_mut().zip(view.iter()) {
+            *o = o.furthest(*v);
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_object_rendered_in_any_view_is_rendered() {
+        let a = [
+            CasterOutcome::Culled { stage: 1 },
+            CasterOutcome::Rendered,
+            CasterOutcome::NotACaster,
+            CasterOutcome::Culled { stage: 1 },
+        ];
+        let b = [
+            CasterOutcome::Rendered,
+            CasterOutcome::Culled { stage: 2 },
+            CasterOutcome::NotACaster,
+            CasterOutcome::Culled { stage: 3 },
+        ];
+        assert_eq!(
+            combined_outcomes(&[&a, &b]),
+            [
+                CasterOutcome::Rendered,
+                CasterOutcome::Rendered,
+                CasterOutcome::NotACaster,
+                CasterOutcome::Culled { stage: 3 }
+            ]
+        );
+        assert_eq!(combined_outcomes(&[&a]), a);
+    }
+}

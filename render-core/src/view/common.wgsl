@@ -1,0 +1,45 @@
+// Frame uniforms and scene bindings shared by the camera and shadow passes: group 0 of every
+// scene pass. Keep in sync with view/gpu_data.rs (FrameUniforms).
+#import scene_gpu/instance.wgsl
+#import shadow_view/views.wgsl
+
+struct FrameUniforms {
+    clip_from_world: mat4x4<f32>,
+    // xyz: camera position; w: unused.
+    eye_world: vec4<f32>,
+    // xyz: unit view direction; w: unused.
+    camera_forward: vec4<f32>,
+    // xyz: unit vector towards the sun; w: sun illuminance scale.
+    direction_to_sun: vec4<f32>,
+    // x: constant depth bias (m); y: slope bias (texels); z: normal offset (texels); w: unused.
+    shadow: vec4<f32>,
+    // x: PCF kernel width in texels; y: 1 when shadows are on; z: 1 when the frame measures
+    // error and oracle; w: overlay bits.
+    params: vec4<u32>,
+    // x: shadow views this frame; y: instances, the stride of per-view blocks of
+    // per-instance data; z, w: unused.
+    views: vec4<u32>,
+}
+
+@group(0) @binding(0) var<uniform> frame: FrameUniforms;
+@group(0) @binding(1) var<storage, read> instances: array<InstanceData>;
+// This frame's shadow views (shadow_view/views.wgsl).
+@group(0) @binding(2) var<storage, read> shadow_views: array<ShadowView>;
+
+fn world_position(instance: u32, local: vec3<f32>) -> vec3<f32> {
+    return (instances[instance].world_from_local * vec4<f32>(local, 1.0)).xyz;
+}
+
+fn world_normal(instance: u32, local: vec3<f32>) -> vec3<f32> {
+    let m = instances[instance].normal_from_local;
+    let n = m[0].xyz * local.x + m[1].xyz * local.y + m[2].xyz * local.z;
+    let len = length(n);
+    return select(vec3<f32>(0.0, 1.0, 0.0), n / len, len > 0.0);
+}
+
+// Whether the point at `world_pos` is shaded from view `v`: within the view depths it covers.
+fn view_shades(v: u32, world_pos: vec3<f32>) -> bool {
+    let depth_m = dot(world_pos - frame.eye_world.xyz, frame.camera_forward.xyz);
+    let range = shadow_views[v].shades_depth_m;
+    return depth_m >= range.x && depth_m < range.y;
+}

@@ -1,0 +1,28 @@
+//! GPU mirror of the frame uniforms. Keep in sync with `view/common.wgsl`.
+
+use bytemuck::{Pod, Zeroable};
+
+/// Bit in [`FrameUniforms::params`]`[3]`: tint objects by caster outcome.
+pub const OVERLAY_CASTERS: u32 = 1;
+
+/// Per-frame constants shared by every scene pass.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct FrameUniforms {
+    pub clip_from_world: [[f32; 4]; 4],
+    /// xyz: camera position; w: unused.
+    pub eye_world: [f32; 4],
+    /// xyz: unit view direction; w: unused.
+    pub camera_forward: [f32; 4],
+    /// xyz: unit vector towards the sun; w: sun illuminance scale.
+    pub direction_to_sun: [f32; 4],
+    /// x: constant depth bias (m); y: slope bias (texels); z: normal offset (texels); w: unused.
+    pub shadow: [f32; 4],
+    /// x: PCF kernel width in texels (1, 2, 3 or 5); y: 1 when shadows are on; z: 1 when the
+    /// frame measures error and oracle against the reference; w: overlay bits
+    /// ([`OVERLAY_CASTERS`]).
+    pub params: [u32; 4],
+    /// x: shadow views this frame; y: instances (the stride of per-view blocks); z, w: unused.
+    pub views: [u32; 4],
+}
+const _: () = assert!(size_of::<FrameUniforms>() == 160);
