@@ -189,7 +189,8 @@ fn objects_detail(session: &Session, report: &FrameReport) -> anyhow::Result<ser
     Ok(serde_json::Value::Array(entries))
 }
 
-/// The stats JSON of DESIGN.md: scene, objects, method, counts, stages, `timings_ms`, and the view.
+/// The stats JSON of DESIGN.md: scene, objects, method, counts, stages (in total and per shadow
+/// view), `timings_ms`, and the view.
 pub fn stats_json(
     scene: &Scene,
     settings: &FrameSettings,
@@ -233,6 +234,10 @@ pub fn stats_json(
         "tightness": report.tightness(),
         "error": report.error,
         "stages": report.stages,
+        "technique": report.technique,
+        "views": report.views,
+        "notes": report.notes,
+        "shadow_failure": report.shadow_failure,
         "timings_ms": {
             "frame_wall": wall_ms,
             "cpu_culling": report.cpu.culling_ms,

@@ -80,6 +80,18 @@ fn shot_of_the_city_writes_a_picture_and_stats() {
             > 0.0
     );
     assert_eq!(stats["stages"][0]["remaining"].as_u64(), Some(total));
+    assert_eq!(stats["technique"], "single");
+    let views = stats["views"].as_array().expect("views");
+    assert_eq!(views.len(), 1, "the single map is one view");
+    assert_eq!(views[0]["name"], "sun");
+    assert_eq!(views[0]["casters_rendered"].as_u64(), Some(rendered));
+    assert_eq!(views[0]["stages"], stats["stages"]);
+    assert_eq!(
+        views[0]["casters_oracle"], counts["casters_oracle"],
+        "one view's oracle is the frame's"
+    );
+    assert_eq!(views[0]["texel_size_m"], stats["light"]["texel_size_m"]);
+    assert!(stats["shadow_failure"].is_null());
 }
 
 #[test]

@@ -4,6 +4,8 @@
 //! virtual files. The renderer and the naga validation test compose through [`compose`], so
 //! what is validated is what runs.
 
+use std::fmt::Write as _;
+
 /// Every WGSL file of the crate, by its path under `src/`.
 const FILES: &[(&str, &str)] = &[
     (
@@ -101,13 +103,13 @@ fn append<'a>(
     done.push(path);
     let Some(source) = source_of(path, virtual_files) else {
         log::error!("WGSL import '{path}' names no file");
-        out.push_str(&format!("missing import {path}\n"));
+        let _ = writeln!(out, "missing import {path}");
         return;
     };
     for import in imports(source) {
         append(import, virtual_files, done, out);
     }
-    out.push_str(&format!("// ---- {path}\n"));
+    let _ = writeln!(out, "// ---- {path}");
     for line in source.lines() {
         if !line.trim_start().starts_with("#import ") {
             out.push_str(line);

@@ -113,6 +113,7 @@ impl CasterOutcome {
 
     /// How far the object got: rendered beats every culling stage, a later stage an earlier
     /// one. An object's outcome over several views is the furthest of its views'.
+    #[must_use]
     pub fn furthest(self, other: Self) -> Self {
         let rank = |o: Self| match o {
             Self::NotACaster => 0,

@@ -330,8 +330,7 @@ impl FrameRenderer {
         if settings.overlays.error && settings.measure {
             self.heat_map.draw(&ctx.device, encoder, targets);
         }
-        let reference_drawn = settings.measure || settings.method == Method::Oracle;
-        if let Some(sources) = self.single.inset(0, reference_drawn) {
+        if let Some(sources) = self.single.inset(0) {
             let group = self.light_inset.bind(&ctx.device, &ctx.queue, &sources);
             let onto = settings.overlays.light_view.then_some((
                 &targets.color_view,

@@ -157,8 +157,10 @@ impl MeasureResources {
         instance_count: u32,
         views: u32,
     ) -> Result<Vec<bool>, GpuError> {
-        let block = self.capacity.0 as usize;
-        let words = u64::from(self.capacity.0) * u64::from(views.clamp(1, self.capacity.1));
+        // The shaders' per-view stride is the instance count (`frame.views.y`).
+        let block = instance_count.max(1) as usize;
+        let views = views.clamp(1, self.capacity.1);
+        let words = u64::from(instance_count.max(1)) * u64::from(views);
         let bytes = read_buffer(ctx, &self.oracle_flags, words * 4, "oracle flags")?;
         let flags: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes);
         Ok((0..instance_count as usize)

@@ -16,7 +16,7 @@ use crate::view::targets::COLOR_FORMAT;
 /// Size of the light's view inset, in pixels.
 pub const LIGHT_VIEW_SIZE: u32 = 256;
 
-/// `Inset` in light_inset.wgsl.
+/// `Inset` in `light_inset.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 struct InsetParams {
@@ -26,7 +26,7 @@ struct InsetParams {
     square: [u32; 4],
 }
 
-/// Bits of `InsetParams::show[0]` (`SHOW_*` in light_inset.wgsl).
+/// Bits of `InsetParams::show[0]` (`SHOW_*` in `light_inset.wgsl`).
 mod show {
     pub const RASTER_MASK: u32 = 1;
     pub const FRAGMENT_MASK: u32 = 2;

@@ -43,7 +43,8 @@ pub struct SingleMap {
     /// Incremental updates: what the persistent maps were drawn for (scene, exclusions, light).
     static_map_key: Option<(u64, u64, [u32; 16])>,
     exclusions_version: u64,
-    /// The last frame: its views' facts, whether GPU culling ran, and what failed.
+    /// What the last frame drew, for its report and the inset: its views, whether GPU culling
+    /// ran, what failed.
     last: LastFrame,
     failures: LogOnce,
 }
@@ -54,6 +55,8 @@ struct LastFrame {
     /// Instances of the scene: the stride of per-view blocks.
     instances: u32,
     gpu_culled: bool,
+    /// The reference maps were drawn (measuring, or for the oracle method).
+    reference_drawn: bool,
     failure: Option<String>,
     cpu_culling_ms: f64,
 }
@@ -202,7 +205,7 @@ impl SingleMap {
         second?;
         self.draw_culled_views(encoder, input, draw, false)?;
         let query = draw.timer.begin_scope(pass_label::CULLING, encoder);
-        self.culling.encode_far_ends(encoder, pass);
+        self.culling.encode_far_ends(encoder, &pass);
         draw.timer.end_pass(encoder, query);
         Ok(())
     }
@@ -350,8 +353,8 @@ impl ShadowTechnique for SingleMap {
         let gpu = method.gpu_driven();
         self.cpu
             .select(ctx, (input.scene, input.scene_gpu), method, &lights, !gpu);
-        let reference_needed = input.measure || method == Method::Oracle;
-        if reference_needed {
+        let reference_drawn = input.measure || method == Method::Oracle;
+        if reference_drawn {
             self.cpu.upload_reference(ctx, input.scene_gpu);
         }
         let cpu_culling_ms = started.elapsed().as_secs_f64() * 1000.0;
@@ -401,6 +404,7 @@ impl ShadowTechnique for SingleMap {
             views: draw.views.to_vec(),
             instances: input.scene_gpu.instance_count,
             gpu_culled,
+            reference_drawn,
             failure,
             cpu_culling_ms,
         };
@@ -454,7 +458,7 @@ impl ShadowTechnique for SingleMap {
                     .is_some_and(|(f, _)| f == frame_index))
     }
 
-    fn inset(&self, view: u32, show_outcomes: bool) -> Option<InsetSources<'_>> {
+    fn inset(&self, view: u32) -> Option<InsetSources<'_>> {
         let target = self.last.views.get(view as usize)?.target;
         let (shadow_depth, reference_ids) = self.maps.layer(target.layer)?;
         let mask = self.culling.mask_for_inset(self.method, view)?;
@@ -477,7 +481,8 @@ impl ShadowTechnique for SingleMap {
             mask_scale: mask.scale,
             show_raster_mask: mask.raster_shown,
             show_fragment_mask: mask.fragment_shown,
-            show_outcomes,
+            // Culled casters can be striped where the reference maps hold their ids.
+            show_outcomes: self.last.reference_drawn,
         })
     }
 

@@ -23,7 +23,7 @@ pub struct ShadowViewGpu {
     pub shades_depth_m: [f32; 4],
     /// x: the view's index; y, z, w: unused.
     pub index: [u32; 4],
-    pub _pad: [[f32; 4]; 2],
+    _pad: [[f32; 4]; 2],
 }
 const _: () = assert!(size_of::<ShadowViewGpu>() == ShadowViewGpu::STRIDE as usize);
 

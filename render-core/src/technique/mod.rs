@@ -161,8 +161,8 @@ pub trait ShadowTechnique {
     /// Whether frame `frame_index`'s counts and outcomes have come back (or need not).
     fn has_results_of(&self, frame_index: u64) -> bool;
 
-    /// View `view`'s part of the light's view inset.
-    fn inset(&self, view: u32, show_outcomes: bool) -> Option<InsetSources<'_>>;
+    /// View `view`'s part of the light's view inset, as the last frame drew it.
+    fn inset(&self, view: u32) -> Option<InsetSources<'_>>;
 
     /// What happened to each instance in each view (the newest known).
     fn view_outcomes(&self) -> Vec<&[CasterOutcome]>;

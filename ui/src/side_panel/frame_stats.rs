@@ -13,6 +13,7 @@ const PENDING: &str = "…";
 pub fn ui(ui: &mut egui::Ui, input: &PanelInput<'_>, newest: Option<&TimingSample>) {
     match input.report {
         Some(report) => {
+            problems(ui, report);
             counts(ui, report);
             stages(ui, report);
         }
@@ -22,6 +23,19 @@ pub fn ui(ui: &mut egui::Ui, input: &PanelInput<'_>, newest: Option<&TimingSampl
     }
     ui.add_space(theme::SECTION_GAP);
     timings(ui, input, newest);
+}
+
+/// A shadow pass that could not run as asked, and what the device changes about the method:
+/// shown first, in the warning colour, so a number below is not read as the method's own.
+fn problems(ui: &mut egui::Ui, report: &FrameReport) {
+    if let Some(failure) = &report.shadow_failure {
+        ui.label(
+            egui::RichText::new(format!("Shadow pass failed: {failure}")).color(theme::WARNING),
+        );
+    }
+    for note in &report.notes {
+        ui.label(egui::RichText::new(format!("Fallback: {note}")).color(theme::WARNING));
+    }
 }
 
 fn counts(ui: &mut egui::Ui, report: &FrameReport) {

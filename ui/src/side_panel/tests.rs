@@ -219,6 +219,29 @@ fn received_count_replaces_the_pending_mark() {
 }
 
 #[test]
+fn a_failed_shadow_pass_and_a_fallback_are_named() {
+    let plain = harness(Lab::new());
+    assert!(
+        plain
+            .query_by_label_contains("Shadow pass failed")
+            .is_none()
+    );
+    assert!(plain.query_by_label_contains("Fallback:").is_none());
+    let mut lab = Lab::new();
+    lab.report.shadow_failure =
+        Some("frag: GPU culling has no scene buffers; every caster was drawn instead".into());
+    lab.report.notes = vec!["geom: receiver boxes stand in for their geometry".into()];
+    let failed = harness(lab);
+    let failure = "Shadow pass failed: frag: GPU culling has no scene buffers";
+    assert!(failed.query_by_label_contains(failure).is_some());
+    assert!(
+        failed
+            .query_by_label_contains("Fallback: geom: receiver boxes")
+            .is_some()
+    );
+}
+
+#[test]
 fn buttons_return_actions() {
     let mut harness = harness(Lab::new());
     for (button, action) in [

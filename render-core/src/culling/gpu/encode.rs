@@ -1,0 +1,342 @@
+//! Recording GPU culling's passes for one frame: the masks and the first phase, the occlusion
+//! pyramids and the second phase, the progressive far ends; every view in one dispatch, the
+//! masks one render pass per view.
+
+use super::resources::{SceneResources, SizedResources};
+use super::{CullError, CullFrame, CullPass, GpuCulling, WORKGROUP};
+use crate::culling::codes::method_bits as bits;
+use crate::gpu::{GpuContext, buffer_entry, color_attachment, depth_pass, view_entry};
+use crate::scene_gpu::SceneGpu;
+use crate::shadow_view::ShadowView;
+
+impl GpuCulling {
+    /// Records the masks and the first phase: after it, each view's first shadow pass draws
+    /// [`GpuCulling::view_draws`]. Returns what the later steps of this frame need.
+    pub fn encode_first_phase(
+        &mut self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        scene_gpu: &SceneGpu,
+        frame: &CullFrame<'_>,
+    ) -> Result<CullPass, CullError> {
+        let method = self.frame_bits(frame)?;
+        let views = frame.views.len() as u32;
+        let (sized, scene, camera) = self.resources()?;
+        if views > scene.capacity || views > sized.key.capacity {
+            return Err(CullError::TooManyViews {
+                views,
+                capacity: scene.capacity.min(sized.key.capacity),
+            });
+        }
+        self.write_params(ctx, frame, method);
+        let cull_group = self.cull_bind_group(ctx, scene_gpu, frame)?;
+        let groups = scene.instance_count.div_ceil(WORKGROUP).max(1);
+        scene.reset_selection(encoder, views);
+        self.counters.clear(encoder);
+
+        if method & bits::MASK != 0 {
+            encoder.clear_buffer(&sized.mask_bits, 0, None);
+            if method & bits::GEOM != 0 {
+                dispatch(
+                    encoder,
+                    "GpuCulling::receivers",
+                    &self.pipelines.receivers,
+                    &cull_group,
+                    (groups, views),
+                );
+            }
+            let mask_group = self.mask_group(ctx, scene_gpu, frame, scene);
+            for (v, view) in (0..views).zip(frame.views) {
+                let pass_view = frame
+                    .view_buffer
+                    .pass_group(v)
+                    .ok_or(CullError::NotPrepared {
+                        what: "view bind groups",
+                    })?;
+                let mask = MaskPass {
+                    frame_group: frame.frame_bind_group,
+                    mask_group: &mask_group,
+                    pass_view,
+                    view: v,
+                };
+                self.rasterise_mask(
+                    encoder,
+                    scene_gpu,
+                    scene,
+                    method,
+                    &sized.mask_layers[v as usize],
+                    &mask,
+                );
+                if method & bits::INCREMENTAL != 0
+                    && let Some(layer) = frame.shadow_layers.get(view.target.layer as usize)
+                {
+                    self.clear_moved(encoder, scene, layer, view, &mask);
+                }
+            }
+        }
+        let receiver_pipeline = if method & bits::FRAG != 0 {
+            self.pipelines.fragment_mask.as_ref()
+        } else if method & bits::ORACLE != 0 {
+            self.pipelines.oracle.as_ref()
+        } else {
+            None
+        };
+        if let Some(pipeline) = receiver_pipeline {
+            self.receiver_pass(ctx, encoder, scene_gpu, frame, pipeline, (sized, scene));
+        }
+        if method & bits::MASK != 0 {
+            let reduce = &self.pipelines.reduce;
+            sized
+                .mask
+                .reduce(encoder, (&reduce.mask, &reduce.level), views);
+        }
+        if method & bits::VOLUME != 0 {
+            let reduce = &self.pipelines.reduce;
+            camera
+                .pyramid
+                .reduce(encoder, (&reduce.camera_depth, &reduce.level), 1);
+        }
+        dispatch(
+            encoder,
+            "GpuCulling::first_phase",
+            &self.pipelines.first_phase,
+            &cull_group,
+            (groups, views),
+        );
+        Ok(CullPass {
+            bits: method,
+            views,
+            cull_group,
+        })
+    }
+
+    /// Records each view's occlusion pyramid (of its map as the first phase left it) and the
+    /// second phase; after it, each view's second shadow pass draws [`GpuCulling::view_draws`]
+    /// on top of the first.
+    pub fn encode_second_phase(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        scene_gpu: &SceneGpu,
+        frame: &CullFrame<'_>,
+        pass: &CullPass,
+    ) -> Result<(), CullError> {
+        let (sized, scene, _) = self.resources()?;
+        if pass.bits & bits::OCCLUSION != 0 {
+            let reduce = &self.pipelines.reduce;
+            sized
+                .occlusion
+                .reduce(encoder, (&reduce.depth, &reduce.level), pass.views);
+        }
+        let groups = scene.instance_count.div_ceil(WORKGROUP).max(1);
+        dispatch(
+            encoder,
+            "GpuCulling::second_phase",
+            &self.pipelines.second_phase,
+            &pass.cull_group,
+            (groups, pass.views),
+        );
+        if pass.bits & bits::INCREMENTAL != 0 {
+            encoder.copy_buffer_to_buffer(
+                &scene_gpu.bounds_buffer,
+                0,
+                &scene.previous_bounds,
+                0,
+                None,
+            );
+        }
+        self.counters.copy(encoder, frame.frame_index);
+        if let Some(scene) = &mut self.scene {
+            scene
+                .state_readback
+                .copy(encoder, &scene.state, frame.frame_index);
+        }
+        self.results.submitted(
+            frame.frame_index,
+            frame.method,
+            frame.casters_total,
+            pass.views,
+        );
+        Ok(())
+    }
+
+    /// After every view's second shadow pass, for DigitalRune's progressive mode: the pyramids
+    /// of the finished maps and each caster's shadow-volume far end for the next frame.
+    pub fn encode_far_ends(&self, encoder: &mut wgpu::CommandEncoder, pass: &CullPass) {
+        let (Ok((sized, scene, _)), true) = (self.resources(), pass.bits & bits::PROGRESSIVE != 0)
+        else {
+            return;
+        };
+        let reduce = &self.pipelines.reduce;
+        sized
+            .occlusion
+            .reduce(encoder, (&reduce.depth, &reduce.level), pass.views);
+        let groups = scene.instance_count.div_ceil(WORKGROUP).max(1);
+        dispatch(
+            encoder,
+            "GpuCulling::far_ends",
+            &self.pipelines.far_ends,
+            &pass.cull_group,
+            (groups, pass.views),
+        );
+    }
+
+    fn mask_group(
+        &self,
+        ctx: &GpuContext,
+        scene_gpu: &SceneGpu,
+        frame: &CullFrame<'_>,
+        scene: &SceneResources,
+    ) -> wgpu::BindGroup {
+        ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("GpuCulling::mask_bind_group"),
+            layout: &self.pipelines.mask_layout,
+            entries: &[
+                buffer_entry(0, &self.frame_params),
+                buffer_entry(1, &self.view_params),
+                buffer_entry(2, &scene_gpu.bounds_buffer),
+                buffer_entry(3, frame.visible_flags),
+                buffer_entry(4, &scene.state),
+                buffer_entry(5, &scene.previous_bounds),
+            ],
+        })
+    }
+
+    /// One view's BVOL boxes and GEOM geometry of visible receivers into its mask layer.
+    fn rasterise_mask(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        scene_gpu: &SceneGpu,
+        scene: &SceneResources,
+        method: u32,
+        mask_layer: &wgpu::TextureView,
+        groups: &MaskPass<'_>,
+    ) {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("GpuCulling::rasterise_mask"),
+            color_attachments: &[Some(color_attachment(
+                mask_layer,
+                wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+            ))],
+            depth_stencil_attachment: None,
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        groups.bind(&mut pass);
+        if method & bits::BVOL != 0 {
+            pass.set_pipeline(&self.pipelines.boxes);
+            pass.draw(0..6, 0..scene.instance_count);
+        }
+        if method & bits::INCREMENTAL != 0 {
+            pass.set_pipeline(&self.pipelines.moved_boxes);
+            pass.draw(0..12, 0..scene.instance_count);
+        }
+        if method & bits::GEOM != 0 {
+            pass.set_vertex_buffer(0, scene_gpu.vertex_buffer.slice(..));
+            pass.set_index_buffer(scene_gpu.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
+            for pipeline in &self.pipelines.geometry {
+                pass.set_pipeline(pipeline);
+                pass.multi_draw_indexed_indirect(
+                    &scene.receiver_draws,
+                    scene.draws_offset(groups.view),
+                    scene.instance_count,
+                );
+            }
+        }
+    }
+
+    /// Incremental updates: the moving objects' old and new boxes cleared in one view's map
+    /// (to the far plane), before the casters that touch them are drawn again.
+    fn clear_moved(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &SceneResources,
+        layer: &wgpu::TextureView,
+        view: &ShadowView,
+        groups: &MaskPass<'_>,
+    ) {
+        let mut pass = depth_pass(encoder, "GpuCulling::clear_moved", layer, None, None);
+        let t = view.target;
+        pass.set_viewport(
+            t.origin[0] as f32,
+            t.origin[1] as f32,
+            t.size as f32,
+            t.size as f32,
+            0.0,
+            1.0,
+        );
+        groups.bind(&mut pass);
+        pass.set_pipeline(&self.pipelines.clear_moved);
+        pass.draw(0..12, 0..scene.instance_count);
+    }
+
+    /// FRAG's taps or the oracle's casters, from the camera's visible fragments, every view in
+    /// one pass.
+    fn receiver_pass(
+        &self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        scene_gpu: &SceneGpu,
+        frame: &CullFrame<'_>,
+        pipeline: &wgpu::RenderPipeline,
+        (sized, scene): (&SizedResources, &SceneResources),
+    ) {
+        let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("GpuCulling::receivers_bind_group"),
+            layout: &self.pipelines.receivers_layout,
+            entries: &[
+                buffer_entry(0, &self.view_params),
+                buffer_entry(1, &sized.mask_bits),
+                view_entry(2, frame.reference.0),
+                view_entry(3, frame.reference.1),
+                buffer_entry(4, &scene.selection),
+            ],
+        });
+        let mut pass = depth_pass(
+            encoder,
+            "GpuCulling::receiver_pass",
+            frame.camera_depth,
+            None,
+            None,
+        );
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, frame.frame_bind_group, &[]);
+        pass.set_bind_group(1, &group, &[]);
+        frame
+            .camera_draws
+            .draw(&mut pass, scene_gpu, frame.indirect_first_instance);
+    }
+}
+
+/// The groups of a pass that renders one view's mask or clears its changed region.
+struct MaskPass<'a> {
+    frame_group: &'a wgpu::BindGroup,
+    mask_group: &'a wgpu::BindGroup,
+    pass_view: &'a wgpu::BindGroup,
+    view: u32,
+}
+
+impl MaskPass<'_> {
+    fn bind(&self, pass: &mut wgpu::RenderPass<'_>) {
+        pass.set_bind_group(0, self.frame_group, &[]);
+        pass.set_bind_group(1, self.mask_group, &[]);
+        pass.set_bind_group(2, self.pass_view, &[]);
+    }
+}
+
+/// One caster-test pass over every instance of every view.
+fn dispatch(
+    encoder: &mut wgpu::CommandEncoder,
+    label: &str,
+    pipeline: &wgpu::ComputePipeline,
+    group: &wgpu::BindGroup,
+    (groups, views): (u32, u32),
+) {
+    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+        label: Some(label),
+        timestamp_writes: None,
+    });
+    pass.set_pipeline(pipeline);
+    pass.set_bind_group(0, group, &[]);
+    pass.dispatch_workgroups(groups, views.max(1), 1);
+}
