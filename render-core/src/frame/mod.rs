@@ -150,18 +150,7 @@ impl FrameRenderer {
         input: &FrameInput<'_>,
     ) -> FrameReport {
         let setup = self.begin_frame(ctx, scene, scene_gpu, input);
-        let technique_input = TechniqueInput {
-            scene,
-            scene_gpu,
-            camera: input.camera,
-            aspect: setup.aspect,
-            method: setup.settings.method,
-            shadow: &setup.settings.shadow,
-            direction_to_sun: setup.settings.sun.direction_to_sun,
-            measure: setup.settings.measure,
-            frame_index: self.frame_index,
-            visible_receivers: self.latest.visibility.map(|v| v.receiver_bounds),
-        };
+        let technique_input = self.technique_input(&setup, scene, scene_gpu, input.camera);
         let views = self.single.prepare(ctx, &technique_input);
         let frame_group = self.write_frame(ctx, &setup, input.camera, scene_gpu, &views);
         let mut encoder = ctx
@@ -242,6 +231,29 @@ impl FrameRenderer {
             clip_from_world,
             started,
             camera_culling_ms: camera_started.elapsed().as_secs_f64() * 1000.0,
+        }
+    }
+
+    /// What the technique is told of this frame.
+    fn technique_input<'a>(
+        &self,
+        setup: &'a FrameSetup,
+        scene: &'a Scene,
+        scene_gpu: &'a SceneGpu,
+        camera: &'a Camera,
+    ) -> TechniqueInput<'a> {
+        let settings = &setup.settings;
+        TechniqueInput {
+            scene,
+            scene_gpu,
+            camera,
+            aspect: setup.aspect,
+            method: settings.method,
+            shadow: &settings.shadow,
+            direction_to_sun: settings.sun.direction_to_sun,
+            measure: settings.measure,
+            frame_index: self.frame_index,
+            visible_receivers: self.latest.visibility.map(|v| v.receiver_bounds),
         }
     }
 

@@ -4,7 +4,7 @@
 use std::collections::VecDeque;
 
 use super::{FrameRenderer, FrameReport, FrameSettings, SceneGpu};
-use crate::culling::{CasterOutcome, Method};
+use crate::culling::CasterOutcome;
 use crate::gpu::{GpuContext, GpuError, PassTiming};
 use crate::metrics::Measured;
 use crate::technique::{ShadowTechnique, combined_outcomes};
@@ -19,8 +19,6 @@ pub(super) struct Latest {
     gpu_frames_in_flight: VecDeque<u64>,
     /// Whether the last frame measured; older measurements are not reported after a switch.
     pub measuring: bool,
-    /// The last frame's method, after fallbacks.
-    pub method: Method,
     /// CPU time of the last frame's camera culling (the BVH), milliseconds.
     pub camera_culling_ms: f64,
 }
@@ -35,7 +33,6 @@ impl Latest {
         self.gpu_frames_in_flight.push_back(frame_index);
         self.camera_culling_ms = camera_culling_ms;
         self.measuring = settings.measure;
-        self.method = settings.method;
     }
 }
 
