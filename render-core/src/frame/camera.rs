@@ -3,7 +3,9 @@
 //! term and layout.
 
 use crate::culling::codes;
-use crate::gpu::{FrameTimer, color_attachment, pass_label, pipeline_layout, shader_module};
+use crate::gpu::{
+    FrameTimer, color_attachment, depth_attachment, pass_label, pipeline_layout, shader_module,
+};
 use crate::scene_gpu::{DrawList, SceneGpu};
 use crate::shaders::compose;
 use crate::technique::LIGHT_WGSL_PATH;
@@ -106,14 +108,7 @@ impl CameraPasses {
                     &targets.ids_view,
                     wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
                 ))],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &targets.depth_view,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(0.0),
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: None,
-                }),
+                depth_stencil_attachment: Some(depth_attachment(&targets.depth_view, Some(0.0))),
                 timestamp_writes: query
                     .as_ref()
                     .and_then(wgpu_profiler::GpuProfilerQuery::render_pass_timestamp_writes),
@@ -151,14 +146,7 @@ impl CameraPasses {
                         wgpu::LoadOp::Clear(wgpu::Color::WHITE),
                     )),
                 ],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &targets.depth_view,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: None,
-                }),
+                depth_stencil_attachment: Some(depth_attachment(&targets.depth_view, None)),
                 timestamp_writes: query
                     .as_ref()
                     .and_then(wgpu_profiler::GpuProfilerQuery::render_pass_timestamp_writes),

@@ -125,6 +125,21 @@ pub fn pipeline_layout(
     })
 }
 
+/// A stored depth attachment, cleared to `clear` or keeping what it holds.
+pub fn depth_attachment(
+    view: &wgpu::TextureView,
+    clear: Option<f32>,
+) -> wgpu::RenderPassDepthStencilAttachment<'_> {
+    wgpu::RenderPassDepthStencilAttachment {
+        view,
+        depth_ops: Some(wgpu::Operations {
+            load: clear.map_or(wgpu::LoadOp::Load, wgpu::LoadOp::Clear),
+            store: wgpu::StoreOp::Store,
+        }),
+        stencil_ops: None,
+    }
+}
+
 /// A pass on `depth` alone: cleared to `clear` or keeping what it holds.
 pub fn depth_pass<'e>(
     encoder: &'e mut wgpu::CommandEncoder,
@@ -136,14 +151,7 @@ pub fn depth_pass<'e>(
     encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some(label),
         color_attachments: &[],
-        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-            view: depth,
-            depth_ops: Some(wgpu::Operations {
-                load: clear.map_or(wgpu::LoadOp::Load, wgpu::LoadOp::Clear),
-                store: wgpu::StoreOp::Store,
-            }),
-            stencil_ops: None,
-        }),
+        depth_stencil_attachment: Some(depth_attachment(depth, clear)),
         timestamp_writes,
         occlusion_query_set: None,
         multiview_mask: None,

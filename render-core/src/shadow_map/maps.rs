@@ -4,7 +4,8 @@
 //! resolution or the number of layers changes.
 
 use crate::gpu::{
-    bind_group_layout, color_attachment, pipeline_layout, shader_module, texture, view_entry,
+    bind_group_layout, color_attachment, depth_attachment, pipeline_layout, shader_module, texture,
+    view_entry,
 };
 use crate::scene_gpu::{DrawList, SceneGpu, VERTEX_LAYOUT};
 use crate::shaders::compose;
@@ -274,31 +275,12 @@ impl MapArrays {
             } else {
                 &[]
             },
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: depth,
-                depth_ops: Some(wgpu::Operations {
-                    load: if clear {
-                        wgpu::LoadOp::Clear(1.0)
-                    } else {
-                        wgpu::LoadOp::Load
-                    },
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
-            }),
+            depth_stencil_attachment: Some(depth_attachment(depth, clear.then_some(1.0))),
             timestamp_writes: pass.timestamp_writes,
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        let square = pass.view.target;
-        render.set_viewport(
-            square.origin[0] as f32,
-            square.origin[1] as f32,
-            square.size as f32,
-            square.size as f32,
-            0.0,
-            1.0,
-        );
+        pass.view.target.set_viewport(&mut render);
         render.set_bind_group(0, pass.frame_group, &[]);
         render.set_bind_group(1, pass.pass_group, &[]);
         Some(render)

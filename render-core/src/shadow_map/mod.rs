@@ -148,14 +148,7 @@ impl SingleMap {
             let query = draw.timer.begin_pass(label, encoder);
             self.maps.draw_list(
                 encoder,
-                ViewPass {
-                    view,
-                    frame_group: draw.frame_group,
-                    pass_group,
-                    timestamp_writes: query
-                        .as_ref()
-                        .and_then(wgpu_profiler::GpuProfilerQuery::render_pass_timestamp_writes),
-                },
+                view_pass(view, draw.frame_group, pass_group, query.as_ref()),
                 (input.scene_gpu, list, draw.indirect_first_instance),
                 map,
             );
@@ -228,14 +221,7 @@ impl SingleMap {
             let query = draw.timer.begin_pass(pass_label::SHADOW_MAP, encoder);
             self.maps.draw_indirect(
                 encoder,
-                ViewPass {
-                    view,
-                    frame_group: draw.frame_group,
-                    pass_group,
-                    timestamp_writes: query
-                        .as_ref()
-                        .and_then(wgpu_profiler::GpuProfilerQuery::render_pass_timestamp_writes),
-                },
+                view_pass(view, draw.frame_group, pass_group, query.as_ref()),
                 input.scene_gpu,
                 draws,
                 clear,
@@ -502,5 +488,21 @@ impl ShadowTechnique for SingleMap {
         self.exclusions_version += 1;
         self.cpu.exclude(instances);
         self.culling.exclude(instances);
+    }
+}
+
+/// One view's pass, timed by `query`.
+fn view_pass<'a>(
+    view: &'a ShadowView,
+    frame_group: &'a wgpu::BindGroup,
+    pass_group: &'a wgpu::BindGroup,
+    query: Option<&'a wgpu_profiler::GpuProfilerQuery>,
+) -> ViewPass<'a> {
+    ViewPass {
+        view,
+        frame_group,
+        pass_group,
+        timestamp_writes: query
+            .and_then(wgpu_profiler::GpuProfilerQuery::render_pass_timestamp_writes),
     }
 }

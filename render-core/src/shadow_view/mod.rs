@@ -37,6 +37,13 @@ impl ViewTarget {
             size,
         }
     }
+
+    /// Restricts `pass` (on the target's layer) to the target's square.
+    pub fn set_viewport(&self, pass: &mut wgpu::RenderPass<'_>) {
+        let [x, y] = self.origin.map(|o| o as f32);
+        let side = self.size as f32;
+        pass.set_viewport(x, y, side, side, 0.0, 1.0);
+    }
 }
 
 /// One shadow view of one frame.

@@ -256,15 +256,7 @@ impl GpuCulling {
         groups: &MaskPass<'_>,
     ) {
         let mut pass = depth_pass(encoder, "GpuCulling::clear_moved", layer, None, None);
-        let t = view.target;
-        pass.set_viewport(
-            t.origin[0] as f32,
-            t.origin[1] as f32,
-            t.size as f32,
-            t.size as f32,
-            0.0,
-            1.0,
-        );
+        view.target.set_viewport(&mut pass);
         groups.bind(&mut pass);
         pass.set_pipeline(&self.pipelines.clear_moved);
         pass.draw(0..12, 0..scene.instance_count);
