@@ -40,8 +40,9 @@ pub struct SingleMap {
     warned_no_indirect: LogOnce,
     /// How many times the view is rendered (1 but in tests of the view seam).
     repeated_views: u32,
-    /// Incremental updates: what the persistent maps were drawn for (scene, exclusions, light).
-    static_map_key: Option<(u64, u64, [u32; 16])>,
+    /// Incremental updates: what the persistent maps were drawn for (scene, exclusions, and
+    /// each view's light).
+    static_map_key: Option<(u64, u64, Vec<[u32; 16]>)>,
     exclusions_version: u64,
     /// What the last frame drew, for its report and the inset: its views, whether GPU culling
     /// ran, what failed.
@@ -110,12 +111,15 @@ impl SingleMap {
             (
                 input.scene_gpu.id,
                 self.exclusions_version,
-                views.first().map_or([0; 16], |v| {
-                    v.light
-                        .light_clip_from_world
-                        .to_cols_array()
-                        .map(f32::to_bits)
-                }),
+                views
+                    .iter()
+                    .map(|v| {
+                        v.light
+                            .light_clip_from_world
+                            .to_cols_array()
+                            .map(f32::to_bits)
+                    })
+                    .collect(),
             )
         });
         let full = key.is_none() || key != self.static_map_key;
