@@ -38,6 +38,11 @@ const FILES: &[(&str, &str)] = &[
     ),
     ("culling/pyramid.wgsl", include_str!("culling/pyramid.wgsl")),
     (
+        "culling/footprints.wgsl",
+        include_str!("culling/footprints.wgsl"),
+    ),
+    ("culling/widen.wgsl", include_str!("culling/widen.wgsl")),
+    (
         "shadow_map/shadow_depth.wgsl",
         include_str!("shadow_map/shadow_depth.wgsl"),
     ),

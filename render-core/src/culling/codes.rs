@@ -28,8 +28,11 @@ pub(crate) mod method_bits {
     /// Bittner 5.1: the map persists; the mask is the moving objects' old and new boxes,
     /// which are cleared and redrawn.
     pub const INCREMENTAL: u32 = 1024;
+    /// The casters the cheap tests kept are rasterised as boxes in the light's view against
+    /// the map's depth and the mask, and drawn only where a texel passes.
+    pub const FOOTPRINT: u32 = 2048;
 
-    pub(super) const NAMES: [(&str, u32); 11] = [
+    pub(super) const NAMES: [(&str, u32); 12] = [
         ("OCCLUSION", OCCLUSION),
         ("MASK", MASK),
         ("DRAW_RECEIVERS", DRAW_RECEIVERS),
@@ -41,6 +44,7 @@ pub(crate) mod method_bits {
         ("VOLUME", VOLUME),
         ("PROGRESSIVE", PROGRESSIVE),
         ("INCREMENTAL", INCREMENTAL),
+        ("FOOTPRINT", FOOTPRINT),
     ];
 }
 
@@ -57,11 +61,15 @@ pub(crate) const OUTCOME_NOT_CASTER: u32 = 0;
 pub(crate) const OUTCOME_RENDERED: u32 = 1;
 pub(crate) const OUTCOME_EXCLUDED: u32 = 2;
 const OUTCOME_CULLED: u32 = 3;
+/// Within a frame only: the cheap tests kept the caster, its footprint test is to come.
+const OUTCOME_PENDING: u32 = STATE_OUTCOME_BITS;
 
 /// The state word: the outcome code in these bits, then flags and the progressive far end.
 pub(crate) const STATE_OUTCOME_BITS: u32 = 0xff;
 const STATE_LIGHT_VISIBLE: u32 = 1 << 8;
 const STATE_FIRST_PHASE: u32 = 1 << 9;
+/// Set by the footprint pass where a texel of the caster's box passed.
+const STATE_FOOTPRINT_HIT: u32 = 1 << 10;
 /// Bits 16-31: the progressive shadow volume's far end found last frame, in 1/65535 of the
 /// light's depth range (rounded up).
 const STATE_EXTENT_SHIFT: u32 = 16;
@@ -144,9 +152,11 @@ pub(crate) fn wgsl() -> String {
         ("OUTCOME_NOT_CASTER", OUTCOME_NOT_CASTER),
         ("OUTCOME_RENDERED", OUTCOME_RENDERED),
         ("OUTCOME_EXCLUDED", OUTCOME_EXCLUDED),
+        ("OUTCOME_PENDING", OUTCOME_PENDING),
         ("STATE_OUTCOME_BITS", STATE_OUTCOME_BITS),
         ("STATE_LIGHT_VISIBLE", STATE_LIGHT_VISIBLE),
         ("STATE_FIRST_PHASE", STATE_FIRST_PHASE),
+        ("STATE_FOOTPRINT_HIT", STATE_FOOTPRINT_HIT),
         ("STATE_EXTENT_SHIFT", STATE_EXTENT_SHIFT),
         ("SELECTION_ORACLE", SELECTION_ORACLE),
         ("SELECTION_EXCLUDED", SELECTION_EXCLUDED),
@@ -165,7 +175,12 @@ mod tests {
     #[test]
     fn every_code_is_distinct_and_round_trips() {
         let mut codes: Vec<u32> = StageKind::ALL.iter().map(|k| culled_code(*k)).collect();
-        codes.extend([OUTCOME_NOT_CASTER, OUTCOME_RENDERED, OUTCOME_EXCLUDED]);
+        codes.extend([
+            OUTCOME_NOT_CASTER,
+            OUTCOME_RENDERED,
+            OUTCOME_EXCLUDED,
+            OUTCOME_PENDING,
+        ]);
         let count = codes.len();
         codes.sort_unstable();
         codes.dedup();

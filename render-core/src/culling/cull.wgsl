@@ -34,6 +34,17 @@ struct DrawArgs {
 @group(0) @binding(11) var<storage, read_write> receiver_draws: array<DrawArgs>;
 // Max pyramid of the camera's negated (reversed) depth: the farthest surface over a block.
 @group(0) @binding(12) var<storage, read> camera_depth: array<f32>;
+// The footprint test (culling/footprints.wgsl): per view, the casters the cheap tests kept
+// (instance ids, a block per view) and the indirect draw of their boxes.
+@group(0) @binding(13) var<storage, read_write> candidates: array<u32>;
+@group(0) @binding(14) var<storage, read_write> footprint_draws: array<FootprintDraw>;
+
+struct FootprintDraw {
+    vertex_count: u32,
+    instance_count: atomic<u32>,
+    first_vertex: u32,
+    first_instance: u32,
+}
 
 // Normalised depth tolerance for rasterisation against box corners.
 const DEPTH_MARGIN: f32 = 1e-6;
@@ -148,8 +159,9 @@ fn touches_mask(it: Item, box: LightBox) -> bool {
         return true;
     }
     let params = cull_views[it.view].params;
-    // Whole-receiver masks miss the taps near their edges: widen the caster instead.
-    let pad = select(i32(params.y), 1, (it.method & (METHOD_GEOM | METHOD_BVOL)) == 0u);
+    // GEOM's mask misses the taps near its edges: widen the caster instead (BVOL's boxes are
+    // widened where they are drawn, culling/masks.wgsl).
+    let pad = select(1, i32(params.y), (it.method & METHOD_GEOM) != 0u);
     let r = texel_rect(box, map_size(it), pad);
     let scale = vec2<i32>(i32(params.z));
     let mask_size = params.w;
@@ -270,6 +282,79 @@ fn render(it: Item, phase_bit: u32) {
     state[it.slot] = (state[it.slot] & ~STATE_OUTCOME_BITS) | OUTCOME_RENDERED | phase_bit;
 }
 
+// The cheap tests kept the caster: drawn now, or with the footprint test, drawn after it if a
+// texel of its box passes (`cs_resolve_footprints`).
+fn keep(it: Item, phase_bit: u32) {
+    if ((it.method & METHOD_FOOTPRINT) == 0u) {
+        render(it, phase_bit);
+        return;
+    }
+    let k = atomicAdd(&footprint_draws[it.view].instance_count, 1u);
+    // Every candidate writes the same box vertex count (12 triangles).
+    footprint_draws[it.view].vertex_count = 36u;
+    candidates[it.view * cull.counts.x + k] = it.instance;
+    state[it.slot] = (state[it.slot] & ~(STATE_OUTCOME_BITS | STATE_FOOTPRINT_HIT)) | OUTCOME_PENDING | phase_bit;
+}
+
+// After a footprint pass: candidates with a passing texel are drawn, the others culled. A
+// first-phase candidate that failed goes through every test again in the second phase.
+@compute @workgroup_size(64)
+fn cs_resolve_footprints(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (!valid(id)) {
+        return;
+    }
+    let it = item(id);
+    let s = state[it.slot];
+    if ((s & STATE_OUTCOME_BITS) != OUTCOME_PENDING) {
+        return;
+    }
+    let phase_bit = s & STATE_FIRST_PHASE;
+    if ((s & STATE_FOOTPRINT_HIT) != 0u) {
+        if (phase_bit == 0u) {
+            count(it, SLOT_FOOTPRINT);
+        }
+        render(it, phase_bit);
+    } else {
+        state[it.slot] = (s & ~(STATE_OUTCOME_BITS | STATE_FIRST_PHASE)) | OUTCOME_CULLED_FOOTPRINT;
+    }
+}
+
+// After the maps are finished: the drawn casters become candidates of a last footprint pass
+// against the finished maps, which says which of them are front-most where the mask needs
+// them: the light-visible set of the next frame's first phase. The first phase tests against
+// a map with nothing in it yet, and in the second a drawn caster is not hidden by itself, so
+// neither can tell a caster that others hide wherever it is needed.
+@compute @workgroup_size(64)
+fn cs_collect_drawn(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (!valid(id)) {
+        return;
+    }
+    let it = item(id);
+    let s = state[it.slot];
+    if ((s & STATE_OUTCOME_BITS) != OUTCOME_RENDERED) {
+        return;
+    }
+    let k = atomicAdd(&footprint_draws[it.view].instance_count, 1u);
+    footprint_draws[it.view].vertex_count = 36u;
+    candidates[it.view * cull.counts.x + k] = it.instance;
+    state[it.slot] = s & ~STATE_FOOTPRINT_HIT;
+}
+
+// A drawn caster is visible in the light's view next frame where its box passed.
+@compute @workgroup_size(64)
+fn cs_resolve_light_visible(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (!valid(id)) {
+        return;
+    }
+    let it = item(id);
+    let s = state[it.slot];
+    if ((s & STATE_OUTCOME_BITS) != OUTCOME_RENDERED) {
+        return;
+    }
+    let visible = select(0u, STATE_LIGHT_VISIBLE, (s & STATE_FOOTPRINT_HIT) != 0u);
+    state[it.slot] = (s & ~STATE_LIGHT_VISIBLE) | visible;
+}
+
 // First phase: the casters drawn before any test reads the shadow map. The visible receivers
 // for methods that draw them with the mask (GEOM, FRAG), and the casters visible in the
 // light's view last frame (occlusion culling's temporal coherence), or the oracle's set.
@@ -322,7 +407,7 @@ fn cs_first_phase(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     if (first) {
         count(it, SLOT_FIRST_PHASE);
-        render(it, STATE_FIRST_PHASE);
+        keep(it, STATE_FIRST_PHASE);
     }
 }
 
@@ -359,6 +444,7 @@ fn cs_second_phase(@builtin(global_invocation_id) id: vec3<u32>) {
             count(it, SLOT_CAMERA_FRUSTUM);
             count(it, SLOT_CAMERA_OCCLUSION);
         }
+        count(it, SLOT_FOOTPRINT);
         state[it.slot] = OUTCOME_RENDERED | light_visible;
         return;
     }
@@ -382,5 +468,5 @@ fn cs_second_phase(@builtin(global_invocation_id) id: vec3<u32>) {
         count(it, mask_stage(it));
     }
     state[it.slot] = light_visible;
-    render(it, 0u);
+    keep(it, 0u);
 }

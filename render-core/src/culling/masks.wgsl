@@ -52,7 +52,14 @@ fn vs_box(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance:
     if (!in_light_frustum(box)) {
         return out;
     }
-    let pad = 2.0 / f32(pass_params().w);
+    // One mask texel so every texel the box touches has its centre inside; for BVOL alone also
+    // the filter's reach (GEOM+BVOL widens the whole mask after, culling/widen.wgsl).
+    let params = pass_params();
+    var texels = 1u;
+    if ((params.x & METHOD_GEOM) == 0u) {
+        texels += (params.y + max(params.z, 1u) - 1u) / max(params.z, 1u);
+    }
+    let pad = 2.0 * f32(texels) / f32(params.w);
     let lo = box.lo.xy - pad;
     let hi = box.hi.xy + pad;
     // Two triangles: corners (lo, lo), (hi, lo), (lo, hi) and (lo, hi), (hi, lo), (hi, hi).

@@ -104,20 +104,24 @@ impl Method {
     /// The stages the method reports after "scene casters", in order.
     pub fn stages(self) -> &'static [StageKind] {
         use StageKind::{
-            CameraFrustum, CameraOcclusion, ChangedRegion, LightFrustum, LightOcclusion, Oracle,
-            ReceiverMask,
+            CameraFrustum, CameraOcclusion, ChangedRegion, Footprint, LightFrustum, LightOcclusion,
+            Oracle, ReceiverMask,
         };
         match self {
             Self::None => &[],
             Self::Vfc => &[LightFrustum],
-            Self::Ref | Self::Focus => &[LightFrustum, LightOcclusion],
+            Self::Ref | Self::Focus => &[LightFrustum, LightOcclusion, Footprint],
             Self::Bvol | Self::Geom | Self::GeomBvol | Self::Frag => {
-                &[LightFrustum, LightOcclusion, ReceiverMask]
+                &[LightFrustum, LightOcclusion, ReceiverMask, Footprint]
             }
-            Self::DrConservative | Self::DrProgressive => {
-                &[LightFrustum, LightOcclusion, CameraFrustum, CameraOcclusion]
-            }
-            Self::Incr => &[LightFrustum, LightOcclusion, ChangedRegion],
+            Self::DrConservative | Self::DrProgressive => &[
+                LightFrustum,
+                LightOcclusion,
+                CameraFrustum,
+                CameraOcclusion,
+                Footprint,
+            ],
+            Self::Incr => &[LightFrustum, LightOcclusion, ChangedRegion, Footprint],
             Self::Oracle => &[Oracle],
         }
     }
@@ -126,10 +130,10 @@ impl Method {
     /// methods.
     pub(crate) fn gpu_bits(self) -> Option<u32> {
         use method_bits::{
-            BVOL, DRAW_RECEIVERS, FRAG, GEOM, INCREMENTAL, MASK, OCCLUSION, ORACLE, PROGRESSIVE,
-            TEMPORAL, VOLUME,
+            BVOL, DRAW_RECEIVERS, FOOTPRINT, FRAG, GEOM, INCREMENTAL, MASK, OCCLUSION, ORACLE,
+            PROGRESSIVE, TEMPORAL, VOLUME,
         };
-        let occlusion = OCCLUSION | TEMPORAL;
+        let occlusion = OCCLUSION | TEMPORAL | FOOTPRINT;
         Some(match self {
             Self::None | Self::Vfc => return None,
             // FOCUS culls like REF; its light frustum is fitted to the visible receivers.
@@ -140,7 +144,7 @@ impl Method {
             Self::Geom => occlusion | MASK | GEOM | DRAW_RECEIVERS,
             Self::GeomBvol => occlusion | MASK | GEOM | BVOL | DRAW_RECEIVERS,
             Self::Frag => occlusion | MASK | FRAG | DRAW_RECEIVERS,
-            Self::Incr => MASK | INCREMENTAL,
+            Self::Incr => MASK | INCREMENTAL | FOOTPRINT,
             Self::Oracle => ORACLE,
         })
     }

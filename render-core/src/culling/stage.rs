@@ -19,18 +19,22 @@ pub enum StageKind {
     CameraFrustum,
     /// DigitalRune: the shadow volume against the camera's depth.
     CameraOcclusion,
+    /// The texel-exact test of the casters the cheap tests kept: their boxes rasterised in the
+    /// light's view against the map's depth and the mask (Bittner's occlusion queries).
+    Footprint,
     /// The oracle method's set: the casters that win a shadowed tap of a visible pixel.
     Oracle,
 }
 
 impl StageKind {
-    pub const ALL: [Self; 7] = [
+    pub const ALL: [Self; 8] = [
         Self::LightFrustum,
         Self::LightOcclusion,
         Self::ReceiverMask,
         Self::ChangedRegion,
         Self::CameraFrustum,
         Self::CameraOcclusion,
+        Self::Footprint,
         Self::Oracle,
     ];
 
@@ -43,6 +47,7 @@ impl StageKind {
             Self::ChangedRegion => "changed region",
             Self::CameraFrustum => "camera frustum (shadow volume)",
             Self::CameraOcclusion => "camera occlusion (shadow volume)",
+            Self::Footprint => "footprint (texel-exact)",
             Self::Oracle => "oracle",
         }
     }
@@ -56,6 +61,7 @@ impl StageKind {
             Self::ChangedRegion => "CHANGED_REGION",
             Self::CameraFrustum => "CAMERA_FRUSTUM",
             Self::CameraOcclusion => "CAMERA_OCCLUSION",
+            Self::Footprint => "FOOTPRINT",
             Self::Oracle => "ORACLE",
         }
     }

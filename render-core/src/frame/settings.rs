@@ -17,7 +17,8 @@ pub struct Overlays {
     pub error: bool,
     /// Objects in the camera view tinted by what happened to them in the shadow pass: green
     /// rendered; culled orange by the light frustum, yellow by light occlusion, magenta by the
-    /// mask or shadow volume; purple excluded; non-casters untinted.
+    /// mask, the texel-exact footprint or the shadow volume; purple excluded; non-casters
+    /// untinted.
     pub casters: bool,
 }
 

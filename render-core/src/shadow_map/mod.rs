@@ -202,9 +202,9 @@ impl SingleMap {
         second?;
         self.draw_culled_views(encoder, input, draw, false)?;
         let query = draw.timer.begin_scope(pass_label::CULLING, encoder);
-        self.culling.encode_far_ends(encoder, &pass);
+        let after = self.culling.encode_after_maps(encoder, &frame, &pass);
         draw.timer.end_pass(encoder, query);
-        Ok(())
+        after
     }
 
     /// Every view's culled casters into its map, on top of what is there unless `clear`.

@@ -21,8 +21,8 @@ pub fn ui(ui: &mut egui::Ui, input: &PanelInput<'_>) {
             egui::RichText::new(
                 "shadow map depth, near = bright; receiver mask: BVOL blue, GEOM green, \
                  FRAG red; stripes: casters the method culled (when measuring): orange by \
-                 the light frustum, yellow by light occlusion, magenta by the mask or \
-                 shadow volume",
+                 the light frustum, yellow by light occlusion, magenta by the mask, the \
+                 footprint or the shadow volume",
             )
             .small()
             .color(theme::MUTED),

@@ -84,7 +84,8 @@ pub fn ui(ui: &mut egui::Ui, settings: &mut FrameSettings) {
     ui.checkbox(&mut settings.overlays.casters, "Tint casters by outcome")
         .on_hover_text(
             "Green: drawn into the shadow map; culled: orange by the light frustum, yellow by light \
-             occlusion, magenta by the mask or shadow volume; purple: excluded",
+             occlusion, magenta by the mask, the texel-exact footprint or the shadow volume; purple: \
+             excluded",
         );
     ui.checkbox(&mut settings.measure, "Measure error and oracle")
         .on_hover_text(MEASURE_HELP);

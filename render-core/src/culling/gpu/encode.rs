@@ -2,6 +2,7 @@
 //! pyramids and the second phase, the progressive far ends; every view in one dispatch, the
 //! masks one render pass per view.
 
+use super::footprints::Phase;
 use super::resources::{SceneResources, SizedResources};
 use super::{CullError, CullFrame, CullPass, GpuCulling, WORKGROUP};
 use crate::culling::codes::method_bits as bits;
@@ -73,6 +74,9 @@ impl GpuCulling {
                     self.clear_moved(encoder, scene, layer, view, &mask);
                 }
             }
+            if method & bits::GEOM != 0 && method & bits::FOOTPRINT != 0 {
+                self.widen_masks(ctx, encoder, sized, views);
+            }
         }
         let receiver_pipeline = if method & bits::FRAG != 0 {
             self.pipelines.fragment_mask.as_ref()
@@ -96,6 +100,7 @@ impl GpuCulling {
                 .pyramid
                 .reduce(encoder, (&reduce.camera_depth, &reduce.level), 1);
         }
+        encoder.clear_buffer(&scene.footprint_draws, 0, None);
         dispatch(
             encoder,
             "GpuCulling::first_phase",
@@ -103,11 +108,15 @@ impl GpuCulling {
             &cull_group,
             (groups, views),
         );
-        Ok(CullPass {
+        let pass = CullPass {
             bits: method,
             views,
+            footprint_group: (method & bits::FOOTPRINT != 0)
+                .then(|| self.footprint_group(ctx, scene_gpu, (sized, scene))),
             cull_group,
-        })
+        };
+        self.test_footprints(encoder, frame, &pass, Phase::First)?;
+        Ok(pass)
     }
 
     /// Records each view's occlusion pyramid (of its map as the first phase left it) and the
@@ -128,6 +137,7 @@ impl GpuCulling {
                 .reduce(encoder, (&reduce.depth, &reduce.level), pass.views);
         }
         let groups = scene.instance_count.div_ceil(WORKGROUP).max(1);
+        encoder.clear_buffer(&scene.footprint_draws, 0, None);
         dispatch(
             encoder,
             "GpuCulling::second_phase",
@@ -135,6 +145,7 @@ impl GpuCulling {
             &pass.cull_group,
             (groups, pass.views),
         );
+        self.test_footprints(encoder, frame, pass, Phase::Second)?;
         if pass.bits & bits::INCREMENTAL != 0 {
             encoder.copy_buffer_to_buffer(
                 &scene_gpu.bounds_buffer,
@@ -159,13 +170,22 @@ impl GpuCulling {
         Ok(())
     }
 
-    /// After every view's second shadow pass, for DigitalRune's progressive mode: the pyramids
-    /// of the finished maps and each caster's shadow-volume far end for the next frame.
-    pub fn encode_far_ends(&self, encoder: &mut wgpu::CommandEncoder, pass: &CullPass) {
-        let (Ok((sized, scene, _)), true) = (self.resources(), pass.bits & bits::PROGRESSIVE != 0)
-        else {
-            return;
-        };
+    /// After every view's second shadow pass, for the next frame: which drawn casters the
+    /// light sees (methods that draw them first), and for DigitalRune's progressive mode the
+    /// pyramids of the finished maps and each caster's shadow-volume far end.
+    pub fn encode_after_maps(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        frame: &CullFrame<'_>,
+        pass: &CullPass,
+    ) -> Result<(), CullError> {
+        if pass.bits & bits::TEMPORAL != 0 {
+            self.test_footprints(encoder, frame, pass, Phase::LightVisible)?;
+        }
+        let (sized, scene, _) = self.resources()?;
+        if pass.bits & bits::PROGRESSIVE == 0 {
+            return Ok(());
+        }
         let reduce = &self.pipelines.reduce;
         sized
             .occlusion
@@ -178,6 +198,7 @@ impl GpuCulling {
             &pass.cull_group,
             (groups, pass.views),
         );
+        Ok(())
     }
 
     fn mask_group(
@@ -317,7 +338,7 @@ impl MaskPass<'_> {
 }
 
 /// One caster-test pass over every instance of every view.
-fn dispatch(
+pub(super) fn dispatch(
     encoder: &mut wgpu::CommandEncoder,
     label: &str,
     pipeline: &wgpu::ComputePipeline,

@@ -62,6 +62,8 @@ pub struct CullPass {
     pub(super) bits: u32,
     pub(super) views: u32,
     pub(super) cull_group: wgpu::BindGroup,
+    /// The footprint passes' group, for methods with the footprint test.
+    pub(super) footprint_group: Option<wgpu::BindGroup>,
 }
 
 /// The mask of one view, as the light's view inset shows it.

@@ -25,6 +25,7 @@
 //! `encode_first_phase` returns for the later steps.
 
 mod encode;
+mod footprints;
 mod frame;
 mod gpu_data;
 mod pipelines;
@@ -319,6 +320,8 @@ impl GpuCulling {
                 buffer_entry(10, &sized.mask.buffer),
                 buffer_entry(11, &scene.receiver_draws),
                 buffer_entry(12, &camera.pyramid.buffer),
+                buffer_entry(13, &scene.candidates),
+                buffer_entry(14, &scene.footprint_draws),
             ],
         }))
     }

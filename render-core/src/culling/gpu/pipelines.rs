@@ -5,8 +5,8 @@
 use super::resources::{MASK_FORMAT, ReducePipelines};
 use crate::culling::codes;
 use crate::gpu::{
-    GpuContext, bind_group_layout, compute_pipeline, pipeline_layout, shader_module, storage,
-    texture, uniform,
+    GpuContext, bind_group_layout, compute_pipeline, layout_entry, pipeline_layout, shader_module,
+    storage, texture, uniform,
 };
 use crate::scene_gpu::VERTEX_LAYOUT;
 use crate::shaders::compose;
@@ -22,6 +22,8 @@ pub(crate) fn shader_sources() -> Vec<(&'static str, String)> {
         ("GpuCulling::pyramid", "culling/pyramid.wgsl"),
         ("GpuCulling::masks", "culling/masks.wgsl"),
         ("GpuCulling::receivers", "culling/receivers.wgsl"),
+        ("GpuCulling::footprints", "culling/footprints.wgsl"),
+        ("GpuCulling::widen", "culling/widen.wgsl"),
     ]
     .into_iter()
     .map(|(label, root)| (label, compose(root, &generated)))
@@ -55,6 +57,19 @@ pub(super) struct CullPipelines {
     /// The receiver passes; `None` without forced early depth tests.
     pub fragment_mask: Option<wgpu::RenderPipeline>,
     pub oracle: Option<wgpu::RenderPipeline>,
+    /// The footprint test: boxes against the mask (first phase) and also the map's depth
+    /// (second phase), then the verdict; GEOM's mask widened first.
+    pub footprint_layout: wgpu::BindGroupLayout,
+    pub footprint_first: wgpu::RenderPipeline,
+    pub footprint_second: wgpu::RenderPipeline,
+    pub resolve: wgpu::ComputePipeline,
+    /// After the maps (with `footprint_second`): the drawn casters collected, and which of
+    /// them the finished maps show where the mask needs them.
+    pub collect_drawn: wgpu::ComputePipeline,
+    pub resolve_light_visible: wgpu::ComputePipeline,
+    pub widen_layout: wgpu::BindGroupLayout,
+    pub widen_rows: wgpu::ComputePipeline,
+    pub widen_columns: wgpu::ComputePipeline,
 }
 
 /// The groups every scene pass and every single-view pass start with.
@@ -77,7 +92,7 @@ impl CullPipelines {
             ]
             .map(storage),
         );
-        cull_types.extend([false, true].map(storage));
+        cull_types.extend([false, true, false, false].map(storage));
         let cull_layout =
             bind_group_layout(device, "GpuCulling::cull_layout", compute, &cull_types);
         let cull_pipeline_layout =
@@ -120,7 +135,39 @@ impl CullPipelines {
             ],
         );
         let (fragment_mask, oracle) = receiver_pipelines(ctx, layouts.frame, &receivers_layout);
+        let footprints = FootprintPipelines::new(device, layouts);
+        let widen = shader_module(device, "GpuCulling::widen", source("GpuCulling::widen"));
+        let widen_layout = bind_group_layout(
+            device,
+            "GpuCulling::widen_layout",
+            compute,
+            &[
+                storage(true),
+                texture(
+                    wgpu::TextureSampleType::Float { filterable: false },
+                    wgpu::TextureViewDimension::D2Array,
+                ),
+                storage(false),
+                storage(false),
+            ],
+        );
+        let widen_pipeline_layout = pipeline_layout(
+            device,
+            "GpuCulling::widen_pipeline_layout",
+            &[&widen_layout],
+        );
+        let widen_pipeline =
+            |entry| compute_pipeline(device, &widen, Some(&widen_pipeline_layout), entry);
         Self {
+            footprint_layout: footprints.layout,
+            footprint_first: footprints.first,
+            footprint_second: footprints.second,
+            resolve: cull("cs_resolve_footprints"),
+            collect_drawn: cull("cs_collect_drawn"),
+            resolve_light_visible: cull("cs_resolve_light_visible"),
+            widen_layout,
+            widen_rows: widen_pipeline("cs_widen_rows"),
+            widen_columns: widen_pipeline("cs_widen_columns"),
             receivers: cull("cs_receivers"),
             first_phase: cull("cs_first_phase"),
             second_phase: cull("cs_second_phase"),
@@ -239,6 +286,89 @@ impl MaskPipelines {
             moved_boxes: pipeline("vs_moved_box", false, fill, false),
             clear_moved,
             geometry,
+        }
+    }
+}
+
+struct FootprintPipelines {
+    layout: wgpu::BindGroupLayout,
+    first: wgpu::RenderPipeline,
+    second: wgpu::RenderPipeline,
+}
+
+impl FootprintPipelines {
+    /// The boxes of the candidates into one view, back faces culled, no writes: the first
+    /// phase tests every texel (depth always passes), the second only the texels where the
+    /// box is nearer than the map (the test forced before the shader).
+    fn new(device: &wgpu::Device, layouts: &SharedLayouts<'_>) -> Self {
+        let module = shader_module(
+            device,
+            "GpuCulling::footprints",
+            source("GpuCulling::footprints"),
+        );
+        // The states are written by the fragment stage alone (vertex stages may not write).
+        let both = wgpu::ShaderStages::VERTEX_FRAGMENT;
+        let fragment = wgpu::ShaderStages::FRAGMENT;
+        let mask_texture = texture(
+            wgpu::TextureSampleType::Float { filterable: false },
+            wgpu::TextureViewDimension::D2Array,
+        );
+        let entries = [
+            layout_entry(0, both, uniform()),
+            layout_entry(1, both, storage(true)),
+            layout_entry(2, both, storage(true)),
+            layout_entry(3, both, storage(true)),
+            layout_entry(4, fragment, storage(false)),
+            layout_entry(5, fragment, storage(true)),
+            layout_entry(6, fragment, storage(true)),
+            layout_entry(7, fragment, mask_texture),
+        ];
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("GpuCulling::footprint_layout"),
+            entries: &entries,
+        });
+        let pipeline_layout = pipeline_layout(
+            device,
+            "GpuCulling::footprint_pipeline_layout",
+            &[layouts.frame, &layout, layouts.pass_view],
+        );
+        let pipeline = |label, compare| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(label),
+                layout: Some(&pipeline_layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs_footprint"),
+                    compilation_options: wgpu::PipelineCompilationOptions::default(),
+                    buffers: &[],
+                },
+                primitive: wgpu::PrimitiveState {
+                    cull_mode: Some(wgpu::Face::Back),
+                    ..Default::default()
+                },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: SHADOW_FORMAT,
+                    depth_write_enabled: Some(false),
+                    depth_compare: Some(compare),
+                    stencil: wgpu::StencilState::default(),
+                    bias: wgpu::DepthBiasState::default(),
+                }),
+                multisample: wgpu::MultisampleState::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some("fs_footprint"),
+                    compilation_options: wgpu::PipelineCompilationOptions::default(),
+                    targets: &[],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        let (always, less) = (wgpu::CompareFunction::Always, wgpu::CompareFunction::Less);
+        Self {
+            first: pipeline("GpuCulling::footprint_first", always),
+            second: pipeline("GpuCulling::footprint_second", less),
+            layout,
         }
     }
 }

@@ -14,6 +14,8 @@ use crate::shadow_view::ViewBuffer;
 pub const MAX_MASK_SIZE: u32 = 2048;
 pub(super) const MASK_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 const DRAW_ARGS_BYTES: u64 = size_of::<wgpu::util::DrawIndexedIndirectArgs>() as u64;
+/// One view's draw of its footprint boxes (`FootprintDraw` in culling/cull.wgsl).
+pub(super) const FOOTPRINT_DRAW_BYTES: u64 = size_of::<wgpu::util::DrawIndirectArgs>() as u64;
 
 /// The mask's size for a shadow map: the map's own, or a whole fraction of it.
 pub(super) fn mask_size(resolution: u32) -> u32 {
@@ -148,10 +150,14 @@ pub(super) struct SizedResources {
     pub mask_size: u32,
     pub occlusion: Pyramid,
     pub mask: Pyramid,
-    /// One layer per view.
+    /// One layer per view, and every layer.
     pub mask_layers: Vec<wgpu::TextureView>,
+    pub mask_array: wgpu::TextureView,
     /// Per view, a block of mask side squared words (FRAG's depths).
     pub mask_bits: wgpu::Buffer,
+    /// GEOM's mask widened by the filter's reach (culling/widen.wgsl), and its first pass.
+    pub widened: wgpu::Buffer,
+    pub widened_rows: wgpu::Buffer,
 }
 
 impl SizedResources {
@@ -196,12 +202,15 @@ impl SizedResources {
             })
             .collect();
         let mask_words = mask_size * mask_size;
-        let mask_bits = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("GpuCulling::mask_bits"),
-            size: u64::from(mask_words) * u64::from(capacity) * 4,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let mask_buffer = |label| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: u64::from(mask_words) * u64::from(capacity) * 4,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        let mask_bits = mask_buffer("GpuCulling::mask_bits");
         let occlusion = Pyramid::new(
             device,
             "GpuCulling::occlusion_pyramid",
@@ -230,7 +239,10 @@ impl SizedResources {
             occlusion,
             mask,
             mask_layers,
+            mask_array,
             mask_bits,
+            widened: mask_buffer("GpuCulling::widened_mask"),
+            widened_rows: mask_buffer("GpuCulling::widened_mask_rows"),
         }
     }
 }
@@ -283,6 +295,10 @@ pub(super) struct SceneResources {
     /// Last frame's boxes (incremental updates).
     pub previous_bounds: wgpu::Buffer,
     pub state_readback: AsyncReadback,
+    /// The footprint test: per view the casters the cheap tests kept, and one indirect draw
+    /// of their boxes.
+    pub candidates: wgpu::Buffer,
+    pub footprint_draws: wgpu::Buffer,
 }
 
 impl SceneResources {
@@ -345,6 +361,16 @@ impl SceneResources {
                 wgpu::BufferUsages::empty(),
             ),
             state_readback: AsyncReadback::new(device, "GpuCulling::state_readback", view_words, 3),
+            candidates: storage(
+                "GpuCulling::candidates",
+                view_words,
+                wgpu::BufferUsages::empty(),
+            ),
+            footprint_draws: storage(
+                "GpuCulling::footprint_draws",
+                u64::from(capacity) * FOOTPRINT_DRAW_BYTES,
+                wgpu::BufferUsages::INDIRECT,
+            ),
         };
         resources.write_exclusions(ctx, excluded);
         resources

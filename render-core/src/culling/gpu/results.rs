@@ -115,7 +115,8 @@ mod tests {
     #[test]
     fn every_gpu_method_reports_its_stages() {
         let mut words = vec![0; COUNTER_SLOTS as usize];
-        for (kind, remaining) in StageKind::ALL.iter().zip([90, 50, 20, 19, 15, 12, 20]) {
+        let remaining = [90, 50, 20, 19, 15, 12, 8, 20];
+        for (kind, remaining) in StageKind::ALL.iter().zip(remaining) {
             words[kind.slot() as usize] = remaining;
         }
         let frag = view_stages(Method::Frag, 100, &words);
@@ -126,18 +127,26 @@ mod tests {
                 "scene casters",
                 "light frustum",
                 "light occlusion",
-                "receiver mask"
+                "receiver mask",
+                "footprint (texel-exact)"
             ]
         );
-        assert_eq!(frag.last().map(|s| s.remaining), Some(20));
-        assert_eq!(view_stages(Method::Ref, 100, &words).len(), 3);
+        assert_eq!(frag[3].remaining, 20);
+        assert_eq!(frag.last().map(|s| s.remaining), Some(8));
+        assert_eq!(view_stages(Method::Ref, 100, &words).len(), 4);
         assert_eq!(view_stages(Method::Oracle, 100, &words)[1].remaining, 20);
         let dr = view_stages(Method::DrProgressive, 100, &words);
-        assert_eq!(dr.len(), 5);
+        assert_eq!(dr.len(), 6);
         assert_eq!(dr[4].remaining, 12);
+        assert_eq!(dr[5].remaining, 8);
         assert_eq!(
             view_stages(Method::Incr, 100, &words)[3].name,
             "changed region"
+        );
+        assert_eq!(
+            view_stages(Method::Vfc, 100, &words).len(),
+            2,
+            "the CPU's frustum test has no footprint stage"
         );
     }
 

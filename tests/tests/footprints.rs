@@ -1,0 +1,174 @@
+//! Bittner et al. 2011, Figure 3, in 3D: a receiver partly hidden from the camera by a wall,
+//! and four casters. A shadows the visible part; B shadows only the hidden part; C lies in B's
+//! shadow from the light; D's shadow falls just outside the receiver, `gap` texels beyond its
+//! box. "Object A is always rendered as it intersects all masks, object B is culled only by
+//! the FRAG mask, C is culled by depth test (occluded by B) and by the FRAG and GEOM masks,
+//! and finally D is culled by all types of masks." The footprint test (casters' boxes
+//! rasterised against the map and the mask) gives exactly these answers; BVOL and GEOM widen
+//! their masks by the filter's reach (PCF radius, normal offset, a texel), so they keep a D
+//! that close, and FRAG, whose mask holds exactly the texels visible pixels read, draws the
+//! oracle's casters and no others.
+
+use glam::{Mat4, Vec3};
+use render_core::frame::{FrameInput, FrameRenderer, FrameReport, FrameSettings, Method, SceneGpu};
+use render_core::geom::Camera;
+use render_core::scene::{Instance, Scene, Sun};
+use shadowlab_tests::{box_mesh, gpu};
+
+const A: u32 = 1;
+const B: u32 = 2;
+const C: u32 = 3;
+const D: u32 = 4;
+
+/// The scene with D's shadow `gap_m` metres (across the light) beyond the receiver's box.
+fn figure_3(gap_m: f32) -> (Scene, Camera) {
+    // The light travels along (-1, -1, 0): shadows fall towards -x, 45 degrees down.
+    let sun = Sun::from_direction(Vec3::new(1.0, 1.0, 0.0));
+    let receiver = box_mesh("receiver", Vec3::new(20.0, 0.25, 20.0));
+    let wall = box_mesh("wall", Vec3::new(25.0, 4.0, 0.5));
+    let unit = box_mesh("caster", Vec3::splat(0.5));
+    let small = box_mesh("small caster", Vec3::splat(0.25));
+    let at = |x, y, z| Mat4::from_translation(Vec3::new(x, y, z));
+    // Across the light, x - y measures the receiver box's far edge at x - y = -20 (its top
+    // corner at x = -20, y = 0); D (x - y from its own -1 to +1 around the centre) sits above
+    // the receiver so the scene's bounds do not depend on the gap.
+    let d_x = 3.0 - 20.0 - 1.0 - gap_m * std::f32::consts::SQRT_2;
+    let mut instances = vec![
+        Instance::new("receiver", 0, &receiver, at(0.0, -0.25, 0.0)),
+        Instance::new("A", 2, &unit, at(0.0, 2.0, -10.0)),
+        Instance::new("B", 2, &unit, at(0.0, 2.0, 12.0)),
+        // In B's shadow: 1 m further along the light, well inside B's silhouette.
+        Instance::new("C", 3, &small, at(-0.7, 1.3, 12.0)),
+        Instance::new("D", 2, &unit, at(d_x, 3.0, -10.0)),
+        Instance::new("wall", 1, &wall, at(0.0, 4.0, 4.5)),
+    ];
+    // Only the receiver receives; the wall only hides the receiver's far part from the camera.
+    for inst in &mut instances[1..] {
+        inst.receives_shadow = false;
+    }
+    instances[5].casts_shadow = false;
+    let scene = Scene::new(
+        "test:figure-3",
+        vec![receiver, wall, unit, small],
+        instances,
+        sun,
+    );
+    let camera = Camera::look_at(
+        Vec3::new(0.0, 6.0, -40.0),
+        Vec3::ZERO,
+        60f32.to_radians(),
+        0.1,
+        300.0,
+    );
+    (scene, camera)
+}
+
+/// The drawn casters after a few measured frames (every frame without error), and the
+/// report of the last frame.
+fn settled(scene: &Scene, camera: &Camera, method: Method) -> (FrameReport, Vec<u32>) {
+    let ctx = gpu();
+    let scene_gpu = SceneGpu::new(ctx, scene);
+    let mut renderer = FrameRenderer::new(ctx);
+    let settings = FrameSettings {
+        sun: scene.sun,
+        method,
+        measure: true,
+        ..FrameSettings::default()
+    };
+    let input = FrameInput {
+        camera,
+        width: 256,
+        height: 192,
+        settings: &settings,
+    };
+    let mut report = FrameReport::default();
+    for frame in 0..3 {
+        report = renderer
+            .render_and_wait(ctx, scene, &scene_gpu, &input)
+            .expect("frame");
+        if !method.may_err() {
+            let e = report.error.expect("measured");
+            assert_eq!(
+                (e.missing_shadow_px, e.extra_shadow_px),
+                (0, 0),
+                "{} frame {frame}: no error",
+                method.name()
+            );
+        }
+    }
+    (report, renderer.drawn_casters())
+}
+
+#[test]
+fn each_method_culls_what_bittners_figure_3_says() {
+    // The texel size across the light, from the fitted map (the gap does not change it).
+    let (probe, camera) = figure_3(0.0);
+    let (report, _) = settled(&probe, &camera, Method::None);
+    let texel_m = report.light.texel_size_m[1];
+    assert!(texel_m > 0.005 && texel_m < 0.05, "texel {texel_m} m");
+
+    for gap_texels in [2.0, 8.0, 32.0] {
+        let (scene, camera) = figure_3(gap_texels * texel_m);
+        let drawn = |m: Method| settled(&scene, &camera, m).1;
+        let oracle = drawn(Method::Oracle);
+        assert!(oracle.contains(&A), "A shadows visible ground: {oracle:?}");
+        for culled in [B, C] {
+            assert!(!oracle.contains(&culled), "{culled}: {oracle:?}");
+        }
+        let within_reach = gap_texels < 5.0;
+        let d_if = |kept: bool| if kept { vec![D] } else { vec![] };
+        let expected: Vec<(Method, Vec<u32>)> = vec![
+            (Method::None, vec![0, A, B, C, D]),
+            (Method::Vfc, vec![0, A, B, C, D]),
+            // Depth culls C (in B's shadow from the light).
+            (Method::Ref, vec![0, A, B, D]),
+            // FOCUS fits the light's frustum to the visible receiver, which leaves D out.
+            (Method::Focus, vec![0, A, B]),
+            // The masks cull D beyond their reach.
+            (Method::Bvol, [vec![0, A, B], d_if(within_reach)].concat()),
+            (Method::Geom, [vec![0, A, B], d_if(within_reach)].concat()),
+            (
+                Method::GeomBvol,
+                [vec![0, A, B], d_if(within_reach)].concat(),
+            ),
+            // FRAG culls B too: its shadow falls where no visible pixel looks. Here it is
+            // exact: it draws the oracle's casters and no others.
+            (Method::Frag, oracle.clone()),
+        ];
+        for (method, mut want) in expected {
+            want.sort_unstable();
+            assert_eq!(
+                drawn(method),
+                want,
+                "{} with D's shadow {gap_texels} texels outside the receiver",
+                method.name()
+            );
+        }
+        if gap_texels >= 8.0 {
+            assert!(!oracle.contains(&D), "D is out of every tap's reach");
+        }
+    }
+}
+
+#[test]
+fn the_footprint_stage_says_what_it_culled() {
+    let (scene, camera) = figure_3(0.5);
+    let (report, drawn) = settled(&scene, &camera, Method::Ref);
+    let names: Vec<&str> = report.stages.iter().map(|s| s.name.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "scene casters",
+            "light frustum",
+            "light occlusion",
+            "footprint (texel-exact)"
+        ]
+    );
+    let last = report.stages.last().map(|s| s.remaining);
+    assert_eq!(
+        last,
+        Some(drawn.len() as u32),
+        "the last stage is what is drawn"
+    );
+    assert!(!drawn.contains(&C), "C is hidden by B: {drawn:?}");
+}
