@@ -285,7 +285,9 @@ fn render(it: Item, phase_bit: u32) {
 // The cheap tests kept the caster: drawn now, or with the footprint test, drawn after it if a
 // texel of its box passes (`cs_resolve_footprints`).
 fn keep(it: Item, phase_bit: u32) {
-    if ((it.method & METHOD_FOOTPRINT) == 0u) {
+    // In the first phase nothing is drawn yet: without a mask every texel would pass.
+    let first_without_mask = phase_bit != 0u && (it.method & METHOD_MASK) == 0u;
+    if ((it.method & METHOD_FOOTPRINT) == 0u || first_without_mask) {
         render(it, phase_bit);
         return;
     }

@@ -26,6 +26,15 @@ struct CullView {
     volume: vec4<f32>,
     // Words per view of x: the occlusion pyramid, y: the mask pyramid; z, w: unused.
     pyramids: vec4<u32>,
+    // x: the filter's reach in shadow texels, how far a receiver point's PCF taps (moved by
+    // the normal offset) can lie from the texel the point falls in; y, z, w: unused.
+    reach: vec4<u32>,
+}
+
+// The filter's reach in mask texels, rounded up.
+fn reach_in_mask_texels(cv: CullView) -> u32 {
+    let scale = max(cv.params.z, 1u);
+    return (cv.reach.x + scale - 1u) / scale;
 }
 
 // The instance's box in light clip space: x, y in NDC, z in normalised depth.

@@ -57,7 +57,7 @@ fn vs_box(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance:
     let params = pass_params();
     var texels = 1u;
     if ((params.x & METHOD_GEOM) == 0u) {
-        texels += (params.y + max(params.z, 1u) - 1u) / max(params.z, 1u);
+        texels += reach_in_mask_texels(cull_views[pass_view.index.x]);
     }
     let pad = 2.0 * f32(texels) / f32(params.w);
     let lo = box.lo.xy - pad;

@@ -15,8 +15,8 @@ pub use cpu::CasterSelection;
 #[cfg(test)]
 pub(crate) use gpu::shader_sources;
 pub use gpu::{
-    CullError, CullFrame, CullPass, CullResult, CullTargets, GpuCulling, MAX_MASK_SIZE,
-    MaskForInset, ViewCull,
+    CullError, CullFrame, CullPass, CullResult, CullTargets, FragmentMaskSource, GpuCulling,
+    MAX_MASK_SIZE, MaskForInset, ViewCull,
 };
 pub use method::Method;
 pub use stage::{CasterOutcome, Stage, StageKind};

@@ -7,6 +7,9 @@
 //   turned around: the camera's fragments mark the light's texels, so the mask is exact and
 //   needs no bias.
 // - The oracle method: each shadowed tap marks the reference caster that wins its texel.
+// FRAG's mask also comes from the prepass's surface targets in a compute pass
+// (`cs_fragment_mask`), one thread per pixel: the same lookup from the same position and
+// normal, without drawing the visible geometry again.
 #import view/camera_vertex.wgsl
 #import shadow_view/lookup.wgsl
 #import culling/cull_common.wgsl
@@ -18,6 +21,10 @@
 @group(1) @binding(3) var reference_ids: texture_2d_array<u32>;
 // Per view and instance (culling/cull.wgsl's `selection`).
 @group(1) @binding(4) var<storage, read_write> selection: array<atomic<u32>>;
+// The prepass's object ids and visible surface (view/targets.rs), for `cs_fragment_mask`.
+@group(1) @binding(5) var surface_ids: texture_2d<u32>;
+@group(1) @binding(6) var surface_positions: texture_2d<f32>;
+@group(1) @binding(7) var surface_normals: texture_2d<f32>;
 
 // Added to the depth a tap needs, in normalised depth, so that the mask never falls short of
 // the shading pass's own arithmetic.
@@ -62,6 +69,31 @@ fn fs_fragment_mask(in: VsOut) {
         let l = receiver_lookup(in, geometric, v);
         if (l.inside) {
             mark_fragment_mask(l);
+        }
+    }
+}
+
+// FRAG's mask from the prepass's targets: each visible receiver pixel, as `fs_fragment_mask`.
+@compute @workgroup_size(8, 8)
+fn cs_fragment_mask(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (any(id.xy >= textureDimensions(surface_ids))) {
+        return;
+    }
+    let object = textureLoad(surface_ids, id.xy, 0).x;
+    if (object == 0u || frame.params.y == 0u) {
+        return;
+    }
+    if ((instances[object - 1u].flags.x & FLAG_RECEIVER) == 0u) {
+        return;
+    }
+    let world_pos = textureLoad(surface_positions, id.xy, 0).xyz;
+    let geometric = textureLoad(surface_normals, id.xy, 0).xyz;
+    for (var v = 0u; v < frame.views.x; v++) {
+        if (view_shades(v, world_pos)) {
+            let l = shadow_lookup(world_pos, geometric, v);
+            if (l.inside) {
+                mark_fragment_mask(l);
+            }
         }
     }
 }

@@ -1,8 +1,9 @@
 // GEOM's mask widened by the filter's reach for the footprint test (culling/footprints.wgsl): a
-// receiver fragment's PCF taps, moved by the normal offset, reach this many shadow texels
-// beyond the texels its geometry covers, so a caster there can shadow it. A max filter over
-// (2r + 1)^2 mask texels, r = ceil(reach / shadow texels per mask texel), in two passes (rows,
-// then columns), a block of mask side squared per view (workgroup z is the view).
+// receiver point's PCF taps, moved by the normal offset, reach `CullView::reach` shadow texels
+// beyond the texel the point falls in (which GEOM's conservative rasterisation marks), so a
+// caster there can shadow it. A max filter over (2r + 1)^2 mask texels, r the reach in mask
+// texels, in two passes (rows, then columns), a block of mask side squared per view
+// (workgroup z is the view).
 #import culling/cull_common.wgsl
 
 @group(0) @binding(0) var<storage, read> cull_views: array<CullView>;
@@ -10,9 +11,6 @@
 @group(0) @binding(2) var<storage, read_write> rows: array<f32>;
 @group(0) @binding(3) var<storage, read_write> widened: array<f32>;
 
-fn radius(params: vec4<u32>) -> i32 {
-    return i32((params.y + max(params.z, 1u) - 1u) / max(params.z, 1u));
-}
 
 @compute @workgroup_size(8, 8)
 fn cs_widen_rows(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -21,7 +19,7 @@ fn cs_widen_rows(@builtin(global_invocation_id) id: vec3<u32>) {
     if (any(id.xy >= vec2<u32>(size)) || (params.x & METHOD_GEOM) == 0u) {
         return;
     }
-    let r = radius(params);
+    let r = i32(reach_in_mask_texels(cull_views[id.z]));
     var value = 0.0;
     for (var d = -r; d <= r; d++) {
         let x = i32(id.x) + d;
@@ -39,7 +37,7 @@ fn cs_widen_columns(@builtin(global_invocation_id) id: vec3<u32>) {
     if (any(id.xy >= vec2<u32>(size)) || (params.x & METHOD_GEOM) == 0u) {
         return;
     }
-    let r = radius(params);
+    let r = i32(reach_in_mask_texels(cull_views[id.z]));
     let block = id.z * size * size;
     var value = 0.0;
     for (var d = -r; d <= r; d++) {

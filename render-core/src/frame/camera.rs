@@ -10,7 +10,9 @@ use crate::scene_gpu::{DrawList, SceneGpu};
 use crate::shaders::compose;
 use crate::technique::LIGHT_WGSL_PATH;
 use crate::view::camera_pipeline;
-use crate::view::targets::{COLOR_FORMAT, ID_FORMAT, SHADOW_FACTOR_FORMAT, ViewTargets};
+use crate::view::targets::{
+    COLOR_FORMAT, ID_FORMAT, SHADOW_FACTOR_FORMAT, SURFACE_FORMAT, ViewTargets,
+};
 
 /// Linear sky colour behind the scene.
 const SKY: wgpu::Color = wgpu::Color {
@@ -76,7 +78,11 @@ impl CameraPasses {
                 &prepass_layout,
                 &module,
                 "fs_prepass",
-                &[Some(ID_FORMAT.into())],
+                &[
+                    Some(ID_FORMAT.into()),
+                    Some(SURFACE_FORMAT.into()),
+                    Some(SURFACE_FORMAT.into()),
+                ],
                 (true, wgpu::CompareFunction::Greater),
             ),
             shade: camera_pipeline(
@@ -104,10 +110,20 @@ impl CameraPasses {
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("Frame::draw_camera_prepass"),
-                color_attachments: &[Some(color_attachment(
-                    &targets.ids_view,
-                    wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                ))],
+                color_attachments: &[
+                    Some(color_attachment(
+                        &targets.ids_view,
+                        wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    )),
+                    Some(color_attachment(
+                        &targets.positions_view,
+                        wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    )),
+                    Some(color_attachment(
+                        &targets.normals_view,
+                        wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    )),
+                ],
                 depth_stencil_attachment: Some(depth_attachment(&targets.depth_view, Some(0.0))),
                 timestamp_writes: query
                     .as_ref()

@@ -8,10 +8,23 @@
 
 const OVERLAY_CASTERS: u32 = 1u;
 
-// Object id per pixel: instance index + 1, 0 is sky.
+struct PrepassOut {
+    // Instance index + 1, 0 is sky.
+    @location(0) id: u32,
+    // The surface every shadow lookup starts from (view/targets.rs, SURFACE_FORMAT).
+    @location(1) position: vec4<f32>,
+    @location(2) normal: vec4<f32>,
+}
+
+// Object id and surface per pixel. The geometric normal is the shading pass's, from the same
+// derivatives of the same interpolated position.
 @fragment
-fn fs_prepass(in: VsOut) -> @location(0) u32 {
-    return in.instance + 1u;
+fn fs_prepass(in: VsOut) -> PrepassOut {
+    var out: PrepassOut;
+    out.id = in.instance + 1u;
+    out.position = vec4<f32>(in.world_pos, 1.0);
+    out.normal = vec4<f32>(geometric_normal(in.world_pos, in.normal), 0.0);
+    return out;
 }
 
 struct ShadeOut {

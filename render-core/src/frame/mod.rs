@@ -411,6 +411,12 @@ impl FrameRenderer {
         self.single.set_repeated_views(count);
     }
 
+    /// Where FRAG's mask comes from: the prepass's surface targets (the default) or a second
+    /// pass over the visible geometry, to compare the two.
+    pub fn set_fragment_mask_source(&mut self, source: crate::culling::FragmentMaskSource) {
+        self.single.set_fragment_mask_source(source);
+    }
+
     /// The method's shadow maps (a depth array, one layer per view), for tests.
     pub fn shadow_depth_texture(&self) -> &wgpu::Texture {
         self.single.depth_texture()

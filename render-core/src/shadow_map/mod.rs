@@ -17,7 +17,7 @@ use cpu_casters::CpuCasters;
 pub use maps::{CASTER_ID_FORMAT, MapKind};
 use maps::{MapArrays, ViewPass};
 
-use crate::culling::{CullError, CullFrame, CullTargets, GpuCulling, Method};
+use crate::culling::{CullError, CullFrame, CullTargets, FragmentMaskSource, GpuCulling, Method};
 use crate::geom::{fit_focused_light, fit_whole_scene};
 use crate::gpu::{GpuContext, LogOnce, pass_label};
 use crate::shadow_view::{ShadowSettings, ShadowView, ViewTarget};
@@ -97,6 +97,11 @@ impl SingleMap {
     /// a shadow setup of its own.
     pub fn set_repeated_views(&mut self, count: u32) {
         self.repeated_views = count.max(1);
+    }
+
+    /// Where FRAG's mask comes from (the prepass's surface, or a second camera pass).
+    pub fn set_fragment_mask_source(&mut self, source: FragmentMaskSource) {
+        self.culling.set_fragment_mask_source(source);
     }
 
     /// The method's depth array, for tests that read its layers back.
@@ -181,6 +186,11 @@ impl SingleMap {
             visible_flags: draw.visible_flags,
             frame_bind_group: draw.frame_group,
             camera_depth: &draw.targets.depth_view,
+            surface: (
+                &draw.targets.ids_view,
+                &draw.targets.positions_view,
+                &draw.targets.normals_view,
+            ),
             camera_draws: draw.camera_draws,
             indirect_first_instance: draw.indirect_first_instance,
             reference: self.maps.reference_arrays(),

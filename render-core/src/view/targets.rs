@@ -1,6 +1,7 @@
 //! The camera's render targets. Recreated when the view size changes.
 
-/// Colour (what the user sees), object ids, depth and shadow factor of the camera view.
+/// Colour (what the user sees), object ids, depth, the visible surface (position and normal)
+/// and shadow factor of the camera view.
 pub struct ViewTargets {
     pub width: u32,
     pub height: u32,
@@ -12,6 +13,12 @@ pub struct ViewTargets {
     pub ids_view: wgpu::TextureView,
     pub depth: wgpu::Texture,
     pub depth_view: wgpu::TextureView,
+    /// The visible surface as the prepass saw it: world position and geometric normal, the
+    /// inputs of every shadow lookup (FRAG's mask reads them instead of drawing again).
+    pub positions: wgpu::Texture,
+    pub positions_view: wgpu::TextureView,
+    pub normals: wgpu::Texture,
+    pub normals_view: wgpu::TextureView,
     pub shadow: wgpu::Texture,
     pub shadow_view: wgpu::TextureView,
 }
@@ -22,6 +29,9 @@ pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrg
 pub const ID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 /// Reversed depth (1 near, 0 far); copyable for tests.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// World position (xyz) and geometric normal (xyz) of the visible surface, exactly as the
+/// camera's fragment shaders compute them.
+pub const SURFACE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 /// Fraction of shadow taps that see the sun, per pixel (1 for sky and non-receivers): red from
 /// the method's map, green from the reference map when measuring (else the same as red).
 pub const SHADOW_FACTOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg8Unorm;
@@ -74,6 +84,16 @@ impl ViewTargets {
             DEPTH_FORMAT,
             wgpu::TextureUsages::TEXTURE_BINDING,
         );
+        let (positions, positions_view) = make(
+            "ViewTargets::positions",
+            SURFACE_FORMAT,
+            wgpu::TextureUsages::TEXTURE_BINDING,
+        );
+        let (normals, normals_view) = make(
+            "ViewTargets::normals",
+            SURFACE_FORMAT,
+            wgpu::TextureUsages::TEXTURE_BINDING,
+        );
         let (shadow, shadow_view) = make(
             "ViewTargets::shadow",
             SHADOW_FACTOR_FORMAT,
@@ -89,6 +109,10 @@ impl ViewTargets {
             ids_view,
             depth,
             depth_view,
+            positions,
+            positions_view,
+            normals,
+            normals_view,
             shadow,
             shadow_view,
         }

@@ -4,7 +4,7 @@
 
 use super::footprints::Phase;
 use super::resources::{SceneResources, SizedResources};
-use super::{CullError, CullFrame, CullPass, GpuCulling, WORKGROUP};
+use super::{CullError, CullFrame, CullPass, FragmentMaskSource, GpuCulling, WORKGROUP};
 use crate::culling::codes::method_bits as bits;
 use crate::gpu::{GpuContext, buffer_entry, color_attachment, depth_pass, view_entry};
 use crate::scene_gpu::SceneGpu;
@@ -78,8 +78,15 @@ impl GpuCulling {
                 self.widen_masks(ctx, encoder, sized, views);
             }
         }
+        let from_surface = self.fragment_mask_source == FragmentMaskSource::Surface;
+        if method & bits::FRAG != 0 && from_surface {
+            self.surface_mask(ctx, encoder, frame, sized);
+        }
         let receiver_pipeline = if method & bits::FRAG != 0 {
-            self.pipelines.fragment_mask.as_ref()
+            self.pipelines
+                .fragment_mask
+                .as_ref()
+                .filter(|_| !from_surface)
         } else if method & bits::ORACLE != 0 {
             self.pipelines.oracle.as_ref()
         } else {
@@ -281,6 +288,39 @@ impl GpuCulling {
         groups.bind(&mut pass);
         pass.set_pipeline(&self.pipelines.clear_moved);
         pass.draw(0..12, 0..scene.instance_count);
+    }
+
+    /// FRAG's taps from the prepass's surface targets: every visible pixel, every view.
+    fn surface_mask(
+        &self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        frame: &CullFrame<'_>,
+        sized: &SizedResources,
+    ) {
+        let (ids, positions, normals) = frame.surface;
+        let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("GpuCulling::surface_mask_bind_group"),
+            layout: &self.pipelines.surface_mask_layout,
+            entries: &[
+                buffer_entry(0, &self.view_params),
+                buffer_entry(1, &sized.mask_bits),
+                view_entry(5, ids),
+                view_entry(6, positions),
+                view_entry(7, normals),
+            ],
+        });
+        let Ok((_, _, camera)) = self.resources() else {
+            return;
+        };
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("GpuCulling::surface_mask"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&self.pipelines.surface_mask);
+        pass.set_bind_group(0, frame.frame_bind_group, &[]);
+        pass.set_bind_group(1, &group, &[]);
+        pass.dispatch_workgroups(camera.size.0.div_ceil(8), camera.size.1.div_ceil(8), 1);
     }
 
     /// FRAG's taps or the oracle's casters, from the camera's visible fragments, every view in

@@ -51,6 +51,12 @@ pub struct CullFrame<'a> {
     pub camera_depth: &'a wgpu::TextureView,
     pub camera_draws: &'a DrawList,
     pub indirect_first_instance: bool,
+    /// The prepass's object ids, surface positions and normals (FRAG's mask from the surface).
+    pub surface: (
+        &'a wgpu::TextureView,
+        &'a wgpu::TextureView,
+        &'a wgpu::TextureView,
+    ),
     /// The reference maps' depth and caster ids (arrays); drawn already for `oracle`.
     pub reference: (&'a wgpu::TextureView, &'a wgpu::TextureView),
     /// One view of each layer of the method's maps (incremental updates clear there).
@@ -78,4 +84,14 @@ pub struct MaskForInset<'a> {
     /// Which masks the method has: raster, fragment depths.
     pub raster_shown: bool,
     pub fragment_shown: bool,
+}
+
+/// Where FRAG's mask comes from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum FragmentMaskSource {
+    /// A compute pass over the prepass's surface targets (one thread per pixel).
+    #[default]
+    Surface,
+    /// A second pass over the visible geometry, depth EQUAL (the camera's fragments).
+    CameraPass,
 }

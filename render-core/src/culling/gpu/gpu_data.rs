@@ -27,8 +27,10 @@ pub(super) struct CullViewGpu {
     pub volume: [f32; 4],
     /// Words per view of x: the occlusion pyramid, y: the mask pyramid.
     pub pyramids: [u32; 4],
+    /// x: the filter's reach in shadow texels.
+    pub reach: [u32; 4],
 }
-const _: () = assert!(size_of::<CullViewGpu>() == 48);
+const _: () = assert!(size_of::<CullViewGpu>() == 64);
 
 /// `Level`: one reduce pass of a pyramid.
 #[repr(C)]

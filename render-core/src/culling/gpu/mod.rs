@@ -32,7 +32,7 @@ mod pipelines;
 mod resources;
 mod results;
 
-pub use frame::{CullError, CullFrame, CullPass, CullTargets, MaskForInset};
+pub use frame::{CullError, CullFrame, CullPass, CullTargets, FragmentMaskSource, MaskForInset};
 use gpu_data::{CullFrameGpu, CullViewGpu};
 #[cfg(test)]
 pub(crate) use pipelines::shader_sources;
@@ -62,6 +62,7 @@ pub struct GpuCulling {
     excluded: Vec<u32>,
     exclusions_changed: bool,
     results: CullResults,
+    fragment_mask_source: FragmentMaskSource,
 }
 
 impl GpuCulling {
@@ -107,12 +108,26 @@ impl GpuCulling {
             excluded: Vec::new(),
             exclusions_changed: false,
             results: CullResults::default(),
+            fragment_mask_source: FragmentMaskSource::default(),
         }
     }
 
     /// Whether `method` culls here (the CPU methods do not).
     pub fn handles(method: Method) -> bool {
         method.gpu_bits().is_some()
+    }
+
+    /// Where FRAG's mask comes from (the surface targets by default; the camera pass to
+    /// compare with).
+    pub fn set_fragment_mask_source(&mut self, source: FragmentMaskSource) {
+        self.fragment_mask_source = source;
+    }
+
+    /// Whether FRAG's mask can be built on this device from `source`: the camera pass needs
+    /// forced early depth tests.
+    fn fragment_mask_available(&self) -> bool {
+        self.fragment_mask_source == FragmentMaskSource::Surface
+            || self.pipelines.fragment_mask.is_some()
     }
 
     /// Leaves these instances out from the next frame on.
@@ -195,7 +210,7 @@ impl GpuCulling {
         if b & bits::GEOM != 0 && self.pipelines.geometry.is_empty() {
             b = (b & !bits::GEOM) | bits::BVOL;
         }
-        if b & bits::FRAG != 0 && self.pipelines.fragment_mask.is_none() {
+        if b & bits::FRAG != 0 && !self.fragment_mask_available() {
             b &= !(bits::FRAG | bits::MASK);
         }
         if b & bits::ORACLE != 0 && self.pipelines.oracle.is_none() {
@@ -217,7 +232,12 @@ impl GpuCulling {
                 method.name()
             ));
         }
-        if wanted & (bits::FRAG | bits::ORACLE) != 0 && self.pipelines.fragment_mask.is_none() {
+        let receivers_missing = if wanted & bits::FRAG != 0 {
+            !self.fragment_mask_available()
+        } else {
+            self.pipelines.oracle.is_none()
+        };
+        if wanted & (bits::FRAG | bits::ORACLE) != 0 && receivers_missing {
             notes.push(format!(
                 "{}: no forced early depth tests, so its receiver pass cannot run and it draws \
                  every caster in the light frustum",
@@ -269,6 +289,9 @@ impl GpuCulling {
         let shadow = frame.shadow;
         let pcf_radius = shadow.pcf.width().div_ceil(2);
         let normal_offset = shadow.normal_offset_texels.max(0.0);
+        // A receiver point's taps lie within half the kernel of its lookup, which the normal
+        // offset moves by up to `normal_offset` texels (shadow_view/lookup.wgsl).
+        let filter_reach = (normal_offset + 0.5 * (shadow.pcf.width() as f32 - 1.0)).ceil() as u32;
         let views: Vec<CullViewGpu> = frame
             .views
             .iter()
@@ -289,6 +312,7 @@ impl GpuCulling {
                         0.0,
                     ],
                     pyramids: [sized.occlusion.words, sized.mask.words, 0, 0],
+                    reach: [filter_reach, 0, 0, 0],
                 }
             })
             .collect();

@@ -56,6 +56,9 @@ pub(super) struct CullPipelines {
     pub receivers_layout: wgpu::BindGroupLayout,
     /// The receiver passes; `None` without forced early depth tests.
     pub fragment_mask: Option<wgpu::RenderPipeline>,
+    /// FRAG's mask from the prepass's surface targets, one thread per pixel.
+    pub surface_mask_layout: wgpu::BindGroupLayout,
+    pub surface_mask: wgpu::ComputePipeline,
     pub oracle: Option<wgpu::RenderPipeline>,
     /// The footprint test: boxes against the mask (first phase) and also the map's depth
     /// (second phase), then the verdict; GEOM's mask widened first.
@@ -136,6 +139,7 @@ impl CullPipelines {
         );
         let (fragment_mask, oracle) = receiver_pipelines(ctx, layouts.frame, &receivers_layout);
         let footprints = FootprintPipelines::new(device, layouts);
+        let (surface_mask_layout, surface_mask) = surface_mask_pipeline(device, layouts.frame);
         let widen = shader_module(device, "GpuCulling::widen", source("GpuCulling::widen"));
         let widen_layout = bind_group_layout(
             device,
@@ -186,6 +190,8 @@ impl CullPipelines {
             geometry: masks.geometry,
             receivers_layout,
             fragment_mask,
+            surface_mask_layout,
+            surface_mask,
             oracle,
         }
     }
@@ -371,6 +377,39 @@ impl FootprintPipelines {
             layout,
         }
     }
+}
+
+/// FRAG's mask from the surface targets (`cs_fragment_mask` in culling/receivers.wgsl): group 0
+/// of scene passes and group 1 with the views' parameters, the mask and the surface.
+fn surface_mask_pipeline(
+    device: &wgpu::Device,
+    frame_layout: &wgpu::BindGroupLayout,
+) -> (wgpu::BindGroupLayout, wgpu::ComputePipeline) {
+    let compute = wgpu::ShaderStages::COMPUTE;
+    let float = wgpu::TextureSampleType::Float { filterable: false };
+    let d2 = wgpu::TextureViewDimension::D2;
+    let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("GpuCulling::surface_mask_layout"),
+        entries: &[
+            layout_entry(0, compute, storage(true)),
+            layout_entry(1, compute, storage(false)),
+            layout_entry(5, compute, texture(wgpu::TextureSampleType::Uint, d2)),
+            layout_entry(6, compute, texture(float, d2)),
+            layout_entry(7, compute, texture(float, d2)),
+        ],
+    });
+    let module = shader_module(
+        device,
+        "GpuCulling::receivers",
+        source("GpuCulling::receivers"),
+    );
+    let pipeline_layout = pipeline_layout(
+        device,
+        "GpuCulling::surface_mask_pipeline_layout",
+        &[frame_layout, &layout],
+    );
+    let pipeline = compute_pipeline(device, &module, Some(&pipeline_layout), "cs_fragment_mask");
+    (layout, pipeline)
 }
 
 /// FRAG's mask and the oracle's marks, from the camera's visible fragments: they need forced

@@ -1,0 +1,138 @@
+//! FRAG's mask from the prepass's surface targets (a compute pass, one thread per pixel) marks
+//! what the second pass over the visible geometry marks: on the hard views both draw the same
+//! casters, count the same stages and give the same picture, with zero error on every frame.
+
+use glam::{Mat4, Vec3};
+use render_core::culling::FragmentMaskSource;
+use render_core::frame::{
+    FrameCapture, FrameInput, FrameRenderer, FrameReport, FrameSettings, Method, SceneGpu,
+};
+use render_core::geom::Camera;
+use render_core::scene::{Instance, Scene, Sun, load_builtin};
+use shadowlab_tests::{box_on_plane, gpu};
+
+/// Three measured frames of FRAG with its mask from `source`: every report, the drawn
+/// casters and the capture of the last.
+fn frag(
+    scene: &Scene,
+    camera: &Camera,
+    sun: Sun,
+    source: FragmentMaskSource,
+) -> (Vec<FrameReport>, Vec<u32>, FrameCapture) {
+    let ctx = gpu();
+    let scene_gpu = SceneGpu::new(ctx, scene);
+    let mut renderer = FrameRenderer::new(ctx);
+    renderer.set_fragment_mask_source(source);
+    let settings = FrameSettings {
+        sun,
+        method: Method::Frag,
+        measure: true,
+        ..FrameSettings::default()
+    };
+    let input = FrameInput {
+        camera,
+        width: 256,
+        height: 192,
+        settings: &settings,
+    };
+    let reports = (0..3)
+        .map(|_| {
+            renderer
+                .render_and_wait(ctx, scene, &scene_gpu, &input)
+                .expect("frame")
+        })
+        .collect();
+    let capture = FrameCapture::read(ctx, renderer.targets().expect("targets")).expect("readback");
+    (reports, renderer.drawn_casters(), capture)
+}
+
+/// Moves every instance of `scene` by `offset`.
+fn translated(scene: &Scene, offset: Vec3) -> Scene {
+    let mut instances = scene.instances.clone();
+    for inst in &mut instances {
+        inst.world_from_local = Mat4::from_translation(offset) * inst.world_from_local;
+        inst.aabb_in_world = scene.meshes[inst.mesh as usize]
+            .aabb_in_local
+            .transformed(&inst.world_from_local);
+    }
+    Scene::new("test:far-away", scene.meshes.clone(), instances, scene.sun)
+}
+
+fn hard_views() -> Vec<(&'static str, Scene, Camera, Sun)> {
+    let city = load_builtin("city-small", 0).expect("city-small");
+    let look =
+        |eye: Vec3, target: Vec3| Camera::look_at(eye, target, 60f32.to_radians(), 0.1, 2000.0);
+    let street = look(Vec3::new(-40.0, 3.5, 2.0), Vec3::new(60.0, 8.0, 2.0));
+    let above = look(Vec3::new(-150.0, 120.0, 150.0), Vec3::ZERO);
+    let building = city
+        .instances
+        .iter()
+        .filter(|i| i.casts_shadow && i.aabb_in_world.max.y - i.aabb_in_world.min.y > 8.0)
+        .max_by(|a, b| {
+            let volume = |i: &Instance| {
+                let s = i.aabb_in_world.max - i.aabb_in_world.min;
+                s.x * s.y * s.z
+            };
+            volume(a).total_cmp(&volume(b))
+        })
+        .expect("a building");
+    let inside_at = building.aabb_in_world.center();
+    let inside = look(inside_at, inside_at + Vec3::new(30.0, -5.0, 10.0));
+    let sun = city.sun;
+    let offset = Vec3::new(100_000.0, 0.0, -60_000.0);
+    let far_sun = Sun::from_azimuth_elevation_deg(30.0, 50.0);
+    let far = translated(&box_on_plane(30.0, Vec3::splat(4.0), 0.0, far_sun), offset);
+    let far_camera = Camera::look_at(
+        offset + Vec3::new(0.0, 25.0, 30.0),
+        offset,
+        55f32.to_radians(),
+        0.1,
+        500.0,
+    );
+    vec![
+        ("street", city.clone(), street, sun),
+        ("above", city.clone(), above, sun),
+        (
+            "grazing",
+            city.clone(),
+            street,
+            Sun::from_azimuth_elevation_deg(20.0, 1.0),
+        ),
+        ("zenith", city.clone(), above, Sun::from_direction(Vec3::Y)),
+        ("inside a building", city, inside, sun),
+        ("100 km from the origin", far, far_camera, far_sun),
+    ]
+}
+
+#[test]
+fn the_mask_from_the_surface_equals_the_mask_from_a_camera_pass() {
+    for (name, scene, camera, sun) in hard_views() {
+        let (surface, drawn_surface, capture_surface) =
+            frag(&scene, &camera, sun, FragmentMaskSource::Surface);
+        let (pass, drawn_pass, capture_pass) =
+            frag(&scene, &camera, sun, FragmentMaskSource::CameraPass);
+        for (frame, (s, p)) in surface.iter().zip(&pass).enumerate() {
+            for report in [s, p] {
+                let e = report.error.expect("measured");
+                assert_eq!(
+                    (e.missing_shadow_px, e.extra_shadow_px),
+                    (0, 0),
+                    "{name}, frame {frame}: no error"
+                );
+            }
+            assert_eq!(
+                s.stages, p.stages,
+                "{name}, frame {frame}: the same stage counts"
+            );
+        }
+        assert_eq!(drawn_surface, drawn_pass, "{name}: the same casters");
+        assert!(
+            capture_surface.shadow == capture_pass.shadow,
+            "{name}: the same shadows"
+        );
+        assert!(
+            !drawn_surface.is_empty() || name == "inside a building",
+            "{name}"
+        );
+    }
+}
