@@ -144,7 +144,9 @@ impl Method {
             Self::Geom => occlusion | MASK | GEOM | DRAW_RECEIVERS,
             Self::GeomBvol => occlusion | MASK | GEOM | BVOL | DRAW_RECEIVERS,
             Self::Frag => occlusion | MASK | FRAG | DRAW_RECEIVERS,
-            Self::Incr => MASK | INCREMENTAL | FOOTPRINT,
+            // The changed region is redrawn front to back: last frame's casters that were
+            // front-most in it first, then the others against them.
+            Self::Incr => occlusion | MASK | INCREMENTAL,
             Self::Oracle => ORACLE,
         })
     }
