@@ -64,3 +64,28 @@ fn light_box(b: InstanceBounds, light_clip_from_world: mat4x4<f32>) -> LightBox 
 fn in_light_frustum(box: LightBox) -> bool {
     return all(box.hi >= vec3<f32>(-1.0, -1.0, 0.0)) && all(box.lo <= vec3<f32>(1.0));
 }
+
+// A box's 12 triangles, counter-clockwise seen from outside (corner k: x from bit 0, y from
+// bit 1, z from bit 2), so back faces can be culled.
+const BOX_CORNERS = array<u32, 36>(
+    1u, 3u, 7u, 1u, 7u, 5u, 0u, 4u, 6u, 0u, 6u, 2u,
+    2u, 6u, 7u, 2u, 7u, 3u, 0u, 1u, 5u, 0u, 5u, 4u,
+    4u, 5u, 7u, 4u, 7u, 6u, 0u, 2u, 3u, 0u, 3u, 1u,
+);
+
+// Normalised depth the rasterised boxes are moved towards the light, as the cheap tests'
+// margin.
+const BOX_DEPTH_MARGIN: f32 = 1e-6;
+
+// Vertex `vertex` (0 to 35) of box `b` in light clip space, a little towards the light.
+fn box_vertex(b: InstanceBounds, vertex: u32, light_clip_from_world: mat4x4<f32>) -> vec4<f32> {
+    let corner = BOX_CORNERS[vertex % 36u];
+    let p = vec3<f32>(
+        select(b.min.x, b.max.x, (corner & 1u) != 0u),
+        select(b.min.y, b.max.y, (corner & 2u) != 0u),
+        select(b.min.z, b.max.z, (corner & 4u) != 0u),
+    );
+    var clip = light_clip_from_world * vec4<f32>(p, 1.0);
+    clip.z -= BOX_DEPTH_MARGIN * clip.w;
+    return clip;
+}

@@ -26,17 +26,6 @@
 // The view this pass renders.
 @group(2) @binding(0) var<uniform> pass_view: ShadowView;
 
-// Normalised depth the boxes are moved towards the light, as the cheap tests' margin.
-const DEPTH_MARGIN: f32 = 1e-6;
-
-// The box's 12 triangles, counter-clockwise seen from outside (corner k: x from bit 0, y from
-// bit 1, z from bit 2), so back faces can be culled.
-const BOX_CORNERS = array<u32, 36>(
-    1u, 3u, 7u, 1u, 7u, 5u, 0u, 4u, 6u, 0u, 6u, 2u,
-    2u, 6u, 7u, 2u, 7u, 3u, 0u, 1u, 5u, 0u, 5u, 4u,
-    4u, 5u, 7u, 4u, 7u, 6u, 0u, 2u, 3u, 0u, 3u, 1u,
-);
-
 struct FootprintOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) @interpolate(flat) instance: u32,
@@ -46,16 +35,8 @@ struct FootprintOut {
 fn vs_footprint(@builtin(vertex_index) vertex: u32, @builtin(instance_index) k: u32) -> FootprintOut {
     let view = pass_view.index.x;
     let instance = candidates[view * cull.counts.x + k];
-    let b = bounds[instance];
-    let corner = BOX_CORNERS[vertex % 36u];
-    let p = vec3<f32>(
-        select(b.min.x, b.max.x, (corner & 1u) != 0u),
-        select(b.min.y, b.max.y, (corner & 2u) != 0u),
-        select(b.min.z, b.max.z, (corner & 4u) != 0u),
-    );
     var out: FootprintOut;
-    out.clip = pass_view.light_clip_from_world * vec4<f32>(p, 1.0);
-    out.clip.z -= DEPTH_MARGIN * out.clip.w;
+    out.clip = box_vertex(bounds[instance], vertex, pass_view.light_clip_from_world);
     out.instance = instance;
     return out;
 }
@@ -86,4 +67,27 @@ fn fs_footprint(in: FootprintOut) {
         }
     }
     atomicOr(&state[view * cull.counts.x + in.instance], STATE_FOOTPRINT_HIT);
+}
+
+// Incremental updates: the view's square, a triangle over it.
+@vertex
+fn vs_square(@builtin(vertex_index) index: u32) -> @builtin(position) vec4<f32> {
+    let uv = vec2<f32>(f32((index << 1u) & 2u), f32(index & 2u));
+    return vec4<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0, 0.0, 1.0);
+}
+
+struct ClearOut {
+    @builtin(frag_depth) depth: f32,
+}
+
+// Incremental updates: the texels the moved boxes marked (culling/masks.wgsl,
+// `vs_moved_faces`) cleared to the far plane before the casters there are drawn again.
+@fragment
+fn fs_clear_marked(@builtin(position) position: vec4<f32>) -> ClearOut {
+    let view = pass_view.index.x;
+    let local = vec2<u32>(max(floor(position.xy) - vec2<f32>(pass_view.square.yz), vec2<f32>(0.0)));
+    if (textureLoad(mask_raster, local, view, 0).x < MASK_MARKED_BOX) {
+        discard;
+    }
+    return ClearOut(1.0);
 }

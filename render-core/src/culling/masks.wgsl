@@ -109,6 +109,31 @@ fn vs_moved_box(@builtin(vertex_index) vertex: u32, @builtin(instance_index) ins
     return out;
 }
 
+// Incremental updates at full mask resolution: a moving object's box faces where it was last
+// frame (vertices 0-35) and where it is now (36-71), depth tested against the map as it
+// stands (LESS_EQUAL, no writes). Only where the box is not behind what the map holds can
+// the object have been, or become, the front-most caster: those texels are marked, then
+// cleared (culling/footprints.wgsl, `fs_clear_marked`) and redrawn; where a nearer caster
+// covers the box (a car in a building's shadow) the map keeps that caster's depth.
+@vertex
+fn vs_moved_faces(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32) -> MaskOut {
+    var out: MaskOut;
+    out.clip = vec4<f32>(2.0, 2.0, 2.0, 1.0);
+    out.marked = MASK_MARKED_BOX;
+    let now = bounds[instance];
+    let before = previous_bounds[instance];
+    let moved = any(now.min != before.min) || any(now.max != before.max);
+    if ((now.flags & FLAG_DYNAMIC) == 0u || !moved) {
+        return out;
+    }
+    var which = now;
+    if (vertex < 36u) {
+        which = before;
+    }
+    out.clip = box_vertex(which, vertex, pass_view.light_clip_from_world);
+    return out;
+}
+
 // The changed region in the shadow map, exactly: cleared to the far plane before redrawing.
 @vertex
 fn vs_clear_moved(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32) -> @builtin(position) vec4<f32> {

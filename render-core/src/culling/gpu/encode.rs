@@ -6,7 +6,9 @@ use super::footprints::Phase;
 use super::resources::{SceneResources, SizedResources};
 use super::{CullError, CullFrame, CullPass, FragmentMaskSource, GpuCulling, WORKGROUP};
 use crate::culling::codes::method_bits as bits;
-use crate::gpu::{GpuContext, buffer_entry, color_attachment, depth_pass, view_entry};
+use crate::gpu::{
+    GpuContext, buffer_entry, color_attachment, depth_attachment, depth_pass, view_entry,
+};
 use crate::scene_gpu::SceneGpu;
 use crate::shadow_view::ShadowView;
 
@@ -47,6 +49,17 @@ impl GpuCulling {
                 );
             }
             let mask_group = self.mask_group(ctx, scene_gpu, frame, scene);
+            // At the mask's full resolution the changed region is found texel by texel
+            // against the map (`vs_moved_faces`); a coarser mask takes whole rectangles.
+            let exact_changes =
+                method & bits::INCREMENTAL != 0 && sized.mask_size == sized.key.resolution;
+            let raster_bits = if exact_changes {
+                method & !bits::INCREMENTAL
+            } else {
+                method
+            };
+            let footprint_group =
+                exact_changes.then(|| self.footprint_group(ctx, scene_gpu, (sized, scene)));
             for (v, view) in (0..views).zip(frame.views) {
                 let pass_view = frame
                     .view_buffer
@@ -60,17 +73,19 @@ impl GpuCulling {
                     pass_view,
                     view: v,
                 };
-                self.rasterise_mask(
-                    encoder,
-                    scene_gpu,
-                    scene,
-                    method,
-                    &sized.mask_layers[v as usize],
-                    &mask,
-                );
-                if method & bits::INCREMENTAL != 0
-                    && let Some(layer) = frame.shadow_layers.get(view.target.layer as usize)
-                {
+                let mask_layer = &sized.mask_layers[v as usize];
+                self.rasterise_mask(encoder, scene_gpu, scene, raster_bits, mask_layer, &mask);
+                let Some(layer) = frame
+                    .shadow_layers
+                    .get(view.target.layer as usize)
+                    .filter(|_| method & bits::INCREMENTAL != 0)
+                else {
+                    continue;
+                };
+                if let Some(footprint_group) = &footprint_group {
+                    self.mark_changes(encoder, scene, (mask_layer, layer), &mask);
+                    self.clear_marked(encoder, view, layer, (footprint_group, &mask));
+                } else {
                     self.clear_moved(encoder, scene, layer, view, &mask);
                 }
             }
@@ -288,6 +303,45 @@ impl GpuCulling {
         groups.bind(&mut pass);
         pass.set_pipeline(&self.pipelines.clear_moved);
         pass.draw(0..12, 0..scene.instance_count);
+    }
+
+    /// Incremental updates at full mask resolution: the moved boxes' faces into the mask
+    /// where the map does not hold something nearer.
+    fn mark_changes(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &SceneResources,
+        (mask_layer, map_layer): (&wgpu::TextureView, &wgpu::TextureView),
+        groups: &MaskPass<'_>,
+    ) {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("GpuCulling::mark_changes"),
+            color_attachments: &[Some(color_attachment(mask_layer, wgpu::LoadOp::Load))],
+            depth_stencil_attachment: Some(depth_attachment(map_layer, None)),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        groups.bind(&mut pass);
+        pass.set_pipeline(&self.pipelines.moved_faces);
+        pass.draw(0..72, 0..scene.instance_count);
+    }
+
+    /// Incremental updates: the marked texels of one view's map cleared to the far plane.
+    fn clear_marked(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        view: &ShadowView,
+        map_layer: &wgpu::TextureView,
+        (footprint_group, groups): (&wgpu::BindGroup, &MaskPass<'_>),
+    ) {
+        let mut pass = depth_pass(encoder, "GpuCulling::clear_marked", map_layer, None, None);
+        view.target.set_viewport(&mut pass);
+        pass.set_pipeline(&self.pipelines.clear_marked);
+        pass.set_bind_group(0, groups.frame_group, &[]);
+        pass.set_bind_group(1, footprint_group, &[]);
+        pass.set_bind_group(2, groups.pass_view, &[]);
+        pass.draw(0..3, 0..1);
     }
 
     /// FRAG's taps from the prepass's surface targets: every visible pixel, every view.

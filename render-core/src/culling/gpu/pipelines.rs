@@ -50,6 +50,10 @@ pub(super) struct CullPipelines {
     pub boxes: wgpu::RenderPipeline,
     pub moved_boxes: wgpu::RenderPipeline,
     pub clear_moved: wgpu::RenderPipeline,
+    /// Incremental updates at full mask resolution: moved boxes' faces depth tested into the
+    /// mask, then the marked texels cleared.
+    pub moved_faces: wgpu::RenderPipeline,
+    pub clear_marked: wgpu::RenderPipeline,
     /// Receiver geometry into the mask: one conservative pipeline, or filled then outlined
     /// triangles; none without either (GEOM then takes boxes).
     pub geometry: Vec<wgpu::RenderPipeline>,
@@ -187,6 +191,8 @@ impl CullPipelines {
             boxes: masks.boxes,
             moved_boxes: masks.moved_boxes,
             clear_moved: masks.clear_moved,
+            moved_faces: masks.moved_faces,
+            clear_marked: footprints.clear_marked,
             geometry: masks.geometry,
             receivers_layout,
             fragment_mask,
@@ -201,6 +207,7 @@ struct MaskPipelines {
     boxes: wgpu::RenderPipeline,
     moved_boxes: wgpu::RenderPipeline,
     clear_moved: wgpu::RenderPipeline,
+    moved_faces: wgpu::RenderPipeline,
     geometry: Vec<wgpu::RenderPipeline>,
 }
 
@@ -287,7 +294,38 @@ impl MaskPipelines {
             multiview_mask: None,
             cache: None,
         });
+        let moved_faces = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("GpuCulling::moved_faces"),
+            layout: Some(&layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_moved_faces"),
+                compilation_options: wgpu::PipelineCompilationOptions::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState {
+                cull_mode: Some(wgpu::Face::Back),
+                ..Default::default()
+            },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: SHADOW_FORMAT,
+                depth_write_enabled: Some(false),
+                depth_compare: Some(wgpu::CompareFunction::LessEqual),
+                stencil: wgpu::StencilState::default(),
+                bias: wgpu::DepthBiasState::default(),
+            }),
+            multisample: wgpu::MultisampleState::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_mark"),
+                compilation_options: wgpu::PipelineCompilationOptions::default(),
+                targets: &[Some(MASK_FORMAT.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
         Self {
+            moved_faces,
             boxes: pipeline("vs_box", false, fill, false),
             moved_boxes: pipeline("vs_moved_box", false, fill, false),
             clear_moved,
@@ -300,6 +338,7 @@ struct FootprintPipelines {
     layout: wgpu::BindGroupLayout,
     first: wgpu::RenderPipeline,
     second: wgpu::RenderPipeline,
+    clear_marked: wgpu::RenderPipeline,
 }
 
 impl FootprintPipelines {
@@ -371,7 +410,35 @@ impl FootprintPipelines {
             })
         };
         let (always, less) = (wgpu::CompareFunction::Always, wgpu::CompareFunction::Less);
+        let clear_marked = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("GpuCulling::clear_marked"),
+            layout: Some(&pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_square"),
+                compilation_options: wgpu::PipelineCompilationOptions::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: SHADOW_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(always),
+                stencil: wgpu::StencilState::default(),
+                bias: wgpu::DepthBiasState::default(),
+            }),
+            multisample: wgpu::MultisampleState::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_clear_marked"),
+                compilation_options: wgpu::PipelineCompilationOptions::default(),
+                targets: &[],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
         Self {
+            clear_marked,
             first: pipeline("GpuCulling::footprint_first", always),
             second: pipeline("GpuCulling::footprint_second", less),
             layout,
