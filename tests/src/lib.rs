@@ -77,6 +77,31 @@ pub fn box_on_plane(ground_half_m: f32, box_size: Vec3, lift_m: f32, sun: Sun) -
     Scene::new("test:box-on-plane", vec![ground, cube], instances, sun)
 }
 
+/// `scene` with every instance moved by `offset` (hard cases far from the origin).
+pub fn translated(scene: &Scene, offset: Vec3) -> Scene {
+    let mut instances = scene.instances.clone();
+    for inst in &mut instances {
+        inst.world_from_local = Mat4::from_translation(offset) * inst.world_from_local;
+        inst.aabb_in_world = scene.meshes[inst.mesh as usize]
+            .aabb_in_local
+            .transformed(&inst.world_from_local);
+    }
+    Scene::new("test:far-away", scene.meshes.clone(), instances, scene.sun)
+}
+
+/// The caster taller than 8 m with the largest box: the biggest building of a city.
+pub fn biggest_building(scene: &Scene) -> Option<&Instance> {
+    let volume = |i: &Instance| {
+        let s = i.aabb_in_world.max - i.aabb_in_world.min;
+        s.x * s.y * s.z
+    };
+    scene
+        .instances
+        .iter()
+        .filter(|i| i.casts_shadow && i.aabb_in_world.max.y - i.aabb_in_world.min.y > 8.0)
+        .max_by(|a, b| volume(a).total_cmp(&volume(b)))
+}
+
 /// Renders one frame headless and reads every target back.
 pub fn render(
     scene: &Scene,

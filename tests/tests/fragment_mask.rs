@@ -2,14 +2,14 @@
 //! what the second pass over the visible geometry marks: on the hard views both draw the same
 //! casters, count the same stages and give the same picture, with zero error on every frame.
 
-use glam::{Mat4, Vec3};
+use glam::Vec3;
 use render_core::culling::FragmentMaskSource;
 use render_core::frame::{
     FrameCapture, FrameInput, FrameRenderer, FrameReport, FrameSettings, Method, SceneGpu,
 };
 use render_core::geom::Camera;
-use render_core::scene::{Instance, Scene, Sun, load_builtin};
-use shadowlab_tests::{box_on_plane, gpu};
+use render_core::scene::{Scene, Sun, load_builtin};
+use shadowlab_tests::{biggest_building, box_on_plane, gpu, translated};
 
 /// Three measured frames of FRAG with its mask from `source`: every report, the drawn
 /// casters and the capture of the last.
@@ -46,36 +46,13 @@ fn frag(
     (reports, renderer.drawn_casters(), capture)
 }
 
-/// Moves every instance of `scene` by `offset`.
-fn translated(scene: &Scene, offset: Vec3) -> Scene {
-    let mut instances = scene.instances.clone();
-    for inst in &mut instances {
-        inst.world_from_local = Mat4::from_translation(offset) * inst.world_from_local;
-        inst.aabb_in_world = scene.meshes[inst.mesh as usize]
-            .aabb_in_local
-            .transformed(&inst.world_from_local);
-    }
-    Scene::new("test:far-away", scene.meshes.clone(), instances, scene.sun)
-}
-
 fn hard_views() -> Vec<(&'static str, Scene, Camera, Sun)> {
     let city = load_builtin("city-small", 0).expect("city-small");
     let look =
         |eye: Vec3, target: Vec3| Camera::look_at(eye, target, 60f32.to_radians(), 0.1, 2000.0);
     let street = look(Vec3::new(-40.0, 3.5, 2.0), Vec3::new(60.0, 8.0, 2.0));
     let above = look(Vec3::new(-150.0, 120.0, 150.0), Vec3::ZERO);
-    let building = city
-        .instances
-        .iter()
-        .filter(|i| i.casts_shadow && i.aabb_in_world.max.y - i.aabb_in_world.min.y > 8.0)
-        .max_by(|a, b| {
-            let volume = |i: &Instance| {
-                let s = i.aabb_in_world.max - i.aabb_in_world.min;
-                s.x * s.y * s.z
-            };
-            volume(a).total_cmp(&volume(b))
-        })
-        .expect("a building");
+    let building = biggest_building(&city).expect("a building");
     let inside_at = building.aabb_in_world.center();
     let inside = look(inside_at, inside_at + Vec3::new(30.0, -5.0, 10.0));
     let sun = city.sun;

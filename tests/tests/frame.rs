@@ -2,11 +2,11 @@
 
 use std::collections::HashSet;
 
-use glam::{Mat4, Vec3};
+use glam::Vec3;
 use render_core::frame::FrameSettings;
 use render_core::geom::Camera;
-use render_core::scene::{Scene, Sun, load_builtin};
-use shadowlab_tests::{box_on_plane, pixels_of, render};
+use render_core::scene::{Sun, load_builtin};
+use shadowlab_tests::{box_on_plane, pixels_of, render, translated};
 
 #[test]
 fn visible_counts_match_the_object_id_target() {
@@ -47,18 +47,6 @@ fn visible_counts_match_the_object_id_target() {
             );
         }
     }
-}
-
-/// Moves every instance of `scene` by `offset`.
-fn translated(scene: &Scene, offset: Vec3) -> Scene {
-    let mut instances = scene.instances.clone();
-    for inst in &mut instances {
-        inst.world_from_local = Mat4::from_translation(offset) * inst.world_from_local;
-        inst.aabb_in_world = scene.meshes[inst.mesh as usize]
-            .aabb_in_local
-            .transformed(&inst.world_from_local);
-    }
-    Scene::new("test:far-away", scene.meshes.clone(), instances, scene.sun)
 }
 
 #[test]

@@ -9,7 +9,7 @@ use render_core::frame::{
 };
 use render_core::geom::Camera;
 use render_core::scene::{Instance, Scene, Sun, load_builtin};
-use shadowlab_tests::{box_mesh, box_on_plane, gpu};
+use shadowlab_tests::{biggest_building, box_mesh, box_on_plane, gpu};
 
 /// Renders one measured frame and returns the report, the drawn casters and the oracle flags.
 fn measured(
@@ -329,18 +329,7 @@ fn the_oracle_leaves_out_a_caster_whose_shadow_falls_on_hidden_ground() {
 fn hard_views_have_zero_error_and_draw_the_oracle() {
     // The camera inside a building's box: the biggest building of the small city.
     let city = load_builtin("city-small", 0).expect("city-small");
-    let building = city
-        .instances
-        .iter()
-        .filter(|i| i.casts_shadow && i.aabb_in_world.max.y - i.aabb_in_world.min.y > 8.0)
-        .max_by(|a, b| {
-            let volume = |i: &Instance| {
-                let s = i.aabb_in_world.max - i.aabb_in_world.min;
-                s.x * s.y * s.z
-            };
-            volume(a).total_cmp(&volume(b))
-        })
-        .expect("a building");
+    let building = biggest_building(&city).expect("a building");
     let inside = building.aabb_in_world.center();
     let camera = Camera::look_at(
         inside,

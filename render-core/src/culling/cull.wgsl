@@ -282,6 +282,14 @@ fn render(it: Item, phase_bit: u32) {
     state[it.slot] = (state[it.slot] & ~STATE_OUTCOME_BITS) | OUTCOME_RENDERED | phase_bit;
 }
 
+// One more box for the view's footprint pass.
+fn push_candidate(it: Item) {
+    let k = atomicAdd(&footprint_draws[it.view].instance_count, 1u);
+    // Every candidate writes the same box vertex count (12 triangles).
+    footprint_draws[it.view].vertex_count = 36u;
+    candidates[it.view * cull.counts.x + k] = it.instance;
+}
+
 // The cheap tests kept the caster: drawn now, or with the footprint test, drawn after it if a
 // texel of its box passes (`cs_resolve_footprints`).
 fn keep(it: Item, phase_bit: u32) {
@@ -291,10 +299,7 @@ fn keep(it: Item, phase_bit: u32) {
         render(it, phase_bit);
         return;
     }
-    let k = atomicAdd(&footprint_draws[it.view].instance_count, 1u);
-    // Every candidate writes the same box vertex count (12 triangles).
-    footprint_draws[it.view].vertex_count = 36u;
-    candidates[it.view * cull.counts.x + k] = it.instance;
+    push_candidate(it);
     state[it.slot] = (state[it.slot] & ~(STATE_OUTCOME_BITS | STATE_FOOTPRINT_HIT)) | OUTCOME_PENDING | phase_bit;
 }
 
@@ -336,9 +341,7 @@ fn cs_collect_drawn(@builtin(global_invocation_id) id: vec3<u32>) {
     if ((s & STATE_OUTCOME_BITS) != OUTCOME_RENDERED) {
         return;
     }
-    let k = atomicAdd(&footprint_draws[it.view].instance_count, 1u);
-    footprint_draws[it.view].vertex_count = 36u;
-    candidates[it.view * cull.counts.x + k] = it.instance;
+    push_candidate(it);
     state[it.slot] = s & ~STATE_FOOTPRINT_HIT;
 }
 

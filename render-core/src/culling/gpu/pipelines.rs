@@ -267,63 +267,32 @@ impl MaskPipelines {
             Vec::new()
         };
         // Incremental updates clear the changed region of the shadow map to the far plane.
-        let clear_moved = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("GpuCulling::clear_moved"),
-            layout: Some(&layout),
-            vertex: wgpu::VertexState {
+        let clear_moved = depth_only_pipeline(
+            device,
+            &DepthOnly {
+                label: "GpuCulling::clear_moved",
+                layout: &layout,
                 module: &module,
-                entry_point: Some("vs_clear_moved"),
-                compilation_options: wgpu::PipelineCompilationOptions::default(),
-                buffers: &[],
+                entries: ("vs_clear_moved", "fs_clear"),
+                cull_back: false,
+                compare: wgpu::CompareFunction::Always,
+                write: true,
+                color: None,
             },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: SHADOW_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Always),
-                stencil: wgpu::StencilState::default(),
-                bias: wgpu::DepthBiasState::default(),
-            }),
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
+        );
+        let moved_faces = depth_only_pipeline(
+            device,
+            &DepthOnly {
+                label: "GpuCulling::moved_faces",
+                layout: &layout,
                 module: &module,
-                entry_point: Some("fs_clear"),
-                compilation_options: wgpu::PipelineCompilationOptions::default(),
-                targets: &[],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
-        let moved_faces = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("GpuCulling::moved_faces"),
-            layout: Some(&layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_moved_faces"),
-                compilation_options: wgpu::PipelineCompilationOptions::default(),
-                buffers: &[],
+                entries: ("vs_moved_faces", "fs_mark"),
+                cull_back: true,
+                compare: wgpu::CompareFunction::LessEqual,
+                write: false,
+                color: Some(MASK_FORMAT),
             },
-            primitive: wgpu::PrimitiveState {
-                cull_mode: Some(wgpu::Face::Back),
-                ..Default::default()
-            },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: SHADOW_FORMAT,
-                depth_write_enabled: Some(false),
-                depth_compare: Some(wgpu::CompareFunction::LessEqual),
-                stencil: wgpu::StencilState::default(),
-                bias: wgpu::DepthBiasState::default(),
-            }),
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_mark"),
-                compilation_options: wgpu::PipelineCompilationOptions::default(),
-                targets: &[Some(MASK_FORMAT.into())],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        );
         Self {
             moved_faces,
             boxes: pipeline("vs_box", false, fill, false),
@@ -378,65 +347,34 @@ impl FootprintPipelines {
             &[layouts.frame, &layout, layouts.pass_view],
         );
         let pipeline = |label, compare| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(label),
-                layout: Some(&pipeline_layout),
-                vertex: wgpu::VertexState {
+            depth_only_pipeline(
+                device,
+                &DepthOnly {
+                    label,
+                    layout: &pipeline_layout,
                     module: &module,
-                    entry_point: Some("vs_footprint"),
-                    compilation_options: wgpu::PipelineCompilationOptions::default(),
-                    buffers: &[],
+                    entries: ("vs_footprint", "fs_footprint"),
+                    cull_back: true,
+                    compare,
+                    write: false,
+                    color: None,
                 },
-                primitive: wgpu::PrimitiveState {
-                    cull_mode: Some(wgpu::Face::Back),
-                    ..Default::default()
-                },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: SHADOW_FORMAT,
-                    depth_write_enabled: Some(false),
-                    depth_compare: Some(compare),
-                    stencil: wgpu::StencilState::default(),
-                    bias: wgpu::DepthBiasState::default(),
-                }),
-                multisample: wgpu::MultisampleState::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some("fs_footprint"),
-                    compilation_options: wgpu::PipelineCompilationOptions::default(),
-                    targets: &[],
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
+            )
         };
         let (always, less) = (wgpu::CompareFunction::Always, wgpu::CompareFunction::Less);
-        let clear_marked = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("GpuCulling::clear_marked"),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
+        let clear_marked = depth_only_pipeline(
+            device,
+            &DepthOnly {
+                label: "GpuCulling::clear_marked",
+                layout: &pipeline_layout,
                 module: &module,
-                entry_point: Some("vs_square"),
-                compilation_options: wgpu::PipelineCompilationOptions::default(),
-                buffers: &[],
+                entries: ("vs_square", "fs_clear_marked"),
+                cull_back: false,
+                compare: always,
+                write: true,
+                color: None,
             },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: SHADOW_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(always),
-                stencil: wgpu::StencilState::default(),
-                bias: wgpu::DepthBiasState::default(),
-            }),
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_clear_marked"),
-                compilation_options: wgpu::PipelineCompilationOptions::default(),
-                targets: &[],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        );
         Self {
             clear_marked,
             first: pipeline("GpuCulling::footprint_first", always),
@@ -519,4 +457,52 @@ fn receiver_pipelines(
         Some(pipeline("fs_fragment_mask")),
         Some(pipeline("fs_oracle")),
     )
+}
+
+/// A pipeline on a shadow map's depth, its vertices from the shader alone, with an optional
+/// colour target.
+struct DepthOnly<'a> {
+    label: &'a str,
+    layout: &'a wgpu::PipelineLayout,
+    module: &'a wgpu::ShaderModule,
+    /// Vertex and fragment entry points.
+    entries: (&'a str, &'a str),
+    cull_back: bool,
+    compare: wgpu::CompareFunction,
+    write: bool,
+    color: Option<wgpu::TextureFormat>,
+}
+
+fn depth_only_pipeline(device: &wgpu::Device, d: &DepthOnly<'_>) -> wgpu::RenderPipeline {
+    let targets = [d.color.map(Into::into)];
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(d.label),
+        layout: Some(d.layout),
+        vertex: wgpu::VertexState {
+            module: d.module,
+            entry_point: Some(d.entries.0),
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            buffers: &[],
+        },
+        primitive: wgpu::PrimitiveState {
+            cull_mode: d.cull_back.then_some(wgpu::Face::Back),
+            ..Default::default()
+        },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: SHADOW_FORMAT,
+            depth_write_enabled: Some(d.write),
+            depth_compare: Some(d.compare),
+            stencil: wgpu::StencilState::default(),
+            bias: wgpu::DepthBiasState::default(),
+        }),
+        multisample: wgpu::MultisampleState::default(),
+        fragment: Some(wgpu::FragmentState {
+            module: d.module,
+            entry_point: Some(d.entries.1),
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            targets: if d.color.is_some() { &targets } else { &[] },
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
 }
