@@ -37,6 +37,9 @@ impl GpuCulling {
         scene.reset_selection(encoder, views);
         self.counters.clear(encoder);
 
+        // One group for this frame's footprint passes and the changed region's clear.
+        let footprint_group = (method & bits::FOOTPRINT != 0)
+            .then(|| self.footprint_group(ctx, scene_gpu, (sized, scene)));
         if method & bits::MASK != 0 {
             encoder.clear_buffer(&sized.mask_bits, 0, None);
             if method & bits::GEOM != 0 {
@@ -58,8 +61,6 @@ impl GpuCulling {
             } else {
                 method
             };
-            let footprint_group =
-                exact_changes.then(|| self.footprint_group(ctx, scene_gpu, (sized, scene)));
             for (v, view) in (0..views).zip(frame.views) {
                 let pass_view = frame
                     .view_buffer
@@ -82,7 +83,7 @@ impl GpuCulling {
                 else {
                     continue;
                 };
-                if let Some(footprint_group) = &footprint_group {
+                if let Some(footprint_group) = footprint_group.as_ref().filter(|_| exact_changes) {
                     self.mark_changes(encoder, scene, (mask_layer, layer), &mask);
                     self.clear_marked(encoder, view, layer, (footprint_group, &mask));
                 } else {
@@ -133,8 +134,7 @@ impl GpuCulling {
         let pass = CullPass {
             bits: method,
             views,
-            footprint_group: (method & bits::FOOTPRINT != 0)
-                .then(|| self.footprint_group(ctx, scene_gpu, (sized, scene))),
+            footprint_group,
             cull_group,
         };
         self.test_footprints(encoder, frame, &pass, Phase::First)?;

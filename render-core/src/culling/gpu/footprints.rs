@@ -5,7 +5,6 @@
 use super::encode::dispatch;
 use super::resources::{FOOTPRINT_DRAW_BYTES, SceneResources, SizedResources};
 use super::{CullError, CullFrame, CullPass, GpuCulling, WORKGROUP};
-use crate::culling::codes::method_bits as bits;
 use crate::gpu::{GpuContext, buffer_entry, depth_pass, view_entry};
 use crate::scene_gpu::SceneGpu;
 
@@ -88,7 +87,8 @@ impl GpuCulling {
         pass: &CullPass,
         phase: Phase,
     ) -> Result<(), CullError> {
-        let (Some(group), true) = (&pass.footprint_group, pass.bits & bits::FOOTPRINT != 0) else {
+        // The group exists exactly for methods with the footprint test.
+        let Some(group) = &pass.footprint_group else {
             return Ok(());
         };
         let (_, scene, _) = self.resources()?;

@@ -13,28 +13,33 @@ use crate::shaders::compose;
 use crate::shadow_view::SHADOW_FORMAT;
 use crate::view::camera_pipeline;
 
+/// Every culling shader: its label and its file.
+const SHADERS: [(&str, &str); 6] = [
+    ("GpuCulling::cull", "culling/cull.wgsl"),
+    ("GpuCulling::pyramid", "culling/pyramid.wgsl"),
+    ("GpuCulling::masks", "culling/masks.wgsl"),
+    ("GpuCulling::receivers", "culling/receivers.wgsl"),
+    ("GpuCulling::footprints", "culling/footprints.wgsl"),
+    ("GpuCulling::widen", "culling/widen.wgsl"),
+];
+
 /// The culling shaders as the renderer builds them: (label, composed WGSL).
+#[cfg(test)]
 pub(crate) fn shader_sources() -> Vec<(&'static str, String)> {
-    let codes = codes::wgsl();
-    let generated = [(codes::WGSL_PATH, codes.as_str())];
-    [
-        ("GpuCulling::cull", "culling/cull.wgsl"),
-        ("GpuCulling::pyramid", "culling/pyramid.wgsl"),
-        ("GpuCulling::masks", "culling/masks.wgsl"),
-        ("GpuCulling::receivers", "culling/receivers.wgsl"),
-        ("GpuCulling::footprints", "culling/footprints.wgsl"),
-        ("GpuCulling::widen", "culling/widen.wgsl"),
-    ]
-    .into_iter()
-    .map(|(label, root)| (label, compose(root, &generated)))
-    .collect()
+    SHADERS
+        .into_iter()
+        .map(|(label, _)| (label, source(label)))
+        .collect()
 }
 
+/// The shader called `label`, composed with culling's codes.
 fn source(label: &str) -> String {
-    shader_sources()
-        .into_iter()
+    let codes = codes::wgsl();
+    let generated = [(codes::WGSL_PATH, codes.as_str())];
+    SHADERS
+        .iter()
         .find(|(l, _)| *l == label)
-        .map(|(_, s)| s)
+        .map(|(_, root)| compose(root, &generated))
         .unwrap_or_default()
 }
 
