@@ -32,6 +32,8 @@ struct BenchRow {
     error_px_max: u32,
     /// Baseline GPU frame time / this method's, under the same setting.
     speed_up: Option<f64>,
+    /// Median GPU ms per pass label (and depth: steps inside a pass are 1), in frame order.
+    passes: Vec<(String, u32, f64)>,
 }
 
 pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
@@ -130,6 +132,9 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
         }
     }
     print!("{}", format_table(&rows, baseline.name()));
+    if args.passes {
+        print!("\nGPU ms per pass (median)\n{}", format_passes(&rows));
+    }
     if let Some(csv) = &args.csv {
         std::fs::write(csv, format_csv(&rows))
             .with_context(|| format!("writing {}", csv.display()))?;
@@ -228,7 +233,64 @@ fn summarise(setting: &str, method: &str, reports: &[(f64, FrameReport)]) -> Ben
             .max()
             .unwrap_or(0),
         speed_up: None,
+        passes: median_passes(reports),
     }
+}
+
+fn median_passes(reports: &[(f64, FrameReport)]) -> Vec<(String, u32, f64)> {
+    let per_frame: Vec<_> = reports.iter().map(|(_, r)| r.gpu_passes()).collect();
+    let mut labels: Vec<(String, u32)> = Vec::new();
+    for pass in per_frame.iter().flatten() {
+        if !labels
+            .iter()
+            .any(|(l, d)| *l == pass.label && *d == pass.depth)
+        {
+            labels.push((pass.label.clone(), pass.depth));
+        }
+    }
+    labels
+        .into_iter()
+        .filter_map(|(label, depth)| {
+            let times = per_frame
+                .iter()
+                .flatten()
+                .filter(|t| t.label == label && t.depth == depth)
+                .map(|t| t.gpu_ms)
+                .collect();
+            median(times).map(|ms| (label, depth, ms))
+        })
+        .collect()
+}
+
+/// One column per method (and setting), one row per pass label; steps indented under their pass.
+fn format_passes(rows: &[BenchRow]) -> String {
+    let mut labels: Vec<(&str, u32)> = Vec::new();
+    for (label, depth, _) in rows.iter().flat_map(|r| &r.passes) {
+        if !labels.contains(&(label.as_str(), *depth)) {
+            labels.push((label, *depth));
+        }
+    }
+    let header = std::iter::once("pass".to_owned()).chain(rows.iter().map(|r| {
+        if r.setting.is_empty() {
+            r.method.clone()
+        } else {
+            format!("{} {}", r.setting, r.method)
+        }
+    }));
+    let lines: Vec<Vec<String>> = std::iter::once(header.collect())
+        .chain(labels.iter().map(|&(label, depth)| {
+            let name = format!("{}{label}", "  ".repeat(depth as usize));
+            std::iter::once(name)
+                .chain(rows.iter().map(|r| {
+                    r.passes
+                        .iter()
+                        .find(|(l, d, _)| l == label && *d == depth)
+                        .map_or_else(|| "-".into(), |(_, _, ms)| format!("{ms:.2}"))
+                }))
+                .collect()
+        }))
+        .collect();
+    aligned(&lines, 1)
 }
 
 const COLUMNS: [&str; 13] = [
@@ -277,6 +339,12 @@ fn format_table(rows: &[BenchRow], baseline: &str) -> String {
         .chain(rows.iter().map(|r| row_cells(r).to_vec()))
         .map(|l| l[skip..].to_vec())
         .collect();
+    aligned(&lines, 2 - skip)
+}
+
+/// The cells padded to their column's width: the first `left` columns left-aligned, the
+/// others right-aligned.
+fn aligned(lines: &[Vec<String>], left: usize) -> String {
     let widths: Vec<usize> = (0..lines[0].len())
         .map(|c| {
             lines
@@ -294,7 +362,7 @@ fn format_table(rows: &[BenchRow], baseline: &str) -> String {
             .enumerate()
             .map(|(c, (cell, &w))| {
                 let pad = " ".repeat(w - cell.chars().count());
-                if c + skip <= 1 {
+                if c < left {
                     format!("{cell}{pad}")
                 } else {
                     format!("{pad}{cell}")

@@ -370,6 +370,9 @@ pub struct BenchArgs {
     /// Also write the table as CSV.
     #[arg(long, value_name = "FILE")]
     pub csv: Option<PathBuf>,
+    /// Also print each method's GPU time per pass, with the culling's steps inside it
+    #[arg(long)]
+    pub passes: bool,
     /// Cars drive: each view is the scene 1/30 s after the one before (from `--time`, the
     /// same poses for every method), rendered once it has moved, without settling. How the
     /// incremental updates (`incr`) are measured.

@@ -200,11 +200,15 @@ pub fn stats_json(
     wall_ms: f64,
 ) -> serde_json::Value {
     let facts = SceneFacts::from(scene);
-    let gpu: serde_json::Map<String, serde_json::Value> = report
-        .gpu
-        .iter()
-        .map(|t| (t.label.clone(), json!(t.gpu_ms)))
-        .collect();
+    let passes = report.gpu_passes();
+    let by_label = |top: bool| -> serde_json::Map<String, serde_json::Value> {
+        passes
+            .iter()
+            .filter(|t| (t.depth == 0) == top)
+            .map(|t| (t.label.clone(), json!(t.gpu_ms)))
+            .collect()
+    };
+    let (gpu, gpu_steps) = (by_label(true), by_label(false));
     json!({
         "scene": facts.name,
         "objects": facts.objects,
@@ -243,6 +247,7 @@ pub fn stats_json(
             "cpu_culling": report.cpu.culling_ms,
             "cpu_encode_submit": report.cpu.encode_submit_ms,
             "gpu": gpu,
+            "gpu_steps": gpu_steps,
             "gpu_total": report.gpu_total_ms(),
         },
         "light": report.light,

@@ -10,9 +10,11 @@
 //! oracle's casters and no others.
 
 use glam::{Mat4, Vec3};
-use render_core::frame::{FrameInput, FrameRenderer, FrameReport, FrameSettings, Method, SceneGpu};
+use render_core::frame::{
+    CasterOutcome, FrameInput, FrameRenderer, FrameReport, FrameSettings, Method, SceneGpu,
+};
 use render_core::geom::Camera;
-use render_core::scene::{Instance, Scene, Sun};
+use render_core::scene::{Instance, Mesh, Scene, Sun};
 use shadowlab_tests::{box_mesh, gpu};
 
 const A: u32 = 1;
@@ -66,6 +68,21 @@ fn figure_3(gap_m: f32) -> (Scene, Camera) {
 /// The drawn casters after a few measured frames (every frame without error), and the
 /// report of the last frame.
 fn settled(scene: &Scene, camera: &Camera, method: Method) -> (FrameReport, Vec<u32>) {
+    let (report, outcomes) = settled_outcomes(scene, camera, method);
+    let drawn = (0..)
+        .zip(&outcomes)
+        .filter(|(_, o)| **o == CasterOutcome::Rendered)
+        .map(|(i, _)| i)
+        .collect();
+    (report, drawn)
+}
+
+/// What happened to each instance in the last of a few measured frames without error.
+fn settled_outcomes(
+    scene: &Scene,
+    camera: &Camera,
+    method: Method,
+) -> (FrameReport, Vec<CasterOutcome>) {
     let ctx = gpu();
     let scene_gpu = SceneGpu::new(ctx, scene);
     let mut renderer = FrameRenderer::new(ctx);
@@ -96,7 +113,7 @@ fn settled(scene: &Scene, camera: &Camera, method: Method) -> (FrameReport, Vec<
             );
         }
     }
-    (report, renderer.drawn_casters())
+    (report, renderer.caster_outcomes())
 }
 
 #[test]
@@ -171,4 +188,109 @@ fn the_footprint_stage_says_what_it_culled() {
         "the last stage is what is drawn"
     );
     assert!(!drawn.contains(&C), "C is hidden by B: {drawn:?}");
+}
+
+const CUBE: u32 = 1;
+const DUMBBELL: u32 = 2;
+const BLOCK: u32 = 2;
+
+/// Two cubes 12 m apart as one mesh: its box spans the gap, its shadow does not.
+fn dumbbell() -> Mesh {
+    let cube = box_mesh("cube", Vec3::splat(0.5));
+    let mut positions = Vec::new();
+    let mut indices = Vec::new();
+    for x in [-6.0, 6.0] {
+        let base = positions.len() as u32;
+        positions.extend(cube.positions.iter().map(|p| *p + Vec3::new(x, 0.0, 0.0)));
+        indices.extend(cube.indices.iter().map(|i| base + i));
+    }
+    let normals = [cube.normals.clone(), cube.normals].concat();
+    Mesh::new("dumbbell", positions, Some(normals), indices)
+}
+
+#[test]
+fn with_a_mask_the_footprint_is_the_casters_geometry() {
+    // A small receiving slab under the dumbbell's gap, a cube above it; the sun nearly overhead.
+    let sun = Sun::from_direction(Vec3::new(0.2, 1.0, 0.1));
+    let slab = box_mesh("slab", Vec3::new(1.0, 0.1, 1.0));
+    let cube = box_mesh("cube", Vec3::splat(0.5));
+    let bar = dumbbell();
+    let at = |x, y, z| Mat4::from_translation(Vec3::new(x, y, z));
+    let mut instances = vec![
+        Instance::new("slab", 0, &slab, at(0.0, 0.0, 0.0)),
+        Instance::new("cube", 1, &cube, at(0.0, 3.0, 0.0)),
+        Instance::new("dumbbell", 2, &bar, at(0.0, 3.0, 0.0)),
+    ];
+    for inst in &mut instances[1..] {
+        inst.receives_shadow = false;
+    }
+    let scene = Scene::new("test:dumbbell", vec![slab, cube, bar], instances, sun);
+    let camera = Camera::look_at(
+        Vec3::new(0.0, 8.0, -12.0),
+        Vec3::ZERO,
+        50f32.to_radians(),
+        0.1,
+        100.0,
+    );
+    let (_, oracle) = settled(&scene, &camera, Method::Oracle);
+    assert!(
+        oracle.contains(&CUBE) && !oracle.contains(&DUMBBELL),
+        "{oracle:?}"
+    );
+    // Without a mask the test is light occlusion with boxes: nothing hides the dumbbell.
+    assert!(settled(&scene, &camera, Method::Ref).1.contains(&DUMBBELL));
+    for method in [Method::Bvol, Method::Geom, Method::GeomBvol, Method::Frag] {
+        let (report, outcomes) = settled_outcomes(&scene, &camera, method);
+        let stage = match outcomes[DUMBBELL as usize] {
+            CasterOutcome::Culled { stage } => report.stages[stage].name.clone(),
+            other => panic!("{}: the dumbbell is {other:?}", method.name()),
+        };
+        assert_eq!(stage, "footprint (texel-exact)", "{}", method.name());
+        assert_eq!(
+            outcomes[CUBE as usize],
+            CasterOutcome::Rendered,
+            "{}",
+            method.name()
+        );
+    }
+}
+
+#[test]
+fn frag_leaves_a_visible_receiver_the_light_does_not_see_to_the_depth_test() {
+    // A block standing on the ground under a wide roof: its shadow falls where the roof's
+    // already is, so the oracle does without it. GEOM draws every visible receiver into the
+    // map first (Bittner 4.2); FRAG, once it knows last frame's light-visible casters, tests
+    // the others against the map, which culls the block.
+    let sun = Sun::from_direction(Vec3::new(0.2, 1.0, 0.1));
+    let ground = box_mesh("ground", Vec3::new(20.0, 0.5, 20.0));
+    let roof = box_mesh("roof", Vec3::new(6.0, 0.2, 6.0));
+    let block = box_mesh("block", Vec3::splat(0.5));
+    let at = |x, y, z| Mat4::from_translation(Vec3::new(x, y, z));
+    let mut instances = vec![
+        Instance::new("ground", 0, &ground, at(0.0, -0.5, 0.0)),
+        Instance::new("roof", 1, &roof, at(0.0, 8.0, 0.0)),
+        Instance::new("block", 2, &block, at(0.0, 0.5, 0.0)),
+    ];
+    instances[1].receives_shadow = false;
+    let scene = Scene::new("test:roof", vec![ground, roof, block], instances, sun);
+    // Under the roof's edge, looking at the block and the shadowed ground around it.
+    let camera = Camera::look_at(
+        Vec3::new(0.0, 2.5, -14.0),
+        Vec3::new(0.0, 0.5, 0.0),
+        60f32.to_radians(),
+        0.1,
+        100.0,
+    );
+    let (_, oracle) = settled(&scene, &camera, Method::Oracle);
+    assert!(
+        !oracle.contains(&BLOCK),
+        "the roof hides the block's shadow: {oracle:?}"
+    );
+    let (_, geom) = settled(&scene, &camera, Method::Geom);
+    assert!(
+        geom.contains(&BLOCK),
+        "GEOM draws the visible receivers: {geom:?}"
+    );
+    let (_, frag) = settled(&scene, &camera, Method::Frag);
+    assert_eq!(frag, oracle, "FRAG draws the oracle's casters");
 }

@@ -2,7 +2,7 @@
 
 use std::collections::VecDeque;
 
-use render_core::gpu::PassTiming;
+use render_core::gpu::{PassTiming, summed_by_label};
 
 /// One recorded frame.
 #[derive(Clone, Debug, PartialEq)]
@@ -87,7 +87,8 @@ impl TimingHistory {
         let now = self.newest().map_or(0.0, |s| s.time_s);
         let mut series: Vec<(String, Vec<[f64; 2]>)> = Vec::new();
         for sample in &self.samples {
-            for pass in &sample.gpu {
+            let passes = summed_by_label(&sample.gpu);
+            for pass in passes.iter().filter(|p| p.depth == 0) {
                 let point = [sample.time_s - now, pass.gpu_ms];
                 match series.iter_mut().find(|(label, _)| *label == pass.label) {
                     Some((_, points)) => points.push(point),
@@ -107,6 +108,7 @@ mod tests {
         PassTiming {
             label: label.to_owned(),
             gpu_ms,
+            depth: 0,
         }
     }
 

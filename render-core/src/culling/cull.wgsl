@@ -38,6 +38,9 @@ struct DrawArgs {
 // (instance ids, a block per view) and the indirect draw of their boxes.
 @group(0) @binding(13) var<storage, read_write> candidates: array<u32>;
 @group(0) @binding(14) var<storage, read_write> footprint_draws: array<FootprintDraw>;
+// With a mask the footprint is the caster's own geometry: one indexed draw per instance and
+// view (like `draws`), the candidates' instance count 1 until the verdict.
+@group(0) @binding(15) var<storage, read_write> footprint_geometry: array<DrawArgs>;
 
 struct FootprintDraw {
     vertex_count: u32,
@@ -282,8 +285,12 @@ fn render(it: Item, phase_bit: u32) {
     state[it.slot] = (state[it.slot] & ~STATE_OUTCOME_BITS) | OUTCOME_RENDERED | phase_bit;
 }
 
-// One more box for the view's footprint pass.
+// One more caster for the view's footprint pass: its box, or with a mask its geometry.
 fn push_candidate(it: Item) {
+    if ((it.method & METHOD_MASK) != 0u) {
+        footprint_geometry[it.slot].instance_count = 1u;
+        return;
+    }
     let k = atomicAdd(&footprint_draws[it.view].instance_count, 1u);
     // Every candidate writes the same box vertex count (12 triangles).
     footprint_draws[it.view].vertex_count = 36u;
@@ -311,6 +318,7 @@ fn cs_resolve_footprints(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let it = item(id);
+    footprint_geometry[it.slot].instance_count = 0u;
     let s = state[it.slot];
     if ((s & STATE_OUTCOME_BITS) != OUTCOME_PENDING) {
         return;
@@ -352,6 +360,7 @@ fn cs_resolve_light_visible(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let it = item(id);
+    footprint_geometry[it.slot].instance_count = 0u;
     let s = state[it.slot];
     if ((s & STATE_OUTCOME_BITS) != OUTCOME_RENDERED) {
         return;
@@ -399,7 +408,11 @@ fn cs_first_phase(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     var first = false;
     if ((method & METHOD_DRAW_RECEIVERS) != 0u && visible[it.instance] != 0u && (flags & FLAG_RECEIVER) != 0u) {
-        first = (method & METHOD_BVOL) == 0u || light_visible != 0u;
+        // GEOM+BVOL takes only the receivers the light saw last frame (Bittner 4.3); so does
+        // FRAG once there is a last frame: its mask holds depths, so a receiver hidden from
+        // the light wherever it would shadow is culled by the second phase's test.
+        let estimate = (method & METHOD_BVOL) != 0u || ((method & METHOD_FRAG) != 0u && cull.counts.w != 0u);
+        first = !estimate || light_visible != 0u;
     }
     if ((method & METHOD_TEMPORAL) != 0u && light_visible != 0u) {
         first = true;
@@ -441,7 +454,14 @@ fn cs_second_phase(@builtin(global_invocation_id) id: vec3<u32>) {
     count(it, SLOT_LIGHT_FRUSTUM);
     let hidden = occluded(it, box);
     let extent = s & ~((1u << STATE_EXTENT_SHIFT) - 1u);
-    let light_visible = select(STATE_LIGHT_VISIBLE, 0u, hidden) | extent;
+    // Light-visible for the next frame's first phase: not hidden, and with the footprint test
+    // what the test after the maps said when the caster was last drawn (`cs_resolve_light_visible`):
+    // a box the pyramid cannot hide is not a caster the map needs.
+    var seen = STATE_LIGHT_VISIBLE;
+    if ((method & METHOD_FOOTPRINT) != 0u) {
+        seen = s & STATE_LIGHT_VISIBLE;
+    }
+    let light_visible = select(seen, 0u, hidden) | extent;
     if (first) {
         count(it, SLOT_LIGHT_OCCLUSION);
         count(it, mask_stage(it));

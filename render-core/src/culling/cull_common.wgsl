@@ -9,7 +9,7 @@
 struct CullFrame {
     camera_clip_from_world: mat4x4<f32>,
     // x: instance count (the stride of per-view blocks); y: view count; z: the camera
-    // pyramid's base size; w: unused.
+    // pyramid's base size; w: 1 when `state` holds last frame's light-visible casters.
     counts: vec4<u32>,
     // x, y: the camera's view in pixels; z, w: unused.
     camera: vec4<u32>,

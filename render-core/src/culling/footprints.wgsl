@@ -9,8 +9,13 @@
 // finished the drawn casters' boxes are tested once more against them: those still marked
 // are the front-most somewhere the mask needs, the light-visible set the next frame's first
 // phase draws.
-// A caster's triangles lie inside its box, so every texel centre they cover is covered by a
-// box face no farther from the light: the test never culls a caster that a texel needs.
+// With a mask the footprint is the caster's own geometry (`vs_footprint_geometry`), drawn
+// exactly as the shadow pass draws it (shadow_map/shadow_depth.wgsl): its fragments are the
+// texels and depths it would write, so it passes exactly where it can shadow a tap the mask
+// needs (and, against the map, where nothing drawn is nearer). Without a mask (light
+// occlusion alone) the candidates are many and their boxes stand in for them: a caster's
+// triangles lie inside its box, so every texel centre they cover is covered by a box face no
+// farther from the light. Either way the test never culls a caster that a texel needs.
 #import view/common.wgsl
 #import culling/cull_common.wgsl
 
@@ -27,7 +32,7 @@
 @group(2) @binding(0) var<uniform> pass_view: ShadowView;
 
 struct FootprintOut {
-    @builtin(position) clip: vec4<f32>,
+    @invariant @builtin(position) clip: vec4<f32>,
     @location(0) @interpolate(flat) instance: u32,
 }
 
@@ -37,6 +42,16 @@ fn vs_footprint(@builtin(vertex_index) vertex: u32, @builtin(instance_index) k: 
     let instance = candidates[view * cull.counts.x + k];
     var out: FootprintOut;
     out.clip = box_vertex(bounds[instance], vertex, pass_view.light_clip_from_world);
+    out.instance = instance;
+    return out;
+}
+
+// The candidate's triangles, one indexed draw per instance (culling/cull.wgsl's
+// `footprint_geometry`), transformed as `vs_shadow` transforms them.
+@vertex
+fn vs_footprint_geometry(@location(0) position: vec3<f32>, @builtin(instance_index) instance: u32) -> FootprintOut {
+    var out: FootprintOut;
+    out.clip = pass_view.light_clip_from_world * vec4<f32>(world_position(instance, position), 1.0);
     out.instance = instance;
     return out;
 }

@@ -4,7 +4,7 @@
 use serde::Serialize;
 
 use crate::culling::Stage;
-use crate::gpu::{PassTiming, pass_label};
+use crate::gpu::{PassTiming, pass_label, summed_by_label};
 use crate::metrics::{Measured, ShadowError};
 use crate::technique::{ShadowReport, ViewReport};
 
@@ -109,14 +109,21 @@ impl FrameReport {
         Some(passes.map(|t| t.gpu_ms).sum())
     }
 
-    /// Sum of the GPU pass times of the frame itself, leaving out measurement passes.
+    /// Sum of the GPU pass times of the frame itself, leaving out measurement passes (and the
+    /// steps timed inside a pass).
     pub fn gpu_total_ms(&self) -> Option<f64> {
         let passes = || {
             self.gpu
                 .iter()
-                .filter(|t| t.label != pass_label::REFERENCE_MAP)
+                .filter(|t| t.depth == 0 && t.label != pass_label::REFERENCE_MAP)
         };
         (passes().count() > 0).then(|| passes().map(|t| t.gpu_ms).sum())
+    }
+
+    /// GPU time per pass label, summed over the frame, in order of first appearance; a step
+    /// timed inside a pass follows it one level deeper.
+    pub fn gpu_passes(&self) -> Vec<PassTiming> {
+        summed_by_label(&self.gpu)
     }
 
     /// Casters drawn per oracle caster (1 is the floor for a method without error).

@@ -22,4 +22,4 @@ pub use log_once::LogOnce;
 pub use readback::{
     TexelRows, map_and_copy, read_buffer, read_flags, read_texel, read_texture, read_texture_layer,
 };
-pub use timing::{FrameTimer, PassTiming, pass_label};
+pub use timing::{FrameTimer, PassTiming, Scope, pass_label, summed_by_label};

@@ -16,6 +16,21 @@ pub mod pass_label {
     pub const CULLING: &str = "mask + culling";
     pub const SHADING: &str = "shading";
     pub const OVERLAYS: &str = "overlays";
+
+    /// The steps of [`CULLING`], timed inside it (each summed over the frame's phases).
+    pub mod culling {
+        /// Clearing and drawing the raster masks (BVOL boxes, GEOM geometry, GEOM's widening)
+        /// and `incr`'s changed region.
+        pub const MASKS: &str = "masks";
+        /// FRAG's taps (from the surface or a second camera pass), or the oracle's casters.
+        pub const FRAGMENT_MASK: &str = "fragment mask";
+        /// Mask and camera-depth pyramids, and the occlusion pyramids of the maps.
+        pub const PYRAMIDS: &str = "pyramids";
+        /// The per-caster compute tests (both phases, the far ends).
+        pub const CASTER_TESTS: &str = "caster tests";
+        /// The texel-exact footprint test, both phases and the light-visible re-test.
+        pub const FOOTPRINTS: &str = "footprint test";
+    }
 }
 
 /// GPU time of one pass in one frame.
@@ -23,6 +38,8 @@ pub mod pass_label {
 pub struct PassTiming {
     pub label: String,
     pub gpu_ms: f64,
+    /// 0 for a pass of the frame, 1 for a step timed inside one, and so on.
+    pub depth: u32,
 }
 
 /// Timestamps around each pass. Long-lived; results arrive one or more frames later, so the
@@ -38,8 +55,10 @@ impl FrameTimer {
         let enabled = ctx.features().contains(wgpu::Features::TIMESTAMP_QUERY);
         let settings = GpuProfilerSettings {
             enable_timer_queries: enabled,
+            // Lavapipe crashed in vkCmdBeginDebugUtilsLabelEXT once the culling steps were
+            // timed inside their scope; the groups only label captures for graphics debuggers.
+            enable_debug_groups: false,
             max_num_pending_frames: 4,
-            ..Default::default()
         };
         let profiler = match GpuProfiler::new(&ctx.device, settings) {
             Ok(p) => Some(p),
@@ -85,6 +104,15 @@ impl FrameTimer {
             .map(|p| p.begin_query(label, encoder))
     }
 
+    /// Like [`FrameTimer::begin_scope`], for a scope whose steps are timed inside it
+    /// ([`Scope::step`]); close it with [`Scope::close`] on every path.
+    pub fn open_scope(&self, label: &str, encoder: &mut wgpu::CommandEncoder) -> Scope<'_> {
+        Scope {
+            timer: self,
+            query: self.begin_scope(label, encoder),
+        }
+    }
+
     pub fn end_pass(&self, encoder: &mut wgpu::CommandEncoder, query: Option<GpuProfilerQuery>) {
         if let (Some(p), Some(q)) = (&self.profiler, query) {
             p.end_query(encoder, q);
@@ -116,19 +144,66 @@ impl FrameTimer {
             .as_mut()?
             .process_finished_frame(self.timestamp_period)?;
         let mut out = Vec::new();
-        flatten(&results, &mut out);
+        flatten(&results, 0, &mut out);
         Some(out)
     }
 }
 
-fn flatten(results: &[GpuTimerQueryResult], out: &mut Vec<PassTiming>) {
+/// A timed scope whose steps are reported one level below it.
+pub struct Scope<'t> {
+    timer: &'t FrameTimer,
+    query: Option<GpuProfilerQuery>,
+}
+
+impl Scope<'_> {
+    /// Times what `record` puts into `encoder` as the step `label` of this scope.
+    pub fn step<R>(
+        &self,
+        label: &str,
+        encoder: &mut wgpu::CommandEncoder,
+        record: impl FnOnce(&mut wgpu::CommandEncoder) -> R,
+    ) -> R {
+        let query = match (&self.timer.profiler, &self.query) {
+            (Some(p), Some(parent)) => {
+                Some(p.begin_query(label, encoder).with_parent(Some(parent)))
+            }
+            _ => None,
+        };
+        let result = record(encoder);
+        self.timer.end_pass(encoder, query);
+        result
+    }
+
+    pub fn close(self, encoder: &mut wgpu::CommandEncoder) {
+        self.timer.end_pass(encoder, self.query);
+    }
+}
+
+fn flatten(results: &[GpuTimerQueryResult], depth: u32, out: &mut Vec<PassTiming>) {
     for r in results {
         if let Some(time) = &r.time {
             out.push(PassTiming {
                 label: r.label.clone(),
                 gpu_ms: (time.end - time.start).max(0.0) * 1000.0,
+                depth,
             });
         }
-        flatten(&r.nested_queries, out);
+        flatten(&r.nested_queries, depth + 1, out);
     }
+}
+
+/// The passes summed by label, in order of first appearance (a frame has two shadow passes
+/// per view with the culling methods, and each culling step runs in several phases).
+pub fn summed_by_label(passes: &[PassTiming]) -> Vec<PassTiming> {
+    let mut out: Vec<PassTiming> = Vec::new();
+    for pass in passes {
+        match out
+            .iter_mut()
+            .find(|t| t.label == pass.label && t.depth == pass.depth)
+        {
+            Some(total) => total.gpu_ms += pass.gpu_ms,
+            None => out.push(pass.clone()),
+        }
+    }
+    out
 }

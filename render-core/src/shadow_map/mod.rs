@@ -195,26 +195,18 @@ impl SingleMap {
             indirect_first_instance: draw.indirect_first_instance,
             reference: self.maps.reference_arrays(),
             shadow_layers: self.maps.depth_layers(),
+            timer: draw.timer,
         };
-        let query = draw.timer.begin_scope(pass_label::CULLING, encoder);
         let pass = self
             .culling
-            .encode_first_phase(draw.ctx, encoder, input.scene_gpu, &frame);
-        draw.timer.end_pass(encoder, query);
-        let pass = pass?;
+            .encode_first_phase(draw.ctx, encoder, input.scene_gpu, &frame)?;
         // Incremental updates keep last frame's maps (every other method redraws them).
         self.draw_culled_views(encoder, input, draw, full_redraw)?;
-        let query = draw.timer.begin_scope(pass_label::CULLING, encoder);
-        let second = self
-            .culling
-            .encode_second_phase(encoder, input.scene_gpu, &frame, &pass);
-        draw.timer.end_pass(encoder, query);
-        second?;
+        self.culling
+            .encode_second_phase(encoder, input.scene_gpu, &frame, &pass)?;
         self.draw_culled_views(encoder, input, draw, false)?;
-        let query = draw.timer.begin_scope(pass_label::CULLING, encoder);
-        let after = self.culling.encode_after_maps(encoder, &frame, &pass);
-        draw.timer.end_pass(encoder, query);
-        after
+        self.culling
+            .encode_after_maps(encoder, input.scene_gpu, &frame, &pass)
     }
 
     /// Every view's culled casters into its map, on top of what is there unless `clear`.

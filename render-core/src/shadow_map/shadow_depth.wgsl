@@ -6,7 +6,8 @@
 @group(1) @binding(0) var<uniform> pass_view: ShadowView;
 
 struct ShadowOut {
-    @builtin(position) clip: vec4<f32>,
+    // Invariant: the footprint test (culling/footprints.wgsl) rasterises the same triangles.
+    @invariant @builtin(position) clip: vec4<f32>,
     @location(0) @interpolate(flat) instance: u32,
 }
 

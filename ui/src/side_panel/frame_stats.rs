@@ -128,8 +128,12 @@ fn gpu_rows(ui: &mut egui::Ui, report: &FrameReport) {
         grid::row(ui, "GPU", PENDING);
         return;
     }
-    for pass in &report.gpu {
-        grid::row(ui, &format!("GPU {}", pass.label), millis(pass.gpu_ms));
+    for pass in report.gpu_passes() {
+        let label = match pass.depth {
+            0 => format!("GPU {}", pass.label),
+            depth => format!("{}{}", "  ".repeat(depth as usize + 1), pass.label),
+        };
+        grid::row(ui, &label, millis(pass.gpu_ms));
     }
     if let Some(total) = report.gpu_total_ms() {
         grid::row(ui, "GPU total", millis(total));

@@ -54,6 +54,7 @@ fn pass(label: &str, gpu_ms: f64) -> PassTiming {
     PassTiming {
         label: label.to_owned(),
         gpu_ms,
+        depth: 0,
     }
 }
 

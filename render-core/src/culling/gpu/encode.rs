@@ -6,8 +6,9 @@ use super::footprints::Phase;
 use super::resources::{SceneResources, SizedResources};
 use super::{CullError, CullFrame, CullPass, FragmentMaskSource, GpuCulling, WORKGROUP};
 use crate::culling::codes::method_bits as bits;
+use crate::gpu::pass_label::{self, culling as steps};
 use crate::gpu::{
-    GpuContext, buffer_entry, color_attachment, depth_attachment, depth_pass, view_entry,
+    GpuContext, Scope, buffer_entry, color_attachment, depth_attachment, depth_pass, view_entry,
 };
 use crate::scene_gpu::SceneGpu;
 use crate::shadow_view::ShadowView;
@@ -21,6 +22,20 @@ impl GpuCulling {
         encoder: &mut wgpu::CommandEncoder,
         scene_gpu: &SceneGpu,
         frame: &CullFrame<'_>,
+    ) -> Result<CullPass, CullError> {
+        let scope = frame.timer.open_scope(pass_label::CULLING, encoder);
+        let pass = self.first_phase(ctx, encoder, scene_gpu, frame, &scope);
+        scope.close(encoder);
+        pass
+    }
+
+    fn first_phase(
+        &mut self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        scene_gpu: &SceneGpu,
+        frame: &CullFrame<'_>,
+        scope: &Scope<'_>,
     ) -> Result<CullPass, CullError> {
         let method = self.frame_bits(frame)?;
         let views = frame.views.len() as u32;
@@ -40,6 +55,78 @@ impl GpuCulling {
         // One group for this frame's footprint passes and the changed region's clear.
         let footprint_group = (method & bits::FOOTPRINT != 0)
             .then(|| self.footprint_group(ctx, scene_gpu, (sized, scene)));
+        scope.step(steps::MASKS, encoder, |encoder| {
+            let groups = (&cull_group, footprint_group.as_ref());
+            self.masks(ctx, encoder, scene_gpu, frame, method, groups)
+        })?;
+        let from_surface = self.fragment_mask_source == FragmentMaskSource::Surface;
+        scope.step(steps::FRAGMENT_MASK, encoder, |encoder| {
+            if method & bits::FRAG != 0 && from_surface && std::env::var("SL_SKIP_FM").is_err() {
+                self.surface_mask(ctx, encoder, frame, sized);
+            }
+            let receiver_pipeline = if method & bits::FRAG != 0 {
+                self.pipelines
+                    .fragment_mask
+                    .as_ref()
+                    .filter(|_| !from_surface)
+            } else if method & bits::ORACLE != 0 {
+                self.pipelines.oracle.as_ref()
+            } else {
+                None
+            };
+            if let Some(pipeline) = receiver_pipeline {
+                self.receiver_pass(ctx, encoder, scene_gpu, frame, pipeline, (sized, scene));
+            }
+        });
+        scope.step(steps::PYRAMIDS, encoder, |encoder| {
+            let reduce = &self.pipelines.reduce;
+            if method & bits::MASK != 0 && std::env::var("SL_SKIP_MP").is_err() {
+                sized
+                    .mask
+                    .reduce(encoder, (&reduce.mask, &reduce.level), views);
+            }
+            if method & bits::VOLUME != 0 {
+                camera
+                    .pyramid
+                    .reduce(encoder, (&reduce.camera_depth, &reduce.level), 1);
+            }
+        });
+        scope.step(steps::CASTER_TESTS, encoder, |encoder| {
+            encoder.clear_buffer(&scene.footprint_draws, 0, None);
+            dispatch(
+                encoder,
+                "GpuCulling::first_phase",
+                &self.pipelines.first_phase,
+                &cull_group,
+                (groups, views),
+            );
+        });
+        let pass = CullPass {
+            bits: method,
+            views,
+            footprint_group,
+            cull_group,
+        };
+        scope.step(steps::FOOTPRINTS, encoder, |encoder| {
+            self.test_footprints(encoder, scene_gpu, frame, &pass, Phase::First)
+        })?;
+        Ok(pass)
+    }
+
+    /// The raster masks of every view (BVOL's boxes, GEOM's geometry and its widening) and
+    /// `incr`'s changed region.
+    fn masks(
+        &self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        scene_gpu: &SceneGpu,
+        frame: &CullFrame<'_>,
+        method: u32,
+        (cull_group, footprint_group): (&wgpu::BindGroup, Option<&wgpu::BindGroup>),
+    ) -> Result<(), CullError> {
+        let views = frame.views.len() as u32;
+        let (sized, scene, _) = self.resources()?;
+        let groups = scene.instance_count.div_ceil(WORKGROUP).max(1);
         if method & bits::MASK != 0 {
             encoder.clear_buffer(&sized.mask_bits, 0, None);
             if method & bits::GEOM != 0 {
@@ -47,7 +134,7 @@ impl GpuCulling {
                     encoder,
                     "GpuCulling::receivers",
                     &self.pipelines.receivers,
-                    &cull_group,
+                    cull_group,
                     (groups, views),
                 );
             }
@@ -83,7 +170,7 @@ impl GpuCulling {
                 else {
                     continue;
                 };
-                if let Some(footprint_group) = footprint_group.as_ref().filter(|_| exact_changes) {
+                if let Some(footprint_group) = footprint_group.filter(|_| exact_changes) {
                     self.mark_changes(encoder, scene, (mask_layer, layer), &mask);
                     self.clear_marked(encoder, view, layer, (footprint_group, &mask));
                 } else {
@@ -94,51 +181,7 @@ impl GpuCulling {
                 self.widen_masks(ctx, encoder, sized, views);
             }
         }
-        let from_surface = self.fragment_mask_source == FragmentMaskSource::Surface;
-        if method & bits::FRAG != 0 && from_surface {
-            self.surface_mask(ctx, encoder, frame, sized);
-        }
-        let receiver_pipeline = if method & bits::FRAG != 0 {
-            self.pipelines
-                .fragment_mask
-                .as_ref()
-                .filter(|_| !from_surface)
-        } else if method & bits::ORACLE != 0 {
-            self.pipelines.oracle.as_ref()
-        } else {
-            None
-        };
-        if let Some(pipeline) = receiver_pipeline {
-            self.receiver_pass(ctx, encoder, scene_gpu, frame, pipeline, (sized, scene));
-        }
-        if method & bits::MASK != 0 {
-            let reduce = &self.pipelines.reduce;
-            sized
-                .mask
-                .reduce(encoder, (&reduce.mask, &reduce.level), views);
-        }
-        if method & bits::VOLUME != 0 {
-            let reduce = &self.pipelines.reduce;
-            camera
-                .pyramid
-                .reduce(encoder, (&reduce.camera_depth, &reduce.level), 1);
-        }
-        encoder.clear_buffer(&scene.footprint_draws, 0, None);
-        dispatch(
-            encoder,
-            "GpuCulling::first_phase",
-            &self.pipelines.first_phase,
-            &cull_group,
-            (groups, views),
-        );
-        let pass = CullPass {
-            bits: method,
-            views,
-            footprint_group,
-            cull_group,
-        };
-        self.test_footprints(encoder, frame, &pass, Phase::First)?;
-        Ok(pass)
+        Ok(())
     }
 
     /// Records each view's occlusion pyramid (of its map as the first phase left it) and the
@@ -151,24 +194,12 @@ impl GpuCulling {
         frame: &CullFrame<'_>,
         pass: &CullPass,
     ) -> Result<(), CullError> {
-        let (sized, scene, _) = self.resources()?;
-        if pass.bits & bits::OCCLUSION != 0 {
-            let reduce = &self.pipelines.reduce;
-            sized
-                .occlusion
-                .reduce(encoder, (&reduce.depth, &reduce.level), pass.views);
-        }
-        let groups = scene.instance_count.div_ceil(WORKGROUP).max(1);
-        encoder.clear_buffer(&scene.footprint_draws, 0, None);
-        dispatch(
-            encoder,
-            "GpuCulling::second_phase",
-            &self.pipelines.second_phase,
-            &pass.cull_group,
-            (groups, pass.views),
-        );
-        self.test_footprints(encoder, frame, pass, Phase::Second)?;
+        let scope = frame.timer.open_scope(pass_label::CULLING, encoder);
+        let tested = self.second_phase(encoder, scene_gpu, frame, pass, &scope);
+        scope.close(encoder);
+        tested?;
         if pass.bits & bits::INCREMENTAL != 0 {
+            let (_, scene, _) = self.resources()?;
             encoder.copy_buffer_to_buffer(
                 &scene_gpu.bounds_buffer,
                 0,
@@ -182,6 +213,8 @@ impl GpuCulling {
             scene
                 .state_readback
                 .copy(encoder, &scene.state, frame.frame_index);
+            // After this frame the states hold a light-visible set (encode_after_maps).
+            scene.has_history = true;
         }
         self.results.submitted(
             frame.frame_index,
@@ -192,34 +225,88 @@ impl GpuCulling {
         Ok(())
     }
 
+    fn second_phase(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        scene_gpu: &SceneGpu,
+        frame: &CullFrame<'_>,
+        pass: &CullPass,
+        scope: &Scope<'_>,
+    ) -> Result<(), CullError> {
+        let (sized, scene, _) = self.resources()?;
+        if pass.bits & bits::OCCLUSION != 0 {
+            scope.step(steps::PYRAMIDS, encoder, |encoder| {
+                let reduce = &self.pipelines.reduce;
+                sized
+                    .occlusion
+                    .reduce(encoder, (&reduce.depth, &reduce.level), pass.views);
+            });
+        }
+        let groups = scene.instance_count.div_ceil(WORKGROUP).max(1);
+        scope.step(steps::CASTER_TESTS, encoder, |encoder| {
+            encoder.clear_buffer(&scene.footprint_draws, 0, None);
+            dispatch(
+                encoder,
+                "GpuCulling::second_phase",
+                &self.pipelines.second_phase,
+                &pass.cull_group,
+                (groups, pass.views),
+            );
+        });
+        scope.step(steps::FOOTPRINTS, encoder, |encoder| {
+            self.test_footprints(encoder, scene_gpu, frame, pass, Phase::Second)
+        })
+    }
+
     /// After every view's second shadow pass, for the next frame: which drawn casters the
     /// light sees (methods that draw them first), and for DigitalRune's progressive mode the
     /// pyramids of the finished maps and each caster's shadow-volume far end.
     pub fn encode_after_maps(
         &self,
         encoder: &mut wgpu::CommandEncoder,
+        scene_gpu: &SceneGpu,
         frame: &CullFrame<'_>,
         pass: &CullPass,
     ) -> Result<(), CullError> {
+        let scope = frame.timer.open_scope(pass_label::CULLING, encoder);
+        let done = self.after_maps(encoder, scene_gpu, frame, pass, &scope);
+        scope.close(encoder);
+        done
+    }
+
+    fn after_maps(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        scene_gpu: &SceneGpu,
+        frame: &CullFrame<'_>,
+        pass: &CullPass,
+        scope: &Scope<'_>,
+    ) -> Result<(), CullError> {
         if pass.bits & bits::TEMPORAL != 0 {
-            self.test_footprints(encoder, frame, pass, Phase::LightVisible)?;
+            scope.step(steps::FOOTPRINTS, encoder, |encoder| {
+                self.test_footprints(encoder, scene_gpu, frame, pass, Phase::LightVisible)
+            })?;
         }
         let (sized, scene, _) = self.resources()?;
         if pass.bits & bits::PROGRESSIVE == 0 {
             return Ok(());
         }
-        let reduce = &self.pipelines.reduce;
-        sized
-            .occlusion
-            .reduce(encoder, (&reduce.depth, &reduce.level), pass.views);
+        scope.step(steps::PYRAMIDS, encoder, |encoder| {
+            let reduce = &self.pipelines.reduce;
+            sized
+                .occlusion
+                .reduce(encoder, (&reduce.depth, &reduce.level), pass.views);
+        });
         let groups = scene.instance_count.div_ceil(WORKGROUP).max(1);
-        dispatch(
-            encoder,
-            "GpuCulling::far_ends",
-            &self.pipelines.far_ends,
-            &pass.cull_group,
-            (groups, pass.views),
-        );
+        scope.step(steps::CASTER_TESTS, encoder, |encoder| {
+            dispatch(
+                encoder,
+                "GpuCulling::far_ends",
+                &self.pipelines.far_ends,
+                &pass.cull_group,
+                (groups, pass.views),
+            );
+        });
         Ok(())
     }
 

@@ -5,6 +5,7 @@
 use super::encode::dispatch;
 use super::resources::{FOOTPRINT_DRAW_BYTES, SceneResources, SizedResources};
 use super::{CullError, CullFrame, CullPass, GpuCulling, WORKGROUP};
+use crate::culling::codes::method_bits as bits;
 use crate::gpu::{GpuContext, buffer_entry, depth_pass, view_entry};
 use crate::scene_gpu::SceneGpu;
 
@@ -83,6 +84,7 @@ impl GpuCulling {
     pub(super) fn test_footprints(
         &self,
         encoder: &mut wgpu::CommandEncoder,
+        scene_gpu: &SceneGpu,
         frame: &CullFrame<'_>,
         pass: &CullPass,
         phase: Phase,
@@ -94,9 +96,16 @@ impl GpuCulling {
         let (_, scene, _) = self.resources()?;
         let groups = (scene.instance_count.div_ceil(WORKGROUP).max(1), pass.views);
         let p = &self.pipelines;
+        // With a mask the candidates are few: their geometry, else their boxes.
+        let geometry = pass.bits & bits::MASK != 0;
+        let (first, second) = if geometry {
+            (&p.footprint_geometry_first, &p.footprint_geometry_second)
+        } else {
+            (&p.footprint_first, &p.footprint_second)
+        };
         let (pipeline, resolve) = match phase {
-            Phase::First => (&p.footprint_first, &p.resolve),
-            Phase::Second => (&p.footprint_second, &p.resolve),
+            Phase::First => (first, &p.resolve),
+            Phase::Second => (second, &p.resolve),
             Phase::LightVisible => {
                 encoder.clear_buffer(&scene.footprint_draws, 0, None);
                 dispatch(
@@ -106,7 +115,7 @@ impl GpuCulling {
                     &pass.cull_group,
                     groups,
                 );
-                (&p.footprint_second, &p.resolve_light_visible)
+                (second, &p.resolve_light_visible)
             }
         };
         for (v, view) in (0..pass.views).zip(frame.views) {
@@ -125,7 +134,17 @@ impl GpuCulling {
             render.set_bind_group(0, frame.frame_bind_group, &[]);
             render.set_bind_group(1, group, &[]);
             render.set_bind_group(2, pass_view, &[]);
-            render.draw_indirect(&scene.footprint_draws, u64::from(v) * FOOTPRINT_DRAW_BYTES);
+            if geometry {
+                render.set_vertex_buffer(0, scene_gpu.vertex_buffer.slice(..));
+                let indices = scene_gpu.index_buffer.slice(..);
+                render.set_index_buffer(indices, wgpu::IndexFormat::Uint32);
+                let offset = scene.draws_offset(v);
+                let draws = &scene.footprint_geometry;
+                render.multi_draw_indexed_indirect(draws, offset, scene.instance_count);
+            } else {
+                let offset = u64::from(v) * FOOTPRINT_DRAW_BYTES;
+                render.draw_indirect(&scene.footprint_draws, offset);
+            }
         }
         dispatch(
             encoder,

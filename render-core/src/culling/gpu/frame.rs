@@ -4,6 +4,7 @@
 use glam::Mat4;
 
 use crate::culling::Method;
+use crate::gpu::FrameTimer;
 use crate::scene_gpu::DrawList;
 use crate::shadow_view::{ShadowSettings, ShadowView, ViewBuffer};
 
@@ -61,6 +62,8 @@ pub struct CullFrame<'a> {
     pub reference: (&'a wgpu::TextureView, &'a wgpu::TextureView),
     /// One view of each layer of the method's maps (incremental updates clear there).
     pub shadow_layers: &'a [wgpu::TextureView],
+    /// Times culling as [`crate::gpu::pass_label::CULLING`], its steps inside it.
+    pub timer: &'a FrameTimer,
 }
 
 /// What passes from the first phase to the later steps of one frame.

@@ -9,7 +9,7 @@ use bytemuck::{Pod, Zeroable};
 pub(super) struct CullFrameGpu {
     pub camera_clip_from_world: [[f32; 4]; 4],
     /// x: instance count (the stride of per-view blocks); y: view count; z: the camera
-    /// pyramid's base size; w: unused.
+    /// pyramid's base size; w: 1 when the states hold last frame's light-visible casters.
     pub counts: [u32; 4],
     /// x, y: the camera's view in pixels; z, w: unused.
     pub camera: [u32; 4],

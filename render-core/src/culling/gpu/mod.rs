@@ -280,7 +280,7 @@ impl GpuCulling {
                 scene.instance_count,
                 frame.views.len() as u32,
                 camera.base,
-                0,
+                u32::from(scene.has_history),
             ],
             camera: [camera.size.0, camera.size.1, 0, 0],
         };
@@ -346,6 +346,7 @@ impl GpuCulling {
                 buffer_entry(12, &camera.pyramid.buffer),
                 buffer_entry(13, &scene.candidates),
                 buffer_entry(14, &scene.footprint_draws),
+                buffer_entry(15, &scene.footprint_geometry),
             ],
         }))
     }

@@ -74,6 +74,9 @@ pub(super) struct CullPipelines {
     pub footprint_layout: wgpu::BindGroupLayout,
     pub footprint_first: wgpu::RenderPipeline,
     pub footprint_second: wgpu::RenderPipeline,
+    /// The same with the candidates' geometry (methods with a mask).
+    pub footprint_geometry_first: wgpu::RenderPipeline,
+    pub footprint_geometry_second: wgpu::RenderPipeline,
     pub resolve: wgpu::ComputePipeline,
     /// After the maps (with `footprint_second`): the drawn casters collected, and which of
     /// them the finished maps show where the mask needs them.
@@ -104,7 +107,7 @@ impl CullPipelines {
             ]
             .map(storage),
         );
-        cull_types.extend([false, true, false, false].map(storage));
+        cull_types.extend([false, true, false, false, false].map(storage));
         let cull_layout =
             bind_group_layout(device, "GpuCulling::cull_layout", compute, &cull_types);
         let cull_pipeline_layout =
@@ -175,6 +178,8 @@ impl CullPipelines {
             footprint_layout: footprints.layout,
             footprint_first: footprints.first,
             footprint_second: footprints.second,
+            footprint_geometry_first: footprints.geometry_first,
+            footprint_geometry_second: footprints.geometry_second,
             resolve: cull("cs_resolve_footprints"),
             collect_drawn: cull("cs_collect_drawn"),
             resolve_light_visible: cull("cs_resolve_light_visible"),
@@ -279,6 +284,7 @@ impl MaskPipelines {
                 layout: &layout,
                 module: &module,
                 entries: ("vs_clear_moved", "fs_clear"),
+                vertices: false,
                 cull_back: false,
                 compare: wgpu::CompareFunction::Always,
                 write: true,
@@ -292,6 +298,7 @@ impl MaskPipelines {
                 layout: &layout,
                 module: &module,
                 entries: ("vs_moved_faces", "fs_mark"),
+                vertices: false,
                 cull_back: true,
                 compare: wgpu::CompareFunction::LessEqual,
                 write: false,
@@ -312,6 +319,8 @@ struct FootprintPipelines {
     layout: wgpu::BindGroupLayout,
     first: wgpu::RenderPipeline,
     second: wgpu::RenderPipeline,
+    geometry_first: wgpu::RenderPipeline,
+    geometry_second: wgpu::RenderPipeline,
     clear_marked: wgpu::RenderPipeline,
 }
 
@@ -351,15 +360,21 @@ impl FootprintPipelines {
             "GpuCulling::footprint_pipeline_layout",
             &[layouts.frame, &layout, layouts.pass_view],
         );
-        let pipeline = |label, compare| {
+        let pipeline = |label, geometry: bool, compare| {
             depth_only_pipeline(
                 device,
                 &DepthOnly {
                     label,
                     layout: &pipeline_layout,
                     module: &module,
-                    entries: ("vs_footprint", "fs_footprint"),
-                    cull_back: true,
+                    entries: if geometry {
+                        ("vs_footprint_geometry", "fs_footprint")
+                    } else {
+                        ("vs_footprint", "fs_footprint")
+                    },
+                    vertices: geometry,
+                    // Boxes are closed; meshes may be open or single-sided, as in the map.
+                    cull_back: !geometry,
                     compare,
                     write: false,
                     color: None,
@@ -367,6 +382,9 @@ impl FootprintPipelines {
             )
         };
         let (always, less) = (wgpu::CompareFunction::Always, wgpu::CompareFunction::Less);
+        // A caster's own fragments equal the map where it is front-most (and ties go either
+        // way in the reference map): the geometry passes where it is not behind.
+        let less_equal = wgpu::CompareFunction::LessEqual;
         let clear_marked = depth_only_pipeline(
             device,
             &DepthOnly {
@@ -374,6 +392,7 @@ impl FootprintPipelines {
                 layout: &pipeline_layout,
                 module: &module,
                 entries: ("vs_square", "fs_clear_marked"),
+                vertices: false,
                 cull_back: false,
                 compare: always,
                 write: true,
@@ -382,8 +401,10 @@ impl FootprintPipelines {
         );
         Self {
             clear_marked,
-            first: pipeline("GpuCulling::footprint_first", always),
-            second: pipeline("GpuCulling::footprint_second", less),
+            first: pipeline("GpuCulling::footprint_first", false, always),
+            second: pipeline("GpuCulling::footprint_second", false, less),
+            geometry_first: pipeline("GpuCulling::footprint_geometry_first", true, always),
+            geometry_second: pipeline("GpuCulling::footprint_geometry_second", true, less_equal),
             layout,
         }
     }
@@ -472,6 +493,8 @@ struct DepthOnly<'a> {
     module: &'a wgpu::ShaderModule,
     /// Vertex and fragment entry points.
     entries: (&'a str, &'a str),
+    /// The scene's vertex buffer (else the vertex stage makes its own vertices).
+    vertices: bool,
     cull_back: bool,
     compare: wgpu::CompareFunction,
     write: bool,
@@ -480,6 +503,7 @@ struct DepthOnly<'a> {
 
 fn depth_only_pipeline(device: &wgpu::Device, d: &DepthOnly<'_>) -> wgpu::RenderPipeline {
     let targets = [d.color.map(Into::into)];
+    let vertex_buffers = [Some(VERTEX_LAYOUT)];
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(d.label),
         layout: Some(d.layout),
@@ -487,7 +511,7 @@ fn depth_only_pipeline(device: &wgpu::Device, d: &DepthOnly<'_>) -> wgpu::Render
             module: d.module,
             entry_point: Some(d.entries.0),
             compilation_options: wgpu::PipelineCompilationOptions::default(),
-            buffers: &[],
+            buffers: if d.vertices { &vertex_buffers } else { &[] },
         },
         primitive: wgpu::PrimitiveState {
             cull_mode: d.cull_back.then_some(wgpu::Face::Back),

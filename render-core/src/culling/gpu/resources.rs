@@ -299,6 +299,11 @@ pub(super) struct SceneResources {
     /// of their boxes.
     pub candidates: wgpu::Buffer,
     pub footprint_draws: wgpu::Buffer,
+    /// With a mask the footprint is the candidates' geometry: one indexed draw per instance
+    /// and view, like `draws`.
+    pub footprint_geometry: wgpu::Buffer,
+    /// Whether a frame has been culled with these states (they hold its light-visible set).
+    pub has_history: bool,
 }
 
 impl SceneResources {
@@ -352,6 +357,8 @@ impl SceneResources {
             capacity,
             draws: draws_buffer("GpuCulling::draws"),
             receiver_draws: draws_buffer("GpuCulling::receiver_draws"),
+            footprint_geometry: draws_buffer("GpuCulling::footprint_geometry"),
+            has_history: false,
             state: storage("GpuCulling::state", view_words, copy_src),
             selection: storage("GpuCulling::selection", view_words, copy_src),
             selection_init: storage("GpuCulling::selection_init", instance_words, copy_src),
