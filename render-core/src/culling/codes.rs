@@ -31,8 +31,12 @@ pub(crate) mod method_bits {
     /// The casters the cheap tests kept are rasterised as boxes in the light's view against
     /// the map's depth and the mask, and drawn only where a texel passes.
     pub const FOOTPRINT: u32 = 2048;
+    /// The footprint test rasterises the candidates' own triangles, not their boxes: for
+    /// masks that leave few candidates (FRAG's depths, `incr`'s changed region), where it
+    /// costs little and is exact.
+    pub const GEOMETRY_FOOTPRINT: u32 = 4096;
 
-    pub(super) const NAMES: [(&str, u32); 12] = [
+    pub(super) const NAMES: [(&str, u32); 13] = [
         ("OCCLUSION", OCCLUSION),
         ("MASK", MASK),
         ("DRAW_RECEIVERS", DRAW_RECEIVERS),
@@ -45,6 +49,7 @@ pub(crate) mod method_bits {
         ("PROGRESSIVE", PROGRESSIVE),
         ("INCREMENTAL", INCREMENTAL),
         ("FOOTPRINT", FOOTPRINT),
+        ("GEOMETRY_FOOTPRINT", GEOMETRY_FOOTPRINT),
     ];
 }
 

@@ -38,8 +38,8 @@ struct DrawArgs {
 // (instance ids, a block per view) and the indirect draw of their boxes.
 @group(0) @binding(13) var<storage, read_write> candidates: array<u32>;
 @group(0) @binding(14) var<storage, read_write> footprint_draws: array<FootprintDraw>;
-// With a mask the footprint is the caster's own geometry: one indexed draw per instance and
-// view (like `draws`), the candidates' instance count 1 until the verdict.
+// With METHOD_GEOMETRY_FOOTPRINT the footprint is the caster's own geometry: one indexed draw
+// per instance and view (like `draws`), the candidates' instance count 1 until the verdict.
 @group(0) @binding(15) var<storage, read_write> footprint_geometry: array<DrawArgs>;
 
 struct FootprintDraw {
@@ -285,9 +285,9 @@ fn render(it: Item, phase_bit: u32) {
     state[it.slot] = (state[it.slot] & ~STATE_OUTCOME_BITS) | OUTCOME_RENDERED | phase_bit;
 }
 
-// One more caster for the view's footprint pass: its box, or with a mask its geometry.
+// One more caster for the view's footprint pass: its box, or its geometry.
 fn push_candidate(it: Item) {
-    if ((it.method & METHOD_MASK) != 0u) {
+    if ((it.method & METHOD_GEOMETRY_FOOTPRINT) != 0u) {
         footprint_geometry[it.slot].instance_count = 1u;
         return;
     }

@@ -9,13 +9,14 @@
 // finished the drawn casters' boxes are tested once more against them: those still marked
 // are the front-most somewhere the mask needs, the light-visible set the next frame's first
 // phase draws.
-// With a mask the footprint is the caster's own geometry (`vs_footprint_geometry`), drawn
-// exactly as the shadow pass draws it (shadow_map/shadow_depth.wgsl): its fragments are the
-// texels and depths it would write, so it passes exactly where it can shadow a tap the mask
-// needs (and, against the map, where nothing drawn is nearer). Without a mask (light
-// occlusion alone) the candidates are many and their boxes stand in for them: a caster's
-// triangles lie inside its box, so every texel centre they cover is covered by a box face no
-// farther from the light. Either way the test never culls a caster that a texel needs.
+// Where the mask leaves few candidates (FRAG, `incr`: METHOD_GEOMETRY_FOOTPRINT) the footprint
+// is the caster's own geometry (`vs_footprint_geometry`), drawn exactly as the shadow pass
+// draws it (shadow_map/shadow_depth.wgsl): its fragments are the texels and depths it would
+// write, so it passes exactly where it can shadow a tap the mask needs (and, against the map,
+// where nothing drawn is nearer). Elsewhere the candidates are many and their boxes stand in
+// for them, as Bittner's occlusion queries do: a caster's triangles lie inside its box, so
+// every texel centre they cover is covered by a box face no farther from the light. Either
+// way the test never culls a caster that a texel needs.
 #import view/common.wgsl
 #import culling/cull_common.wgsl
 

@@ -130,8 +130,8 @@ impl Method {
     /// methods.
     pub(crate) fn gpu_bits(self) -> Option<u32> {
         use method_bits::{
-            BVOL, DRAW_RECEIVERS, FOOTPRINT, FRAG, GEOM, INCREMENTAL, MASK, OCCLUSION, ORACLE,
-            PROGRESSIVE, TEMPORAL, VOLUME,
+            BVOL, DRAW_RECEIVERS, FOOTPRINT, FRAG, GEOM, GEOMETRY_FOOTPRINT, INCREMENTAL, MASK,
+            OCCLUSION, ORACLE, PROGRESSIVE, TEMPORAL, VOLUME,
         };
         let occlusion = OCCLUSION | TEMPORAL | FOOTPRINT;
         Some(match self {
@@ -143,10 +143,10 @@ impl Method {
             Self::Bvol => occlusion | MASK | BVOL,
             Self::Geom => occlusion | MASK | GEOM | DRAW_RECEIVERS,
             Self::GeomBvol => occlusion | MASK | GEOM | BVOL | DRAW_RECEIVERS,
-            Self::Frag => occlusion | MASK | FRAG | DRAW_RECEIVERS,
+            Self::Frag => occlusion | MASK | FRAG | DRAW_RECEIVERS | GEOMETRY_FOOTPRINT,
             // The changed region is redrawn front to back: last frame's casters that were
             // front-most in it first, then the others against them.
-            Self::Incr => occlusion | MASK | INCREMENTAL,
+            Self::Incr => occlusion | MASK | INCREMENTAL | GEOMETRY_FOOTPRINT,
             Self::Oracle => ORACLE,
         })
     }

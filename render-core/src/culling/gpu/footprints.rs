@@ -96,8 +96,8 @@ impl GpuCulling {
         let (_, scene, _) = self.resources()?;
         let groups = (scene.instance_count.div_ceil(WORKGROUP).max(1), pass.views);
         let p = &self.pipelines;
-        // With a mask the candidates are few: their geometry, else their boxes.
-        let geometry = pass.bits & bits::MASK != 0;
+        // Where the mask leaves few candidates their geometry, else their boxes.
+        let geometry = pass.bits & bits::GEOMETRY_FOOTPRINT != 0;
         let (first, second) = if geometry {
             (&p.footprint_geometry_first, &p.footprint_geometry_second)
         } else {
