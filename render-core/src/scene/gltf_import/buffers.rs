@@ -1,7 +1,9 @@
 //! The bytes of a glTF file's buffers: the GLB binary chunk, base64 `data:` URIs and external
-//! files next to the `.gltf`. Each failure is an [`ImportError`] that names the file.
+//! files inside the `.gltf`'s folder (never an absolute path, a `..` out of it or a link that
+//! leads out; the declared length checked against the file before it is read). Each failure is
+//! an [`ImportError`] that names the file. Images are never read.
 
-use std::path::{Path, PathBuf};
+use std::path::{Component, Path, PathBuf};
 
 use super::ImportError;
 
@@ -41,7 +43,9 @@ pub(super) fn load_buffers(
                 gltf::buffer::Source::Bin => blob
                     .take()
                     .ok_or_else(|| bad_buffer(index, "the GLB file has no binary chunk".into()))?,
-                gltf::buffer::Source::Uri(uri) => read_buffer_uri(uri, index, path, base_dir)?,
+                gltf::buffer::Source::Uri(uri) => {
+                    read_buffer_uri(uri, (index, buffer.length()), path, base_dir)?
+                }
             };
             if data.len() < buffer.length() {
                 let reason = format!(
@@ -56,10 +60,11 @@ pub(super) fn load_buffers(
         .collect()
 }
 
-/// Reads a buffer given by a `data:` URI, a `file:` URI or a path relative to `base_dir`.
+/// Reads a buffer given by a `data:` URI or a path inside `base_dir` (the scene's folder),
+/// which must hold at least `declared_length` bytes.
 fn read_buffer_uri(
     uri: &str,
-    index: usize,
+    (index, declared_length): (usize, usize),
     path: &Path,
     base_dir: Option<&Path>,
 ) -> Result<Vec<u8>, ImportError> {
@@ -74,31 +79,71 @@ fn read_buffer_uri(
             .map(|data| data.0)
             .map_err(|e| bad_buffer(format!("its data URI is not valid base64: {e}")));
     }
-    let file_path = if let Some(absolute) = uri
-        .strip_prefix("file://")
-        .or_else(|| uri.strip_prefix("file:"))
-    {
-        PathBuf::from(absolute)
-    } else if uri.contains(':') {
+    if uri.contains(':') {
+        // `file:` URIs name absolute paths, which a scene must not reach; others are remote.
         return Err(bad_buffer(format!(
-            "the URI '{uri}' uses a scheme that is not supported"
+            "the URI '{uri}' has a scheme; only data: URIs and paths inside the scene's folder \
+             are read"
         )));
-    } else {
-        let relative = percent_decode(uri)
-            .ok_or_else(|| bad_buffer(format!("the URI '{uri}' is malformed")))?;
-        let base_dir = base_dir.ok_or_else(|| {
-            bad_buffer(format!(
-                "it refers to the external file '{uri}', which cannot be loaded from memory"
-            ))
-        })?;
-        base_dir.join(relative)
-    };
-    std::fs::read(&file_path).map_err(|error| ImportError::MissingBuffer {
+    }
+    let relative =
+        percent_decode(uri).ok_or_else(|| bad_buffer(format!("the URI '{uri}' is malformed")))?;
+    let base_dir = base_dir.ok_or_else(|| {
+        bad_buffer(format!(
+            "it refers to the external file '{uri}', which cannot be loaded from memory"
+        ))
+    })?;
+    let file_path = inside_folder(base_dir, &relative)
+        .map_err(|why| bad_buffer(format!("the URI '{uri}' {why}")))?;
+    let missing = |error| ImportError::MissingBuffer {
         path: path.to_owned(),
         uri: uri.to_owned(),
-        resolved: file_path,
+        resolved: file_path.clone(),
         error,
-    })
+    };
+    // The declared length is checked against the file before anything is allocated.
+    let on_disk = std::fs::metadata(&file_path).map_err(missing)?.len();
+    if on_disk < declared_length as u64 {
+        return Err(bad_buffer(format!(
+            "it declares {declared_length} bytes but '{uri}' holds {on_disk}"
+        )));
+    }
+    std::fs::read(&file_path).map_err(missing)
+}
+
+/// `relative` (a decoded URI path) resolved in `base_dir`, or why it may not be read: it is
+/// absolute, climbs out with `..`, or leads out through a symbolic link.
+fn inside_folder(base_dir: &Path, relative: &str) -> Result<PathBuf, String> {
+    let relative_path = Path::new(relative);
+    if relative_path.has_root() || relative.starts_with('/') || relative.starts_with('\\') {
+        return Err("is an absolute path; buffers must lie inside the scene's folder".into());
+    }
+    let mut depth = 0usize;
+    for part in relative_path.components() {
+        match part {
+            Component::Normal(_) => depth += 1,
+            Component::CurDir => {}
+            Component::ParentDir if depth > 0 => depth -= 1,
+            _ => return Err("leads outside the scene's folder".into()),
+        }
+    }
+    let joined = base_dir.join(relative_path);
+    // Symbolic links may point anywhere: compare the real paths where the file exists (a
+    // missing file is reported as missing by the caller).
+    let base_dir = if base_dir.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        base_dir
+    };
+    if let (Ok(real_base), Ok(real_file)) = (base_dir.canonicalize(), joined.canonicalize())
+        && !real_file.starts_with(&real_base)
+    {
+        return Err(format!(
+            "leads outside the scene's folder (through a link, to {})",
+            real_file.display()
+        ));
+    }
+    Ok(joined)
 }
 
 /// Decodes `%XX` escapes in a relative URI; `None` when an escape or the result is malformed.

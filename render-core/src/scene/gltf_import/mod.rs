@@ -64,6 +64,12 @@ pub enum ImportError {
         index: usize,
         reason: String,
     },
+    #[error("{}: node '{node}' rejected: {reason}", .path.display())]
+    BadNode {
+        path: PathBuf,
+        node: String,
+        reason: String,
+    },
     #[error("{} contains no triangle meshes", .path.display())]
     NoTriangleMeshes { path: PathBuf },
 }
@@ -116,7 +122,12 @@ fn import_bytes(
         gltf::Gltf::from_slice(bytes).map_err(|e| not_gltf(e.to_string()))?;
     let buffers = load_buffers(&document, blob, path, base_dir)?;
 
-    let (mut meshes, instances, warnings) = flatten_node_trees(&document, &buffers, path);
+    let (mut meshes, instances, warnings) =
+        flatten_node_trees(&document, &buffers, path).map_err(|bad| ImportError::BadNode {
+            path: path.to_owned(),
+            node: bad.node,
+            reason: bad.reason,
+        })?;
     // Each names the file and the part left out; the rest of the scene still loads.
     for warning in &warnings {
         log::warn!("{warning}");
@@ -135,5 +146,7 @@ fn import_bytes(
     ))
 }
 
+#[cfg(test)]
+mod safety_tests;
 #[cfg(test)]
 mod tests;

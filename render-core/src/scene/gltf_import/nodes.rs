@@ -10,15 +10,26 @@ use gltf::mesh::Mode;
 use super::super::{Instance, Mesh, MeshId};
 use super::primitives::read_triangle_mesh;
 
-/// The meshes and instances of the document's node trees, and a warning for each part skipped.
+/// Coordinates beyond this (in the file's units) are taken for an overflow: single precision
+/// keeps no useful detail there, and the camera's and the light's arithmetic would overflow.
+pub(super) const MAX_COORDINATE: f32 = 1e9;
+
+/// A node the scene cannot hold, and why.
+pub(super) struct BadNode {
+    pub node: String,
+    pub reason: String,
+}
+
+/// The meshes and instances of the document's node trees, and a warning for each part skipped;
+/// a node whose transform or bounds are not finite, or overflow, rejects the file.
 pub(super) fn flatten_node_trees(
     document: &gltf::Document,
     buffers: &[Vec<u8>],
     path: &Path,
-) -> (Vec<Mesh>, Vec<Instance>, Vec<String>) {
+) -> Result<(Vec<Mesh>, Vec<Instance>, Vec<String>), BadNode> {
     let mut builder = SceneBuilder::new(path, buffers);
-    builder.add_node_trees(document);
-    (builder.meshes, builder.instances, builder.warnings)
+    builder.add_node_trees(document)?;
+    Ok((builder.meshes, builder.instances, builder.warnings))
 }
 
 /// Turns the node trees of a document into meshes and instances.
@@ -47,7 +58,7 @@ impl<'a> SceneBuilder<'a> {
 
     /// Walks the node trees depth first, in document order. A node reached twice (the file
     /// has a cycle or shares a child) is only imported the first time.
-    fn add_node_trees(&mut self, document: &gltf::Document) {
+    fn add_node_trees(&mut self, document: &gltf::Document) -> Result<(), BadNode> {
         let mut visited = vec![false; document.nodes().len()];
         let mut stack: Vec<(gltf::Node, Mat4)> = root_nodes(document)
             .into_iter()
@@ -69,14 +80,12 @@ impl<'a> SceneBuilder<'a> {
             let world_from_local =
                 world_from_parent * Mat4::from_cols_array_2d(&node.transform().matrix());
             if !world_from_local.is_finite() {
-                let file = self.path.display();
-                self.warnings.push(format!(
-                    "{file}: node '{}' and its children skipped: transform overflows",
-                    node_name(&node)
-                ));
-                continue;
+                return Err(BadNode {
+                    node: node_name(&node),
+                    reason: "its transform (with its parents') is not finite".into(),
+                });
             }
-            self.add_node(&node, world_from_local);
+            self.add_node(&node, world_from_local)?;
             let children: Vec<gltf::Node> = node.children().collect();
             stack.extend(
                 children
@@ -85,11 +94,14 @@ impl<'a> SceneBuilder<'a> {
                     .map(|child| (child, world_from_local)),
             );
         }
+        Ok(())
     }
 
     /// One instance per triangle primitive of the node's mesh.
-    fn add_node(&mut self, node: &gltf::Node, world_from_local: Mat4) {
-        let Some(mesh) = node.mesh() else { return };
+    fn add_node(&mut self, node: &gltf::Node, world_from_local: Mat4) -> Result<(), BadNode> {
+        let Some(mesh) = node.mesh() else {
+            return Ok(());
+        };
         let node_name = node_name(node);
         for primitive in mesh.primitives() {
             let instance_name = with_primitive_suffix(&node_name, primitive.index());
@@ -118,8 +130,21 @@ impl<'a> SceneBuilder<'a> {
                 world_from_local,
             )
             .with_color(base_color);
+            let bounds = instance.aabb_in_world;
+            let reach = bounds.min.abs().max(bounds.max.abs()).max_element();
+            let finite = bounds.min.is_finite() && bounds.max.is_finite() && reach.is_finite();
+            if !finite || reach > MAX_COORDINATE {
+                return Err(BadNode {
+                    node: node_name,
+                    reason: format!(
+                        "its mesh reaches {reach:e} from the origin once transformed, beyond \
+                         ±{MAX_COORDINATE:e} (a transform or position that overflows)"
+                    ),
+                });
+            }
             self.instances.push(instance);
         }
+        Ok(())
     }
 
     /// The scene mesh of a primitive, read the first time a node uses it.

@@ -14,7 +14,7 @@ const TRIANGLE_STRIP: u32 = 5;
 
 /// A glTF document under construction, with one binary buffer.
 #[derive(Default)]
-struct TestGltf {
+pub(super) struct TestGltf {
     bin: Vec<u8>,
     buffer_views: Vec<Value>,
     accessors: Vec<Value>,
@@ -88,7 +88,7 @@ impl TestGltf {
     }
 
     /// A triangle mesh from positions and indices, with nothing else.
-    fn simple_mesh(&mut self, name: &str, positions: &[Vec3], indices: &[u32]) -> usize {
+    pub(super) fn simple_mesh(&mut self, name: &str, positions: &[Vec3], indices: &[u32]) -> usize {
         let positions = self.positions(positions);
         let indices = self.indices_u32(indices);
         self.mesh(
@@ -97,18 +97,18 @@ impl TestGltf {
         )
     }
 
-    fn node(&mut self, node: Value) -> usize {
+    pub(super) fn node(&mut self, node: Value) -> usize {
         self.nodes.push(node);
         self.nodes.len() - 1
     }
 
-    fn root(&mut self, node: Value) -> usize {
+    pub(super) fn root(&mut self, node: Value) -> usize {
         let index = self.node(node);
         self.scene_roots.push(index);
         index
     }
 
-    fn json(&self, buffer_uri: Option<&str>) -> Value {
+    pub(super) fn json(&self, buffer_uri: Option<&str>) -> Value {
         let mut buffer = json!({"byteLength": self.bin.len()});
         if let Some(uri) = buffer_uri {
             buffer["uri"] = json!(uri);
@@ -127,7 +127,7 @@ impl TestGltf {
     }
 
     /// Writes `<stem>.gltf` and `<stem>.bin` into `dir`; returns the `.gltf` path.
-    fn write_with_bin(&self, dir: &Path, stem: &str) -> PathBuf {
+    pub(super) fn write_with_bin(&self, dir: &Path, stem: &str) -> PathBuf {
         let bin_name = format!("{stem}.bin");
         std::fs::write(dir.join(&bin_name), &self.bin).unwrap();
         let gltf_path = dir.join(format!("{stem}.gltf"));
@@ -135,14 +135,14 @@ impl TestGltf {
         gltf_path
     }
 
-    fn embedded(&self) -> Vec<u8> {
+    pub(super) fn embedded(&self) -> Vec<u8> {
         let uri = format!("data:application/octet-stream;base64,{}", base64(&self.bin));
         self.json(Some(&uri)).to_string().into_bytes()
     }
 
     /// Binary glTF: a 12-byte header, a JSON chunk padded with spaces, a BIN chunk padded
     /// with zeros.
-    fn glb(&self) -> Vec<u8> {
+    pub(super) fn glb(&self) -> Vec<u8> {
         let mut json_chunk = self.json(None).to_string().into_bytes();
         json_chunk.resize(json_chunk.len().next_multiple_of(4), b' ');
         let mut bin_chunk = self.bin.clone();
@@ -181,10 +181,10 @@ fn base64(bytes: &[u8]) -> String {
 }
 
 /// A folder under the system temp folder, removed when dropped.
-struct TempDir(PathBuf);
+pub(super) struct TempDir(pub(super) PathBuf);
 
 impl TempDir {
-    fn new(label: &str) -> Self {
+    pub(super) fn new(label: &str) -> Self {
         static COUNTER: AtomicUsize = AtomicUsize::new(0);
         let unique = COUNTER.fetch_add(1, Ordering::Relaxed);
         let path = std::env::temp_dir().join(format!(
@@ -239,7 +239,7 @@ fn ground(quads: u32, size_m: f32) -> (Vec<Vec3>, Vec<u32>) {
     (positions, indices)
 }
 
-fn cube(size_m: f32) -> (Vec<Vec3>, Vec<u32>) {
+pub(super) fn cube(size_m: f32) -> (Vec<Vec3>, Vec<u32>) {
     let corners = Aabb::new(Vec3::ZERO, Vec3::splat(size_m))
         .corners()
         .to_vec();
@@ -250,7 +250,7 @@ fn cube(size_m: f32) -> (Vec<Vec3>, Vec<u32>) {
     (corners, indices)
 }
 
-fn no_chunking() -> ChunkSettings {
+pub(super) fn no_chunking() -> ChunkSettings {
     ChunkSettings {
         max_extent_fraction: 0.0,
     }
@@ -265,7 +265,9 @@ fn flatten_glb(gltf: &TestGltf) -> (Vec<String>, Vec<String>) {
     let gltf::Gltf { document, blob } = gltf::Gltf::from_slice(&gltf.glb()).unwrap();
     let path = Path::new("test.glb");
     let buffers = load_buffers(&document, blob, path, None).unwrap();
-    let (_, instances, warnings) = flatten_node_trees(&document, &buffers, path);
+    let Ok((_, instances, warnings)) = flatten_node_trees(&document, &buffers, path) else {
+        panic!("a node was rejected");
+    };
     (instances.into_iter().map(|i| i.name).collect(), warnings)
 }
 
@@ -460,7 +462,7 @@ fn base_color_comes_from_the_material() {
     assert!(plain.abs_diff_eq(Vec4::ONE, 1e-6), "{plain}");
 }
 
-fn two_boxes() -> TestGltf {
+pub(super) fn two_boxes() -> TestGltf {
     let mut gltf = TestGltf::default();
     let (positions, indices) = cube(1.0);
     let mesh = gltf.simple_mesh("box", &positions, &indices);
