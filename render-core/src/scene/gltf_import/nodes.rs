@@ -20,13 +20,16 @@ pub(super) struct BadNode {
     pub reason: String,
 }
 
+/// The meshes and instances of a document, and a warning for each part skipped.
+pub(super) type Flattened = (Vec<Mesh>, Vec<Instance>, Vec<String>);
+
 /// The meshes and instances of the document's node trees, and a warning for each part skipped;
 /// a node whose transform or bounds are not finite, or overflow, rejects the file.
 pub(super) fn flatten_node_trees(
     document: &gltf::Document,
     buffers: &[Vec<u8>],
     path: &Path,
-) -> Result<(Vec<Mesh>, Vec<Instance>, Vec<String>), BadNode> {
+) -> Result<Flattened, BadNode> {
     let mut builder = SceneBuilder::new(path, buffers);
     builder.add_node_trees(document)?;
     Ok((builder.meshes, builder.instances, builder.warnings))
