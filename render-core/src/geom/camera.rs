@@ -17,6 +17,16 @@ pub fn basis_for_direction(forward: DVec3) -> (DVec3, DVec3) {
     (right, up)
 }
 
+/// A camera's `(right, up)` for a view direction, with +Y as the world's up: continuous in the
+/// direction however close to the vertical it looks (the right vector follows the direction's
+/// horizontal part, which only vanishes looking exactly straight up or down; then +X).
+pub fn camera_basis(forward: DVec3) -> (DVec3, DVec3) {
+    let forward = forward.try_normalize().unwrap_or(DVec3::NEG_Z);
+    let right = forward.cross(DVec3::Y).try_normalize().unwrap_or(DVec3::X);
+    let up = right.cross(forward).normalize();
+    (right, up)
+}
+
 /// A pinhole camera. Depth is reversed (near maps to 1, far to 0) for precision over 0.01 m to
 /// 10 km; the camera pass clears depth to 0 and keeps the greater value.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -56,7 +66,7 @@ impl Camera {
 
     /// `(right, up)` in world space.
     pub fn basis(&self) -> (Vec3, Vec3) {
-        let (right, up) = basis_for_direction(self.forward.as_dvec3());
+        let (right, up) = camera_basis(self.forward.as_dvec3());
         (right.as_vec3(), up.as_vec3())
     }
 
@@ -88,7 +98,7 @@ impl Camera {
             .as_dvec3()
             .try_normalize()
             .unwrap_or(DVec3::NEG_Z);
-        let (right, up) = basis_for_direction(forward);
+        let (right, up) = camera_basis(forward);
         let tan_half_y = (f64::from(self.fov_y_rad) * 0.5).tan();
         let tan_half_x = tan_half_y * aspect;
         let mut corners = [DVec3::ZERO; 8];
@@ -120,10 +130,49 @@ mod tests {
             DVec3::new(0.3, -0.9, 0.1),
             DVec3::ZERO,
         ] {
-            let (right, up) = basis_for_direction(forward);
-            assert!(right.is_finite() && up.is_finite());
-            assert!((right.length() - 1.0).abs() < 1e-9 && (up.length() - 1.0).abs() < 1e-9);
-            assert!(right.dot(up).abs() < 1e-9);
+            for (right, up) in [basis_for_direction(forward), camera_basis(forward)] {
+                assert!(right.is_finite() && up.is_finite());
+                assert!((right.length() - 1.0).abs() < 1e-9 && (up.length() - 1.0).abs() < 1e-9);
+                assert!(right.dot(up).abs() < 1e-9);
+            }
+        }
+    }
+
+    #[test]
+    fn the_camera_turns_smoothly_through_the_vertical() {
+        // 20 m above the target, moving to the side in steps of 1 mm: the picture's up turns
+        // with the eye around the vertical and never jumps.
+        let target = Vec3::ZERO;
+        let up_at = |side_m: f32| {
+            let eye = Vec3::new(side_m, 20.0, 0.0);
+            Camera::look_at(eye, target, 1.0, 0.1, 100.0).basis().1
+        };
+        assert!(up_at(0.5).dot(up_at(3.0)) > 0.99, "same side, same up");
+        let mut previous = up_at(-3.0);
+        for step in -3000..=3000 {
+            let side_m = step as f32 * 1e-3;
+            if side_m == 0.0 {
+                continue; // exactly above: +X, by convention
+            }
+            let up = up_at(side_m);
+            let same_side = (side_m > 0.0) == (side_m - 1e-3 > 0.0);
+            if same_side {
+                assert!(
+                    up.dot(previous) > 0.9999,
+                    "{side_m} m: {up} after {previous}"
+                );
+            }
+            previous = up;
+        }
+        // A pitch sweep down to the vertical at a fixed heading keeps the heading's up.
+        for pitch_deg in (800..=899).map(|d| d as f32 * 0.1) {
+            let pitch = -pitch_deg.to_radians();
+            let forward = Vec3::new(pitch.cos() * 0.6, pitch.sin(), pitch.cos() * 0.8);
+            let up = Camera::look_at(Vec3::ZERO, forward, 1.0, 0.1, 100.0)
+                .basis()
+                .1;
+            let heading = Vec3::new(0.6, 0.0, 0.8);
+            assert!(up.dot(heading) > 0.98, "pitch -{pitch_deg}°: up {up}");
         }
     }
 
