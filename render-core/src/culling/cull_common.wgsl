@@ -31,6 +31,12 @@ struct CullView {
     reach: vec4<u32>,
 }
 
+// Whether the method draws a raster mask (BVOL's boxes, GEOM's geometry, `incr`'s changed
+// region); FRAG's mask is its depths alone, and nothing clears or reads the raster for it.
+fn has_raster_mask(method: u32) -> bool {
+    return (method & (METHOD_BVOL | METHOD_GEOM | METHOD_INCREMENTAL)) != 0u;
+}
+
 // The filter's reach in mask texels, rounded up.
 fn reach_in_mask_texels(cv: CullView) -> u32 {
     let scale = max(cv.params.z, 1u);

@@ -64,7 +64,7 @@ fn needed_depth(view: u32, params: vec4<u32>, m: vec2<u32>) -> f32 {
     var needed = bitcast<f32>(mask_bits[index]);
     if ((params.x & METHOD_GEOM) != 0u) {
         needed = max(needed, widened[index]);
-    } else {
+    } else if (has_raster_mask(params.x)) {
         needed = max(needed, textureLoad(mask_raster, m, view, 0).x);
     }
     return needed;

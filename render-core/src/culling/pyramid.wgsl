@@ -6,6 +6,7 @@
 // is larger), or the camera's depth negated (reversed depth: the largest value is the
 // farthest surface), square over the view's larger side.
 #import shadow_view/views.wgsl
+#import culling/cull_common.wgsl
 
 // Keep in sync with culling/gpu/pyramid.rs (`LevelParams`).
 struct Level {
@@ -22,6 +23,8 @@ struct Level {
 @group(0) @binding(4) var<storage, read> mask_bits: array<u32>;
 @group(0) @binding(5) var map_depth: texture_depth_2d_array;
 @group(0) @binding(6) var<storage, read> views: array<ShadowView>;
+// The mask's base: whether view z has a raster mask (FRAG's has only its depths).
+@group(0) @binding(7) var<storage, read> cull_views: array<CullView>;
 
 // The source texels that block `d` of the destination covers: 2x2, or 3 wide at an odd edge.
 fn block(d: vec2<u32>, source_size: u32, dest_size: u32) -> array<vec2<u32>, 2> {
@@ -76,11 +79,15 @@ fn cs_reduce_mask(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let b = block(id.xy, params.level.w, params.level.y);
     let bits_block = id.z * params.blocks.y;
+    let raster = has_raster_mask(cull_views[id.z].params.x);
     var value = 0.0;
     for (var y = b[0].y; y <= b[1].y; y++) {
         for (var x = b[0].x; x <= b[1].x; x++) {
             let bits = mask_bits[bits_block + y * params.level.w + x];
-            let marked = textureLoad(mask_source, vec2<u32>(x, y), id.z, 0).x;
+            var marked = 0.0;
+            if (raster) {
+                marked = textureLoad(mask_source, vec2<u32>(x, y), id.z, 0).x;
+            }
             value = max(value, max(marked, bitcast<f32>(bits)));
         }
     }

@@ -162,7 +162,9 @@ impl GpuCulling {
                     view: v,
                 };
                 let mask_layer = &sized.mask_layers[v as usize];
-                self.rasterise_mask(encoder, scene_gpu, scene, raster_bits, mask_layer, &mask);
+                if method & (bits::BVOL | bits::GEOM | bits::INCREMENTAL) != 0 {
+                    self.rasterise_mask(encoder, scene_gpu, scene, raster_bits, mask_layer, &mask);
+                }
                 let Some(layer) = frame
                     .shadow_layers
                     .get(view.target.layer as usize)

@@ -151,7 +151,7 @@ impl GpuCulling {
                 device,
                 key,
                 targets.shadow_maps,
-                targets.views,
+                (targets.views, &self.view_params),
                 &self.pipelines.reduce,
             );
             self.sized = Some(sized);

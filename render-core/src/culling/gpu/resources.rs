@@ -166,7 +166,7 @@ impl SizedResources {
         device: &wgpu::Device,
         key: SizedKey,
         shadow_maps: &wgpu::TextureView,
-        views: &ViewBuffer,
+        (views, cull_views): (&ViewBuffer, &wgpu::Buffer),
         reduce: &ReducePipelines,
     ) -> Self {
         let mask_size = mask_size(key.resolution);
@@ -229,7 +229,11 @@ impl SizedResources {
                 size: mask_size,
                 views: capacity,
                 base_words: mask_words,
-                entries: &[view_entry(3, &mask_array), buffer_entry(4, &mask_bits)],
+                entries: &[
+                    view_entry(3, &mask_array),
+                    buffer_entry(4, &mask_bits),
+                    buffer_entry(7, cull_views),
+                ],
             },
             (&reduce.mask, &reduce.level),
         );
