@@ -543,6 +543,54 @@ fn bad_input_gets_a_message_that_names_the_problem() {
     }
 }
 
+/// A city packed as `gltfpack` packs files (meshopt-compressed, quantized), written by the
+/// test: `shot` renders it with every object, and the window opens it.
+#[test]
+fn a_meshopt_packed_file_renders_headless_and_in_the_window() {
+    let dir = out_dir("packed");
+    let city = render_core::scene::load_builtin("city-small", 0).expect("city-small");
+    let glb = dir.join("city-packed.glb");
+    std::fs::write(&glb, shadowlab_tests::packed_glb(&city)).expect("write the GLB");
+    let png = dir.join("city-packed.png");
+    let output = run(shadowlab()
+        .arg("shot")
+        .arg(&glb)
+        .args(["--size", "160x96", "--chunk-fraction", "0", "--out"])
+        .arg(&png));
+    assert!(output.status.success(), "{}", text(&output));
+    let stats: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(png.with_extension("json")).expect("stats"))
+            .expect("JSON");
+    assert_eq!(stats["objects"], city.instances.len());
+    assert_eq!(stats["triangles"], city.triangle_count());
+    if std::env::var_os("DISPLAY").is_none() && std::env::var_os("WAYLAND_DISPLAY").is_none() {
+        eprintln!("window part skipped: no display; `scripts/test.sh` gets one from xvfb-run");
+        return;
+    }
+    let shots = dir.join("window");
+    let _ = std::fs::remove_dir_all(&shots);
+    let output = run(shadowlab()
+        .arg(&glb)
+        .args([
+            "--chunk-fraction",
+            "0",
+            "--exit-after-frames",
+            "3",
+            "--screenshot-dir",
+        ])
+        .arg(&shots));
+    assert!(output.status.success(), "{}", text(&output));
+    let json = std::fs::read_dir(&shots)
+        .expect("screenshot folder")
+        .flatten()
+        .map(|e| e.path())
+        .find(|p| p.extension().is_some_and(|e| e == "json"))
+        .expect("the window saved a screenshot and its stats");
+    let stats: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(json).expect("stats")).expect("JSON");
+    assert_eq!(stats["objects"], city.instances.len());
+}
+
 /// Opens the real window (winit + wgpu surface + egui), renders frames, saves a screenshot of
 /// the whole window and closes. Needs a display: CI runs the tests under `xvfb-run`.
 #[test]

@@ -1,6 +1,8 @@
 //! Helpers for shadowlab's headless GPU tests: a shared adapter, small known-answer scenes,
 //! and world positions of captured pixels.
 
+mod packed;
+
 use std::sync::OnceLock;
 
 use glam::{Mat4, Vec3, Vec4};
@@ -10,6 +12,8 @@ use render_core::frame::{
 use render_core::geom::Camera;
 use render_core::gpu::GpuContext;
 use render_core::scene::{Instance, Mesh, Scene, Sun};
+
+pub use packed::{glb_bytes, packed_glb, packed_gltf};
 
 /// One GPU context for every test in a binary (device creation on lavapipe is slow).
 /// In CI (`CI=true`) a missing adapter fails the test instead of being reported as skipped.

@@ -140,6 +140,11 @@ impl GpuCulling {
     pub fn prepare(&mut self, ctx: &GpuContext, scene_gpu: &SceneGpu, targets: &CullTargets<'_>) {
         let device = &ctx.device;
         let capacity = targets.capacity.max(1);
+        // Before the sized resources: the mask pyramid's groups hold the views' parameters.
+        if capacity > self.view_params_capacity {
+            self.view_params = create_view_params(device, capacity);
+            self.view_params_capacity = capacity;
+        }
         let key = SizedKey {
             resolution: targets.resolution,
             capacity,
@@ -186,10 +191,6 @@ impl GpuCulling {
             scene.write_exclusions(ctx, &self.excluded);
         }
         self.exclusions_changed = false;
-        if capacity > self.view_params_capacity {
-            self.view_params = create_view_params(device, capacity);
-            self.view_params_capacity = capacity;
-        }
         self.counters
             .ensure_words(device, (COUNTER_SLOTS * capacity) as usize);
     }

@@ -6,6 +6,7 @@
 use std::path::{Component, Path, PathBuf};
 
 use super::ImportError;
+use super::compression::is_fallback;
 
 /// `gltf` subtracts the header size from the declared GLB length before checking it, which
 /// panics on a length below 12; reject that here.
@@ -39,6 +40,10 @@ pub(super) fn load_buffers(
         .buffers()
         .map(|buffer| {
             let index = buffer.index();
+            // Filled by the meshopt-compressed views (compression.rs).
+            if is_fallback(&buffer) {
+                return Ok(Vec::new());
+            }
             let data = match buffer.source() {
                 gltf::buffer::Source::Bin => blob
                     .take()

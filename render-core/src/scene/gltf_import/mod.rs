@@ -1,4 +1,5 @@
-//! glTF 2.0 import: `.gltf` with external or base64 buffers, and `.glb`, into a [`Scene`].
+//! glTF 2.0 import: `.gltf` with external or base64 buffers, and `.glb`, into a [`Scene`],
+//! including files packed by `gltfpack` (`EXT_meshopt_compression`, `KHR_mesh_quantization`).
 //!
 //! The node tree of the default scene is flattened: every (node with a mesh, primitive) pair
 //! becomes one [`Instance`](crate::scene::Instance) whose transform is the product of its ancestors' transforms.
@@ -14,10 +15,12 @@
 //! not need textures, and a missing texture should not stop a scene from loading.
 //!
 //! This file holds the entry points and their error; `buffers` reads the file's buffers,
+//! `compression` decodes meshopt-compressed views into them,
 //! `nodes` flattens the node trees into instances and `primitives` turns a primitive's
 //! accessors into a [`Mesh`](crate::scene::Mesh).
 
 mod buffers;
+mod compression;
 mod nodes;
 mod primitives;
 
@@ -64,6 +67,8 @@ pub enum ImportError {
         index: usize,
         reason: String,
     },
+    #[error("{}: its compressed data could not be decoded: {reason}", .path.display())]
+    Compressed { path: PathBuf, reason: String },
     #[error("{}: node '{node}' rejected: {reason}", .path.display())]
     BadNode {
         path: PathBuf,
@@ -118,9 +123,14 @@ fn import_bytes(
         });
     }
     check_glb_header(bytes).map_err(not_gltf)?;
-    let gltf::Gltf { document, blob } =
-        gltf::Gltf::from_slice(bytes).map_err(|e| not_gltf(e.to_string()))?;
-    let buffers = load_buffers(&document, blob, path, base_dir)?;
+    let (document, blob) = compression::parse(bytes).map_err(not_gltf)?;
+    let mut buffers = load_buffers(&document, blob, path, base_dir)?;
+    compression::decode_views(&document, &mut buffers).map_err(|reason| {
+        ImportError::Compressed {
+            path: path.to_owned(),
+            reason,
+        }
+    })?;
 
     let (mut meshes, instances, warnings) =
         flatten_node_trees(&document, &buffers, path).map_err(|bad| ImportError::BadNode {

@@ -73,14 +73,9 @@ fn read_positions(primitive: &gltf::Primitive, buffers: &[Vec<u8>]) -> Result<Ve
     let accessor = primitive
         .get(&Semantic::Positions)
         .ok_or("it has no POSITION attribute")?;
-    check_accessor(&accessor, &[DataType::F32], Dimensions::Vec3, buffers)
+    check_accessor(&accessor, &QUANTIZED, Dimensions::Vec3, buffers)
         .map_err(|reason| format!("its POSITION accessor {reason}"))?;
-    let reader = primitive.reader(|buffer| buffers.get(buffer.index()).map(Vec::as_slice));
-    let positions: Vec<Vec3> = reader
-        .read_positions()
-        .ok_or("its positions cannot be read")?
-        .map(Vec3::from)
-        .collect();
+    let positions = read_vec3s(&accessor, buffers).ok_or("its positions cannot be read")?;
     if u32::try_from(positions.len()).is_err() {
         return Err(format!(
             "it has {} vertices, more than 32-bit indices can address",
@@ -123,20 +118,64 @@ fn read_normals(
     let Some(accessor) = primitive.get(&Semantic::Normals) else {
         return Ok(None);
     };
-    check_accessor(&accessor, &[DataType::F32], Dimensions::Vec3, buffers)
-        .map_err(|reason| format!("the NORMAL accessor {reason}"))?;
+    check_accessor(
+        &accessor,
+        &[DataType::F32, DataType::I8, DataType::I16],
+        Dimensions::Vec3,
+        buffers,
+    )
+    .map_err(|reason| format!("the NORMAL accessor {reason}"))?;
     if accessor.count() != vertex_count {
         return Err(format!(
             "there are {} normals for {vertex_count} vertices",
             accessor.count()
         ));
     }
-    let reader = primitive.reader(|buffer| buffers.get(buffer.index()).map(Vec::as_slice));
-    let normals = reader.read_normals().ok_or("the normals cannot be read")?;
-    let unit_normals: Option<Vec<Vec3>> = normals.map(|n| Vec3::from(n).try_normalize()).collect();
+    let normals = read_vec3s(&accessor, buffers).ok_or("the normals cannot be read")?;
+    let unit_normals: Option<Vec<Vec3>> = normals.into_iter().map(Vec3::try_normalize).collect();
     unit_normals
         .map(Some)
         .ok_or_else(|| "some normals are zero or not finite".to_owned())
+}
+
+/// The component types of a position: floats, or with `KHR_mesh_quantization` integers.
+const QUANTIZED: [DataType; 5] = [
+    DataType::F32,
+    DataType::I8,
+    DataType::U8,
+    DataType::I16,
+    DataType::U16,
+];
+
+/// A checked vec3 accessor's elements as floats: as stored, or for the integer types of
+/// `KHR_mesh_quantization` their value, divided by the type's largest when normalized
+/// (glTF 2.0, 3.11: signed values clamp at -1).
+fn read_vec3s(accessor: &gltf::Accessor, buffers: &[Vec<u8>]) -> Option<Vec<Vec3>> {
+    fn read<T: gltf::accessor::Item + Copy>(
+        accessor: &gltf::Accessor,
+        buffers: &[Vec<u8>],
+        to_f32: impl Fn(T) -> f32,
+    ) -> Option<Vec<Vec3>> {
+        let get = |buffer: gltf::Buffer| buffers.get(buffer.index()).map(Vec::as_slice);
+        let elements = gltf::accessor::Iter::<[T; 3]>::new(accessor.clone(), get)?;
+        Some(elements.map(|v| Vec3::from(v.map(&to_f32))).collect())
+    }
+    let normalized = accessor.normalized();
+    let scale = |value: f32, largest: f32| {
+        if normalized {
+            (value / largest).max(-1.0)
+        } else {
+            value
+        }
+    };
+    match accessor.data_type() {
+        DataType::F32 => read::<f32>(accessor, buffers, |x| x),
+        DataType::I8 => read::<i8>(accessor, buffers, |x| scale(f32::from(x), 127.0)),
+        DataType::U8 => read::<u8>(accessor, buffers, |x| scale(f32::from(x), 255.0)),
+        DataType::I16 => read::<i16>(accessor, buffers, |x| scale(f32::from(x), 32767.0)),
+        DataType::U16 => read::<u16>(accessor, buffers, |x| scale(f32::from(x), 65535.0)),
+        DataType::U32 => None,
+    }
 }
 
 /// Checks what `gltf`'s reader assumes (and would panic or silently truncate on otherwise): the
