@@ -7,9 +7,9 @@ use clap::{Args, Parser, Subcommand};
 use glam::Vec3;
 use render_core::frame::{FrameSettings, Method, PcfKernel, ShadowSettings};
 use render_core::geom::Camera;
-use render_core::scene::{ChunkSettings, Scene, Sun};
+use render_core::scene::{ChunkSettings, Scene, Sun, Units};
 
-use crate::scene_source::frame_scene;
+use crate::scene_source::{LoadOptions, frame_scene};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -66,14 +66,25 @@ pub struct SceneArgs {
     /// Split objects larger than this fraction of the scene into chunks (0 disables).
     #[arg(long, value_name = "FRACTION", default_value_t = ChunkSettings::default().max_extent_fraction)]
     pub chunk_fraction: f32,
+    /// The unit of a glTF file's coordinates: m, cm, mm, in (the scene is scaled to metres).
+    #[arg(long, value_name = "UNIT", default_value = "m", value_parser = parse_units)]
+    pub units: Units,
 }
 
 impl SceneArgs {
-    pub fn chunking(&self) -> ChunkSettings {
-        ChunkSettings {
-            max_extent_fraction: self.chunk_fraction,
+    pub fn load_options(&self) -> LoadOptions {
+        LoadOptions {
+            seed: self.seed,
+            chunking: ChunkSettings {
+                max_extent_fraction: self.chunk_fraction,
+            },
+            units: self.units,
         }
     }
+}
+
+fn parse_units(s: &str) -> Result<Units, String> {
+    s.parse()
 }
 
 /// Camera, sun and shadow settings of a frame.

@@ -15,7 +15,7 @@ use render_core::scene::{BUILTIN_SCENES, Scene, SceneFacts};
 use serde_json::json;
 
 use crate::cli::{SceneArgs, ShotArgs, ViewArgs};
-use crate::scene_source::load_scene;
+use crate::scene_source::{Loaded, load_scene};
 
 pub fn list_scenes() {
     for s in BUILTIN_SCENES {
@@ -31,11 +31,19 @@ pub(crate) struct Session {
     pub renderer: FrameRenderer,
     pub width: u32,
     pub height: u32,
+    /// What the user should know about the scene (a unit that looks wrong), printed on open.
+    pub scene_notes: Vec<String>,
 }
 
 impl Session {
     pub fn open(scene_args: &SceneArgs, view: &ViewArgs) -> anyhow::Result<Self> {
-        let mut scene = load_scene(&scene_args.scene, scene_args.seed, scene_args.chunking())?;
+        let Loaded {
+            mut scene,
+            notes: scene_notes,
+        } = load_scene(&scene_args.scene, &scene_args.load_options())?;
+        for note in &scene_notes {
+            eprintln!("note: {note}");
+        }
         if let Some(time) = view.time {
             anyhow::ensure!(
                 time.is_finite(),
@@ -54,6 +62,7 @@ impl Session {
             renderer,
             width,
             height,
+            scene_notes,
         })
     }
 
@@ -130,6 +139,7 @@ pub fn shot(args: &ShotArgs) -> anyhow::Result<()> {
         .clone()
         .unwrap_or_else(|| args.out.with_extension("json"));
     let mut stats = stats_json(scene, &settings, &camera, &report, ctx, wall_ms);
+    stats["scene_notes"] = serde_json::json!(session.scene_notes);
     if args.detail {
         stats["objects_detail"] = objects_detail(&session, &report)?;
     }

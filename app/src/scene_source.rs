@@ -5,12 +5,48 @@ use std::path::Path;
 use anyhow::Context as _;
 use glam::Vec3;
 use render_core::geom::{Aabb, Camera};
-use render_core::scene::{BUILTIN_SCENES, ChunkSettings, Scene, import_gltf, load_builtin};
+use render_core::scene::{
+    BUILTIN_SCENES, ChunkSettings, Scene, Units, import_gltf, in_metres, load_builtin, unit_note,
+};
+
+/// How a scene is opened: the built-ins' seed, the chunking of huge objects, a file's unit.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct LoadOptions {
+    pub seed: u64,
+    pub chunking: ChunkSettings,
+    pub units: Units,
+}
+
+/// A loaded scene and what the user should know about it (a unit that looks wrong).
+pub struct Loaded {
+    pub scene: Scene,
+    pub notes: Vec<String>,
+}
+
+/// Loads `spec` (see [`load_scene_in_file_units`]) in metres, with notes on its unit.
+pub fn load_scene(spec: &str, options: &LoadOptions) -> anyhow::Result<Loaded> {
+    let scene = load_scene_in_file_units(spec, options)?;
+    if spec.starts_with("builtin:") {
+        let notes = (options.units != Units::Metres)
+            .then(|| {
+                format!(
+                    "built-in scenes are in metres: --units {} does not apply",
+                    options.units
+                )
+            })
+            .into_iter()
+            .collect();
+        return Ok(Loaded { scene, notes });
+    }
+    let scene = in_metres(scene, options.units);
+    let notes = unit_note(&scene, options.units).into_iter().collect();
+    Ok(Loaded { scene, notes })
+}
 
 /// Loads `spec`: `builtin:NAME` (see `shadowlab scenes`) or a `.gltf` / `.glb` path.
-pub fn load_scene(spec: &str, seed: u64, chunking: ChunkSettings) -> anyhow::Result<Scene> {
+fn load_scene_in_file_units(spec: &str, options: &LoadOptions) -> anyhow::Result<Scene> {
     if let Some(name) = spec.strip_prefix("builtin:") {
-        return load_builtin(name, seed).with_context(|| {
+        return load_builtin(name, options.seed).with_context(|| {
             let names: Vec<_> = BUILTIN_SCENES
                 .iter()
                 .map(|s| format!("builtin:{}", s.name))
@@ -29,7 +65,7 @@ pub fn load_scene(spec: &str, seed: u64, chunking: ChunkSettings) -> anyhow::Res
     if !matches!(extension.as_deref(), Some("gltf" | "glb")) {
         anyhow::bail!("{spec}: not a scene; expected builtin:NAME or a .gltf / .glb file");
     }
-    Ok(import_gltf(path, &chunking)?)
+    Ok(import_gltf(path, &options.chunking)?)
 }
 
 /// A camera that sees the whole box, from the south-west and above: the closest distance along

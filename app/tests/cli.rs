@@ -311,6 +311,67 @@ fn gltf_scene_and_path_from_assets_load_and_render() {
     assert!(text(&output).contains("path '"), "{}", text(&output));
 }
 
+/// The courtyard written in centimetres (a root node scaling it by 100, as a file exported in
+/// cm would read): read as metres it gets a note naming `--units cm`; with `--units cm` it is
+/// the courtyard again, with the same shadow texels.
+#[test]
+fn units_scale_a_file_and_a_size_that_looks_wrong_gets_a_note() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let source = root.join("assets/scenes/courtyard.gltf");
+    let mut document: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&source).expect("courtyard")).expect("JSON");
+    let roots = document["scenes"][0]["nodes"].clone();
+    let nodes = document["nodes"].as_array_mut().expect("nodes");
+    nodes.push(
+        serde_json::json!({"name": "centimetres", "scale": [100, 100, 100], "children": roots}),
+    );
+    let top = nodes.len() - 1;
+    document["scenes"][0]["nodes"] = serde_json::json!([top]);
+    let dir = out_dir("units");
+    let file = dir.join("courtyard-cm.gltf");
+    std::fs::write(&file, document.to_string()).expect("write");
+    let shot = |scene: &Path, units: &str, stem: &str| {
+        let png = dir.join(format!("{stem}.png"));
+        let output = run(shadowlab()
+            .arg("shot")
+            .arg(scene)
+            .args(["--size", "96x64", "--units", units, "--out"])
+            .arg(&png));
+        assert!(output.status.success(), "{}", text(&output));
+        let stats: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(png.with_extension("json")).expect("stats"),
+        )
+        .expect("JSON");
+        (stats, text(&output))
+    };
+    let (as_metres, said) = shot(&file, "m", "as-metres");
+    let note = as_metres["scene_notes"][0].as_str().expect("a note");
+    assert!(note.contains("--units cm"), "{note}");
+    assert!(
+        said.contains("note: ") && said.contains("--units cm"),
+        "{said}"
+    );
+    let (as_cm, _) = shot(&file, "cm", "as-cm");
+    assert_eq!(as_cm["scene_notes"], serde_json::json!([]));
+    let (original, _) = shot(&source, "m", "original");
+    let texel =
+        |stats: &serde_json::Value| stats["light"]["texel_size_m"][0].as_f64().expect("texel");
+    let (cm, m) = (texel(&as_cm), texel(&original));
+    assert!((cm / m - 1.0).abs() < 1e-3, "texels {cm} m and {m} m");
+    assert!(
+        texel(&as_metres) > 50.0 * m,
+        "read as metres the texels are 100x larger"
+    );
+    // A bad unit names the flag and the choices.
+    let output = run(shadowlab()
+        .arg("shot")
+        .arg(&file)
+        .args(["--units", "feet", "--out"])
+        .arg(dir.join("x.png")));
+    assert!(!output.status.success());
+    assert!(text(&output).contains("m, cm, mm, in"), "{}", text(&output));
+}
+
 #[test]
 fn bench_sweeps_resolution_and_sun_elevation() {
     let dir = out_dir("bench_sweep");

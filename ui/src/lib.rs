@@ -59,12 +59,16 @@ pub enum UiAction {
     FrameScene,
     /// Load the current scene again from its source.
     ReloadScene,
+    /// Load the current scene again, its coordinates read in this unit.
+    SetUnits(render_core::scene::Units),
 }
 
 /// Read-only facts the panel shows this frame.
 #[derive(Clone, Copy, Debug)]
 pub struct PanelInput<'a> {
     pub scene: &'a SceneFacts,
+    /// The unit the scene's file was read in (built-in scenes are in metres).
+    pub units: render_core::scene::Units,
     /// The newest frame report; `None` before the first frame.
     pub report: Option<&'a FrameReport>,
     /// The light's view (shadow-map depth) as a 256x256 egui texture.

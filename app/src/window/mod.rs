@@ -20,14 +20,14 @@ use glam::Vec2;
 use render_core::frame::compare::CompareAll;
 use render_core::frame::{FrameRenderer, FrameReport, FrameSettings, SceneGpu};
 use render_core::gpu::GpuContext;
-use render_core::scene::{ChunkSettings, Scene, SceneFacts};
+use render_core::scene::{Scene, SceneFacts, Units};
 use winit::application::ApplicationHandler;
 use winit::event::WindowEvent;
 use winit::event_loop::{ActiveEventLoop, EventLoop};
 use winit::window::{Window, WindowId};
 
 use crate::cli::{DEFAULT_FOV_DEG, OpenArgs};
-use crate::scene_source::load_scene;
+use crate::scene_source::{LoadOptions, Loaded, load_scene};
 use camera_control::{CameraController, MoveKeys};
 use surface::WindowSurface;
 
@@ -97,8 +97,7 @@ struct Running {
     scene_gpu: SceneGpu,
     facts: SceneFacts,
     scene_spec: String,
-    seed: u64,
-    chunking: ChunkSettings,
+    load_options: LoadOptions,
     settings: FrameSettings,
     controller: CameraController,
     keys: MoveKeys,
@@ -135,8 +134,8 @@ struct Running {
 
 impl Running {
     fn new(event_loop: &ActiveEventLoop, args: &OpenArgs) -> anyhow::Result<Self> {
-        let chunking = args.scene.chunking();
-        let scene = load_scene(&args.scene.scene, args.scene.seed, chunking)?;
+        let load_options = args.scene.load_options();
+        let Loaded { scene, notes } = load_scene(&args.scene.scene, &load_options)?;
         let attributes = Window::default_attributes()
             .with_title(format!("shadowlab: {}", scene.name))
             .with_inner_size(winit::dpi::LogicalSize::new(1400.0, 860.0));
@@ -201,8 +200,7 @@ impl Running {
             scene_gpu,
             scene,
             scene_spec: args.scene.scene.clone(),
-            seed: args.scene.seed,
-            chunking,
+            load_options,
             settings,
             controller,
             keys: MoveKeys::default(),
@@ -222,7 +220,7 @@ impl Running {
             last_report: None,
             compare: None,
             last_frame_ms: 0.0,
-            message: None,
+            message: (!notes.is_empty()).then(|| format!("Note: {}", notes.join("; "))),
             last_screenshot: None,
             file_dialog: None,
             click_start: None,
@@ -252,8 +250,8 @@ impl Running {
 
     /// Loads a scene; on failure the current scene stays and the message names the problem.
     fn open_scene(&mut self, spec: &str) {
-        match load_scene(spec, self.seed, self.chunking) {
-            Ok(scene) => {
+        match load_scene(spec, &self.load_options) {
+            Ok(Loaded { scene, notes }) => {
                 self.scene_gpu = SceneGpu::new(&self.ctx, &scene);
                 self.facts = SceneFacts::from(&scene);
                 self.settings.sun = scene.sun;
@@ -263,10 +261,17 @@ impl Running {
                 self.window
                     .set_title(&format!("shadowlab: {}", self.scene.name));
                 self.frame_scene();
-                self.message = Some(format!(
-                    "Opened {spec}: {} objects, {} triangles",
-                    self.facts.objects, self.facts.triangles
-                ));
+                let opened = format!(
+                    "Opened {spec} ({}): {} objects, {} triangles",
+                    self.load_options.units, self.facts.objects, self.facts.triangles
+                );
+                let notes = notes.iter().map(|n| format!("Note: {n}"));
+                self.message = Some(
+                    std::iter::once(opened)
+                        .chain(notes)
+                        .collect::<Vec<_>>()
+                        .join(". "),
+                );
             }
             Err(e) => {
                 log::error!("{e:#}");
@@ -275,6 +280,13 @@ impl Running {
                 ));
             }
         }
+    }
+
+    /// Reads the current scene's file again in `units`.
+    pub(super) fn set_units(&mut self, units: Units) {
+        self.load_options.units = units;
+        let spec = self.scene_spec.clone();
+        self.open_scene(&spec);
     }
 
     fn open_file_dialog(&mut self) {

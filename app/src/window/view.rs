@@ -19,6 +19,7 @@ impl Running {
         let selection = self.selection();
         let input = ui::PanelInput {
             scene: &self.facts,
+            units: self.load_options.units,
             report: self.last_report.as_ref(),
             light_view: Some(self.light_view_texture),
             adapter: &adapter,
@@ -67,6 +68,7 @@ impl Running {
                     let spec = self.scene_spec.clone();
                     self.open_scene(&spec);
                 }
+                ui::UiAction::SetUnits(units) => self.set_units(units),
             }
         }
         EguiFrame {

@@ -8,6 +8,7 @@ mod city;
 mod gltf_import;
 mod model;
 mod motion;
+mod units;
 
 pub use builtin::{BUILTIN_SCENES, BuiltinScene, load_builtin};
 pub use bvh::Bvh;
@@ -17,3 +18,4 @@ pub use city::{CityParams, RectXz, build_city};
 pub use gltf_import::{ImportError, import_gltf, import_gltf_slice};
 pub use model::{Instance, Mesh, MeshId, Mobility, Scene, SceneFacts, Sun, compute_vertex_normals};
 pub use motion::Motion;
+pub use units::{Units, in_metres, unit_note};

@@ -59,7 +59,12 @@ impl SidePanel {
             message::ui(ui, text);
         }
         section(ui, "Scene", |ui| {
-            scene::ui(ui, input.scene, &mut settings.animate, &mut actions);
+            scene::ui(
+                ui,
+                (input.scene, input.units),
+                &mut settings.animate,
+                &mut actions,
+            );
         });
         if let Some(selected) = input.selection {
             section(ui, "Selected object", |ui| selection::ui(ui, selected));

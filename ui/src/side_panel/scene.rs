@@ -1,12 +1,17 @@
 //! Scene facts and the buttons that load or frame a scene.
 
-use render_core::scene::SceneFacts;
+use render_core::scene::{SceneFacts, Units};
 
 use super::grid;
 use crate::UiAction;
 use crate::format::{length, point, thousands};
 
-pub fn ui(ui: &mut egui::Ui, facts: &SceneFacts, animate: &mut bool, actions: &mut Vec<UiAction>) {
+pub fn ui(
+    ui: &mut egui::Ui,
+    (facts, units): (&SceneFacts, Units),
+    animate: &mut bool,
+    actions: &mut Vec<UiAction>,
+) {
     grid::facts(ui, "scene_facts", |ui| {
         grid::row(ui, "Name", facts.name.as_str());
         grid::row(ui, "Objects", thousands(facts.objects as u64));
@@ -14,6 +19,28 @@ pub fn ui(ui: &mut egui::Ui, facts: &SceneFacts, animate: &mut bool, actions: &m
         grid::row(ui, "Triangles", thousands(facts.triangles as u64));
         grid::row(ui, "Casters", thousands(facts.casters as u64));
         bounds_rows(ui, facts.bounds_min_m, facts.bounds_max_m);
+        ui.label(egui::RichText::new("Units").color(crate::theme::MUTED));
+        let builtin = facts.name.starts_with("builtin:");
+        ui.add_enabled_ui(!builtin, |ui| {
+            let mut chosen = units;
+            egui::ComboBox::from_id_salt("scene_units")
+                .selected_text(units.name())
+                .show_ui(ui, |ui| {
+                    for u in Units::ALL {
+                        ui.selectable_value(&mut chosen, u, u.name());
+                    }
+                })
+                .response
+                .on_hover_text(if builtin {
+                    "Built-in scenes are in metres"
+                } else {
+                    "The unit of the file's coordinates; the scene loads again in metres"
+                });
+            if chosen != units {
+                actions.push(UiAction::SetUnits(chosen));
+            }
+        });
+        ui.end_row();
     });
     ui.checkbox(animate, "Animate dynamic objects")
         .on_hover_text(

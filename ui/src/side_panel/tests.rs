@@ -10,7 +10,7 @@ use render_core::frame::{
 };
 use render_core::gpu::PassTiming;
 use render_core::metrics::ShadowError;
-use render_core::scene::{SceneFacts, Sun};
+use render_core::scene::{SceneFacts, Sun, Units};
 
 use render_core::frame::Method;
 use render_core::frame::compare::CompareRow;
@@ -137,6 +137,7 @@ impl Lab {
             .id();
         let input = PanelInput {
             scene: &self.scene,
+            units: Units::default(),
             report: Some(&self.report),
             light_view: Some(light_view),
             adapter: "llvmpipe (LLVM 19.1.7, 256 bits) (Vulkan)",
@@ -260,6 +261,26 @@ fn buttons_return_actions() {
             "after clicking {button:?}"
         );
     }
+}
+
+#[test]
+fn the_units_combo_reads_a_file_again_in_another_unit() {
+    let mut lab = Lab::new();
+    lab.scene.name = "scenes/diorama.gltf".into();
+    let mut harness = harness(lab);
+    // The Scene section comes first: its combo box is the unit.
+    harness
+        .get_all_by_role(Role::ComboBox)
+        .next()
+        .expect("the units combo box")
+        .click();
+    harness.run();
+    harness.get_by_label("cm").click();
+    harness.run();
+    assert_eq!(
+        harness.state().actions,
+        [UiAction::SetUnits(Units::Centimetres)]
+    );
 }
 
 #[test]
