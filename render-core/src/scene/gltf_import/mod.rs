@@ -27,7 +27,7 @@ mod primitives;
 use std::io;
 use std::path::{Path, PathBuf};
 
-use super::{ChunkSettings, Scene, Sun, split_large_instances};
+use super::{ChunkSettings, Scene, split_large_instances};
 use buffers::{check_glb_header, load_buffers};
 use nodes::flatten_node_trees;
 
@@ -132,12 +132,16 @@ fn import_bytes(
         }
     })?;
 
-    let (mut meshes, instances, warnings) =
-        flatten_node_trees(&document, &buffers, path).map_err(|bad| ImportError::BadNode {
-            path: path.to_owned(),
-            node: bad.node,
-            reason: bad.reason,
-        })?;
+    let nodes::Flattened {
+        mut meshes,
+        instances,
+        sun,
+        warnings,
+    } = flatten_node_trees(&document, &buffers, path).map_err(|bad| ImportError::BadNode {
+        path: path.to_owned(),
+        node: bad.node,
+        reason: bad.reason,
+    })?;
     // Each names the file and the part left out; the rest of the scene still loads.
     for warning in &warnings {
         log::warn!("{warning}");
@@ -152,10 +156,12 @@ fn import_bytes(
         path.display().to_string(),
         meshes,
         instances,
-        Sun::default(),
+        sun.unwrap_or_default(),
     ))
 }
 
+#[cfg(test)]
+mod lights_tests;
 #[cfg(test)]
 mod safety_tests;
 #[cfg(test)]

@@ -4,10 +4,10 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use glam::Mat4;
+use glam::{Mat4, Vec3};
 use gltf::mesh::Mode;
 
-use super::super::{Instance, Mesh, MeshId};
+use super::super::{Instance, Mesh, MeshId, Sun};
 use super::primitives::read_triangle_mesh;
 
 /// Coordinates beyond this (in the file's units) are taken for an overflow: single precision
@@ -20,8 +20,14 @@ pub(super) struct BadNode {
     pub reason: String,
 }
 
-/// The meshes and instances of a document, and a warning for each part skipped.
-pub(super) type Flattened = (Vec<Mesh>, Vec<Instance>, Vec<String>);
+/// The meshes and instances of a document, the sun of its first directional light
+/// (`KHR_lights_punctual`), and a warning for each part skipped.
+pub(super) struct Flattened {
+    pub meshes: Vec<Mesh>,
+    pub instances: Vec<Instance>,
+    pub sun: Option<Sun>,
+    pub warnings: Vec<String>,
+}
 
 /// The meshes and instances of the document's node trees, and a warning for each part skipped;
 /// a node whose transform or bounds are not finite, or overflow, rejects the file.
@@ -32,7 +38,12 @@ pub(super) fn flatten_node_trees(
 ) -> Result<Flattened, BadNode> {
     let mut builder = SceneBuilder::new(path, buffers);
     builder.add_node_trees(document)?;
-    Ok((builder.meshes, builder.instances, builder.warnings))
+    Ok(Flattened {
+        meshes: builder.meshes,
+        instances: builder.instances,
+        sun: builder.sun,
+        warnings: builder.warnings,
+    })
 }
 
 /// Turns the node trees of a document into meshes and instances.
@@ -43,6 +54,8 @@ struct SceneBuilder<'a> {
     /// The mesh made from each (glTF mesh, primitive), or `None` when the primitive was rejected.
     mesh_ids: HashMap<(usize, usize), Option<MeshId>>,
     instances: Vec<Instance>,
+    /// The first directional light that shines down.
+    sun: Option<Sun>,
     /// What was skipped or repaired, each naming the file.
     warnings: Vec<String>,
 }
@@ -55,6 +68,7 @@ impl<'a> SceneBuilder<'a> {
             meshes: Vec::new(),
             mesh_ids: HashMap::new(),
             instances: Vec::new(),
+            sun: None,
             warnings: Vec::new(),
         }
     }
@@ -88,6 +102,7 @@ impl<'a> SceneBuilder<'a> {
                     reason: "its transform (with its parents') is not finite".into(),
                 });
             }
+            self.add_light(&node, world_from_local);
             self.add_node(&node, world_from_local)?;
             let children: Vec<gltf::Node> = node.children().collect();
             stack.extend(
@@ -98,6 +113,33 @@ impl<'a> SceneBuilder<'a> {
             );
         }
         Ok(())
+    }
+
+    /// The scene's sun from the first directional light (it shines along the node's -Z); one
+    /// that shines upwards is left out with a warning. Point and spot lights are not shadowed.
+    fn add_light(&mut self, node: &gltf::Node, world_from_local: Mat4) {
+        let Some(light) = node.light() else { return };
+        let file = self.path.display();
+        let name = light.name().map_or_else(|| node_name(node), str::to_owned);
+        if !matches!(light.kind(), gltf::khr_lights_punctual::Kind::Directional) {
+            self.warnings.push(format!(
+                "{file}: light '{name}' is not directional; only the sun casts shadows here"
+            ));
+            return;
+        }
+        if self.sun.is_some() {
+            self.warnings.push(format!(
+                "{file}: directional light '{name}' ignored; the first one is the sun"
+            ));
+            return;
+        }
+        let shines = world_from_local.transform_vector3(Vec3::NEG_Z);
+        match shines.try_normalize() {
+            Some(d) if d.y < 0.0 => self.sun = Some(Sun::from_direction(-d)),
+            _ => self.warnings.push(format!(
+                "{file}: directional light '{name}' does not shine downwards; the default sun is used"
+            )),
+        }
     }
 
     /// One instance per triangle primitive of the node's mesh.

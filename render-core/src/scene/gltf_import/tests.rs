@@ -265,10 +265,11 @@ fn flatten_glb(gltf: &TestGltf) -> (Vec<String>, Vec<String>) {
     let gltf::Gltf { document, blob } = gltf::Gltf::from_slice(&gltf.glb()).unwrap();
     let path = Path::new("test.glb");
     let buffers = load_buffers(&document, blob, path, None).unwrap();
-    let Ok((_, instances, warnings)) = flatten_node_trees(&document, &buffers, path) else {
+    let Ok(flat) = flatten_node_trees(&document, &buffers, path) else {
         panic!("a node was rejected");
     };
-    (instances.into_iter().map(|i| i.name).collect(), warnings)
+    let names = flat.instances.into_iter().map(|i| i.name).collect();
+    (names, flat.warnings)
 }
 
 fn names(scene: &Scene) -> Vec<&str> {
