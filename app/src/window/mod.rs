@@ -6,6 +6,7 @@
 
 mod camera_control;
 mod input;
+mod loading;
 mod screenshot;
 mod surface;
 mod view;
@@ -29,6 +30,7 @@ use winit::window::{Window, WindowId};
 use crate::cli::{DEFAULT_FOV_DEG, OpenArgs};
 use crate::scene_source::{LoadOptions, Loaded, load_scene};
 use camera_control::{CameraController, MoveKeys};
+use loading::Loading;
 use surface::WindowSurface;
 
 /// Opens the window on the scene in `args` and runs until it is closed.
@@ -116,6 +118,8 @@ struct Running {
     message: Option<String>,
     last_screenshot: Option<String>,
     file_dialog: Option<mpsc::Receiver<Option<PathBuf>>>,
+    /// A scene loading on a worker thread.
+    loading: Option<Loading>,
     /// Where a left click started (window pixels), to tell a click from a drag.
     click_start: Option<Vec2>,
     /// The clicked instance and, when measuring, whether it was in the oracle set then.
@@ -223,6 +227,7 @@ impl Running {
             message: (!notes.is_empty()).then(|| format!("Note: {}", notes.join("; "))),
             last_screenshot: None,
             file_dialog: None,
+            loading: None,
             click_start: None,
             selected: None,
             screenshot_requested: false,
@@ -248,10 +253,35 @@ impl Running {
         );
     }
 
-    /// Loads a scene; on failure the current scene stays and the message names the problem.
+    /// Starts loading a scene on a worker thread; the current one stays drawn until it is
+    /// ready ([`Running::poll_loading`]). A newer request replaces an unfinished one.
     fn open_scene(&mut self, spec: &str) {
-        match load_scene(spec, &self.load_options) {
+        self.open_scene_with(spec, self.load_options);
+    }
+
+    fn open_scene_with(&mut self, spec: &str, options: LoadOptions) {
+        let loading = Loading::start(spec, options);
+        self.message = Some(loading.progress());
+        self.loading = Some(loading);
+    }
+
+    /// Installs the loading scene once it is ready; on failure the current scene stays and the
+    /// message names the problem.
+    fn poll_loading(&mut self) {
+        let Some(loading) = &self.loading else {
+            return;
+        };
+        let Some(result) = loading.poll() else {
+            self.message = Some(loading.progress());
+            return;
+        };
+        let spec = loading.spec.clone();
+        let seconds = loading.elapsed().as_secs_f32();
+        let options = loading.options;
+        self.loading = None;
+        match result {
             Ok(Loaded { scene, notes }) => {
+                self.load_options = options;
                 self.scene_gpu = SceneGpu::new(&self.ctx, &scene);
                 self.facts = SceneFacts::from(&scene);
                 self.settings.sun = scene.sun;
@@ -262,7 +292,7 @@ impl Running {
                     .set_title(&format!("shadowlab: {}", self.scene.name));
                 self.frame_scene();
                 let opened = format!(
-                    "Opened {spec} ({}): {} objects, {} triangles",
+                    "Opened {spec} ({}) in {seconds:.1} s: {} objects, {} triangles",
                     self.load_options.units, self.facts.objects, self.facts.triangles
                 );
                 let notes = notes.iter().map(|n| format!("Note: {n}"));
@@ -284,9 +314,14 @@ impl Running {
 
     /// Reads the current scene's file again in `units`.
     pub(super) fn set_units(&mut self, units: Units) {
-        self.load_options.units = units;
         let spec = self.scene_spec.clone();
-        self.open_scene(&spec);
+        self.open_scene_with(
+            &spec,
+            LoadOptions {
+                units,
+                ..self.load_options
+            },
+        );
     }
 
     fn open_file_dialog(&mut self) {
@@ -332,6 +367,7 @@ impl Running {
             self.fps = Some(self.fps.map_or(1.0 / dt, |f| f * 0.9 + 0.1 / dt));
         }
         self.poll_file_dialog();
+        self.poll_loading();
         self.controller.update(dt, self.keys);
         if self.settings.animate && !self.scene.motions.is_empty() {
             self.scene_time_s += f64::from(dt.min(0.25));
