@@ -93,6 +93,17 @@ pub fn translated(scene: &Scene, offset: Vec3) -> Scene {
     Scene::new("test:far-away", scene.meshes.clone(), instances, scene.sun)
 }
 
+/// Street level in city-small, looking east down a street: the view the culling tests share.
+pub fn city_small_street_camera() -> Camera {
+    Camera::look_at(
+        Vec3::new(-40.0, 3.5, 2.0),
+        Vec3::new(60.0, 8.0, 2.0),
+        60f32.to_radians(),
+        0.1,
+        2000.0,
+    )
+}
+
 /// The caster taller than 8 m with the largest box: the biggest building of a city.
 pub fn biggest_building(scene: &Scene) -> Option<&Instance> {
     let volume = |i: &Instance| {

@@ -5,7 +5,7 @@ use glam::{Mat4, Vec3};
 use render_core::frame::{FrameInput, FrameRenderer, FrameReport, FrameSettings, Method, SceneGpu};
 use render_core::geom::Camera;
 use render_core::scene::{Instance, Scene, Sun, load_builtin};
-use shadowlab_tests::{box_mesh, gpu};
+use shadowlab_tests::{box_mesh, city_small_street_camera, gpu};
 
 /// `frames` measured frames of one view; per frame the report and the drawn casters.
 fn frames(
@@ -288,13 +288,7 @@ fn incremental_updates_match_a_full_redraw_while_cars_drive() {
     assert!(!city.motions.is_empty(), "the city has moving cars");
     let scene_gpu = SceneGpu::new(ctx, &city);
     let mut renderer = FrameRenderer::new(ctx);
-    let camera = Camera::look_at(
-        Vec3::new(-40.0, 3.5, 2.0),
-        Vec3::new(60.0, 8.0, 2.0),
-        60f32.to_radians(),
-        0.1,
-        2000.0,
-    );
+    let camera = city_small_street_camera();
     let settings = FrameSettings {
         sun: city.sun,
         method: Method::Incr,

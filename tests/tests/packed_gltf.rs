@@ -1,11 +1,9 @@
 //! glTF as `gltfpack` writes it (meshopt-compressed, quantized; see `shadowlab_tests::packed`)
 //! loads as the scene it was packed from and shadows the same.
 
-use glam::Vec3;
 use render_core::frame::{FrameSettings, Method};
-use render_core::geom::Camera;
 use render_core::scene::{ChunkSettings, ImportError, Scene, import_gltf_slice, load_builtin};
-use shadowlab_tests::{glb_bytes, packed_glb, packed_gltf, render};
+use shadowlab_tests::{city_small_street_camera, glb_bytes, packed_glb, packed_gltf, render};
 
 fn no_chunking() -> ChunkSettings {
     ChunkSettings {
@@ -50,13 +48,7 @@ fn a_packed_city_shadows_as_the_city() {
     let mut packed = import_gltf_slice(&packed_glb(&city), "packed.glb", &no_chunking())
         .expect("the packed city loads");
     packed.sun = city.sun;
-    let camera = Camera::look_at(
-        Vec3::new(-40.0, 3.5, 2.0),
-        Vec3::new(60.0, 8.0, 2.0),
-        60f32.to_radians(),
-        0.1,
-        2000.0,
-    );
+    let camera = city_small_street_camera();
     let settings = FrameSettings {
         sun: city.sun,
         method: Method::Frag,

@@ -2,14 +2,13 @@
 //! each view on its own, per-view counts sum to the totals, and the picture and the maps are
 //! the one-view frame's, for every method.
 
-use glam::Vec3;
 use render_core::frame::{
     FrameCapture, FrameInput, FrameRenderer, FrameReport, FrameSettings, Method, SceneGpu,
 };
 use render_core::geom::Camera;
 use render_core::gpu::read_texture_layer;
 use render_core::scene::{Scene, load_builtin};
-use shadowlab_tests::gpu;
+use shadowlab_tests::{city_small_street_camera, gpu};
 
 /// What one frame of a view count gave.
 struct Frame {
@@ -69,13 +68,7 @@ fn last_frame(scene: &Scene, camera: &Camera, method: Method, views: u32, frames
 
 fn street() -> (Scene, Camera) {
     let city = load_builtin("city-small", 0).expect("city-small");
-    let camera = Camera::look_at(
-        Vec3::new(-40.0, 3.5, 2.0),
-        Vec3::new(60.0, 8.0, 2.0),
-        60f32.to_radians(),
-        0.1,
-        2000.0,
-    );
+    let camera = city_small_street_camera();
     (city, camera)
 }
 

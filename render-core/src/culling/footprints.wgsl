@@ -52,7 +52,7 @@ fn vs_footprint(@builtin(vertex_index) vertex: u32, @builtin(instance_index) k: 
 @vertex
 fn vs_footprint_geometry(@location(0) position: vec3<f32>, @builtin(instance_index) instance: u32) -> FootprintOut {
     var out: FootprintOut;
-    out.clip = pass_view.light_clip_from_world * vec4<f32>(world_position(instance, position), 1.0);
+    out.clip = shadow_clip_position(pass_view.light_clip_from_world, instance, position);
     out.instance = instance;
     return out;
 }

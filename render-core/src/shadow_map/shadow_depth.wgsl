@@ -14,7 +14,7 @@ struct ShadowOut {
 @vertex
 fn vs_shadow(@location(0) position: vec3<f32>, @builtin(instance_index) instance: u32) -> ShadowOut {
     var out: ShadowOut;
-    out.clip = pass_view.light_clip_from_world * vec4<f32>(world_position(instance, position), 1.0);
+    out.clip = shadow_clip_position(pass_view.light_clip_from_world, instance, position);
     out.instance = instance;
     return out;
 }

@@ -30,6 +30,12 @@ fn world_position(instance: u32, local: vec3<f32>) -> vec3<f32> {
     return (instances[instance].world_from_local * vec4<f32>(local, 1.0)).xyz;
 }
 
+// Where a shadow view rasterises an instance's vertex. The shadow pass and the footprint test
+// (culling/footprints.wgsl) both call this, so they cover the same texels at the same depths.
+fn shadow_clip_position(light_clip_from_world: mat4x4<f32>, instance: u32, local: vec3<f32>) -> vec4<f32> {
+    return light_clip_from_world * vec4<f32>(world_position(instance, local), 1.0);
+}
+
 fn world_normal(instance: u32, local: vec3<f32>) -> vec3<f32> {
     let m = instances[instance].normal_from_local;
     let n = m[0].xyz * local.x + m[1].xyz * local.y + m[2].xyz * local.z;
