@@ -174,7 +174,8 @@ fn run_path(
             template.fov_y_rad,
             template.near_m,
             template.far_m,
-        );
+        )
+        .with_up(template.world_up);
         if args.animate {
             session.animate(args.view.time.unwrap_or(0.0) + f64::from(frame) / 30.0);
         } else {

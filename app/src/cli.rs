@@ -96,6 +96,9 @@ pub struct ViewArgs {
     /// Point the camera looks at, x,y,z in metres.
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub target: Option<Vec3>,
+    /// The scene's up, x,y,z, which the picture's up follows (default 0,1,0, glTF's).
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub up: Option<Vec3>,
     /// Vertical field of view in degrees.
     #[arg(long, value_name = "DEG")]
     pub fov: Option<f32>,
@@ -225,13 +228,11 @@ impl ViewArgs {
         if !(near > 0.0 && far > near) {
             bail!("--near {near} and --far {far}: need 0 < near < far");
         }
-        Ok(Camera::look_at(
-            eye,
-            target,
-            fov_deg.to_radians(),
-            near,
-            far,
-        ))
+        let up = self.up.unwrap_or(Vec3::Y);
+        if up.length_squared() == 0.0 || !up.is_finite() {
+            bail!("--up {up} is not a direction");
+        }
+        Ok(Camera::look_at(eye, target, fov_deg.to_radians(), near, far).with_up(up))
     }
 }
 

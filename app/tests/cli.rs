@@ -550,6 +550,17 @@ fn bad_input_gets_a_message_that_names_the_problem() {
             vec![
                 "shot".into(),
                 "builtin:boxes".into(),
+                "--up".into(),
+                "0,0,0".into(),
+                "--out".into(),
+                png.display().to_string(),
+            ],
+            "--up [0, 0, 0] is not a direction",
+        ),
+        (
+            vec![
+                "shot".into(),
+                "builtin:boxes".into(),
                 "--method".into(),
                 "bogus".into(),
                 "--out".into(),

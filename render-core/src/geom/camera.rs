@@ -17,12 +17,19 @@ pub fn basis_for_direction(forward: DVec3) -> (DVec3, DVec3) {
     (right, up)
 }
 
-/// A camera's `(right, up)` for a view direction, with +Y as the world's up: continuous in the
-/// direction however close to the vertical it looks (the right vector follows the direction's
-/// horizontal part, which only vanishes looking exactly straight up or down; then +X).
-pub fn camera_basis(forward: DVec3) -> (DVec3, DVec3) {
+/// A camera's `(right, up)` for a view direction and the world's up (+Y unless a scene says
+/// otherwise): continuous in the direction however close to the vertical it looks (the right
+/// vector follows the direction's part across `world_up`, which only vanishes looking exactly
+/// along it; then +X for +Y, else any vector across it).
+pub fn camera_basis(forward: DVec3, world_up: DVec3) -> (DVec3, DVec3) {
     let forward = forward.try_normalize().unwrap_or(DVec3::NEG_Z);
-    let right = forward.cross(DVec3::Y).try_normalize().unwrap_or(DVec3::X);
+    let world_up = world_up.try_normalize().unwrap_or(DVec3::Y);
+    let fallback = if world_up == DVec3::Y {
+        DVec3::X
+    } else {
+        world_up.any_orthonormal_vector()
+    };
+    let right = forward.cross(world_up).try_normalize().unwrap_or(fallback);
     let up = right.cross(forward).normalize();
     (right, up)
 }
@@ -37,6 +44,8 @@ pub struct Camera {
     pub fov_y_rad: f32,
     pub near_m: f32,
     pub far_m: f32,
+    /// The world's up, which the picture's up follows: +Y unless set ([`Camera::with_up`]).
+    pub world_up: Vec3,
 }
 
 impl Default for Camera {
@@ -58,15 +67,26 @@ impl Camera {
         Self {
             eye,
             forward,
+            world_up: Vec3::Y,
             fov_y_rad,
             near_m,
             far_m,
         }
     }
 
+    /// The same camera with the picture's up following `world_up` (for scenes that are not
+    /// +Y up); a zero vector keeps +Y.
+    #[must_use]
+    pub fn with_up(self, world_up: Vec3) -> Self {
+        Self {
+            world_up: world_up.try_normalize().unwrap_or(Vec3::Y),
+            ..self
+        }
+    }
+
     /// `(right, up)` in world space.
     pub fn basis(&self) -> (Vec3, Vec3) {
-        let (right, up) = camera_basis(self.forward.as_dvec3());
+        let (right, up) = camera_basis(self.forward.as_dvec3(), self.world_up.as_dvec3());
         (right.as_vec3(), up.as_vec3())
     }
 
@@ -98,7 +118,7 @@ impl Camera {
             .as_dvec3()
             .try_normalize()
             .unwrap_or(DVec3::NEG_Z);
-        let (right, up) = camera_basis(forward);
+        let (right, up) = camera_basis(forward, self.world_up.as_dvec3());
         let tan_half_y = (f64::from(self.fov_y_rad) * 0.5).tan();
         let tan_half_x = tan_half_y * aspect;
         let mut corners = [DVec3::ZERO; 8];
@@ -130,7 +150,12 @@ mod tests {
             DVec3::new(0.3, -0.9, 0.1),
             DVec3::ZERO,
         ] {
-            for (right, up) in [basis_for_direction(forward), camera_basis(forward)] {
+            let bases = [
+                basis_for_direction(forward),
+                camera_basis(forward, DVec3::Y),
+                camera_basis(forward, DVec3::Z),
+            ];
+            for (right, up) in bases {
                 assert!(right.is_finite() && up.is_finite());
                 assert!((right.length() - 1.0).abs() < 1e-9 && (up.length() - 1.0).abs() < 1e-9);
                 assert!(right.dot(up).abs() < 1e-9);
@@ -174,6 +199,24 @@ mod tests {
             let heading = Vec3::new(0.6, 0.0, 0.8);
             assert!(up.dot(heading) > 0.98, "pitch -{pitch_deg}°: up {up}");
         }
+    }
+
+    #[test]
+    fn the_picture_follows_a_scenes_own_up() {
+        let camera = Camera::look_at(Vec3::ZERO, Vec3::X, 1.0, 0.1, 100.0);
+        assert!(camera.basis().1.abs_diff_eq(Vec3::Y, 1e-6));
+        let z_up = camera.with_up(Vec3::Z);
+        assert!(
+            z_up.basis().1.abs_diff_eq(Vec3::Z, 1e-6),
+            "{:?}",
+            z_up.basis()
+        );
+        // A point above the camera in +Z lands in the upper half of the picture.
+        let p = z_up
+            .clip_from_world(1.0)
+            .project_point3(Vec3::new(10.0, 0.0, 3.0));
+        assert!(p.y > 0.1, "{p}");
+        assert_eq!(camera.with_up(Vec3::ZERO).world_up, Vec3::Y);
     }
 
     #[test]

@@ -319,6 +319,7 @@ mod tests {
             fov_y_rad: rng.range(0.3, 1.8) as f32,
             near_m: near,
             far_m: far,
+            world_up: Vec3::Y,
         }
     }
 
