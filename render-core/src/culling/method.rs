@@ -79,6 +79,60 @@ impl Method {
         }
     }
 
+    /// What the method does and where it comes from, for tooltips and reports.
+    pub fn summary(self) -> &'static str {
+        match self {
+            Self::None => {
+                "Every caster is drawn; the rasteriser clips what lies outside the light's \
+                frustum. The reference that error is measured against."
+            }
+            Self::Vfc => "Light frustum culling only, on the CPU through the scene's BVH.",
+            Self::Ref => {
+                "Occlusion culling in the light's view without a receiver mask: the \
+                baseline of Bittner et al. 2011, sections 3 and 6."
+            }
+            Self::Focus => {
+                "REF with the light frustum fitted to the visible receivers' bounds \
+                (Bittner et al. 2011, section 5.2)."
+            }
+            Self::Bvol => {
+                "Receiver mask from the visible receivers' bounding boxes (Bittner et al. \
+                2011, section 4.1)."
+            }
+            Self::Geom => {
+                "Receiver mask from the visible receivers' geometry, drawn into the map \
+                first (Bittner et al. 2011, section 4.2)."
+            }
+            Self::GeomBvol => {
+                "Geometry for the receivers the light saw last frame, boxes for the \
+                rest (Bittner et al. 2011, section 4.3)."
+            }
+            Self::Frag => {
+                "Fragment mask: only the texels that visible pixels' filter taps read, \
+                with the depth a caster must beat there (Bittner et al. 2011, section 4.4)."
+            }
+            Self::DrConservative => {
+                "DigitalRune's caster tests: light frustum and occlusion, \
+                then the shadow volume, extruded to the far plane, against the camera's frustum \
+                and depth (steps 1 to 4). Never errs."
+            }
+            Self::DrProgressive => {
+                "DigitalRune's progressive mode: the shadow volume ends at the \
+                farthest depth behind the caster in last frame's map; it can be too short and \
+                err."
+            }
+            Self::Incr => {
+                "Incremental updates of a map over the whole scene: only where moving \
+                objects were or are is cleared and drawn again (Bittner et al. 2011, section \
+                5.1)."
+            }
+            Self::Oracle => {
+                "Exactly the casters that shadow a visible pixel's filter tap, from a \
+                reference map of every caster: the floor for every conservative method."
+            }
+        }
+    }
+
     /// Culls on the GPU (`culling::GpuCulling`); `none` and `vfc` choose on the CPU.
     pub fn gpu_driven(self) -> bool {
         !matches!(self, Self::None | Self::Vfc)
@@ -162,5 +216,36 @@ impl FromStr for Method {
                 let names: Vec<_> = Self::ALL.iter().map(|m| m.name()).collect();
                 format!("unknown method '{s}' (available: {})", names.join(", "))
             })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_papers_method_cites_its_section() {
+        let cited = [
+            (Method::Ref, "Bittner et al. 2011, sections 3"),
+            (Method::Focus, "section 5.2"),
+            (Method::Bvol, "section 4.1"),
+            (Method::Geom, "section 4.2"),
+            (Method::GeomBvol, "section 4.3"),
+            (Method::Frag, "section 4.4"),
+            (Method::Incr, "section 5.1"),
+            (Method::DrConservative, "DigitalRune"),
+            (Method::DrProgressive, "DigitalRune"),
+        ];
+        for (method, source) in cited {
+            assert!(
+                method.summary().contains(source),
+                "{}: {}",
+                method.name(),
+                method.summary()
+            );
+        }
+        for method in Method::ALL {
+            assert!(method.summary().len() > 40, "{}", method.name());
+        }
     }
 }

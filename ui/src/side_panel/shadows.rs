@@ -35,7 +35,8 @@ pub fn ui(ui: &mut egui::Ui, settings: &mut FrameSettings) {
                 .selected_text(settings.method.name())
                 .show_ui(ui, |ui| {
                     for method in Method::ALL {
-                        ui.selectable_value(&mut settings.method, method, method.name());
+                        ui.selectable_value(&mut settings.method, method, method.name())
+                            .on_hover_text(method.summary());
                     }
                 })
                 .response

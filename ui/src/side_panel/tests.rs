@@ -284,6 +284,26 @@ fn the_units_combo_reads_a_file_again_in_another_unit() {
 }
 
 #[test]
+fn each_method_says_what_it_does_and_cites_its_paper() {
+    let mut harness = harness(Lab::new());
+    // Units (for a built-in, disabled), then the method.
+    harness
+        .get_all_by_role(Role::ComboBox)
+        .nth(1)
+        .expect("the method combo box")
+        .click();
+    harness.run();
+    harness.get_by_label("frag").hover();
+    harness.run();
+    assert!(
+        harness
+            .query_by_label_contains("Bittner et al. 2011, section 4.4")
+            .is_some(),
+        "the tooltip of frag cites its section"
+    );
+}
+
+#[test]
 fn show_puts_a_scrolling_panel_on_the_left() {
     let mut lab = Lab::new();
     lab.in_own_panel = true;
