@@ -36,6 +36,10 @@ pub(crate) mod method_bits {
     /// costs little and is exact.
     pub const GEOMETRY_FOOTPRINT: u32 = 4096;
 
+    /// The methods that draw a raster mask (BVOL's boxes, GEOM's geometry, `incr`'s changed
+    /// region); FRAG's mask is its depths alone.
+    pub const RASTER_MASK: u32 = BVOL | GEOM | INCREMENTAL;
+
     pub(super) const NAMES: [(&str, u32); 13] = [
         ("OCCLUSION", OCCLUSION),
         ("MASK", MASK),
@@ -139,6 +143,10 @@ pub(crate) fn wgsl() -> String {
     for (name, bit) in method_bits::NAMES {
         constant(&format!("METHOD_{name}"), format!("{bit}u"));
     }
+    constant(
+        "METHODS_RASTER_MASK",
+        format!("{}u", method_bits::RASTER_MASK),
+    );
     for kind in StageKind::ALL {
         constant(
             &format!("SLOT_{}", kind.wgsl_name()),

@@ -454,14 +454,10 @@ fn cs_second_phase(@builtin(global_invocation_id) id: vec3<u32>) {
     count(it, SLOT_LIGHT_FRUSTUM);
     let hidden = occluded(it, box);
     let extent = s & ~((1u << STATE_EXTENT_SHIFT) - 1u);
-    // Light-visible for the next frame's first phase: not hidden, and with the footprint test
-    // what the test after the maps said when the caster was last drawn (`cs_resolve_light_visible`):
-    // a box the pyramid cannot hide is not a caster the map needs.
-    var seen = STATE_LIGHT_VISIBLE;
-    if ((method & METHOD_FOOTPRINT) != 0u) {
-        seen = s & STATE_LIGHT_VISIBLE;
-    }
-    let light_visible = select(seen, 0u, hidden) | extent;
+    // Light-visible for the next frame's first phase: not hidden now, and what the footprint
+    // test after the maps said when the caster was last drawn (`cs_resolve_light_visible`): a
+    // box the pyramid cannot hide is not a caster the map needs.
+    let light_visible = select(s & STATE_LIGHT_VISIBLE, 0u, hidden) | extent;
     if (first) {
         count(it, SLOT_LIGHT_OCCLUSION);
         count(it, mask_stage(it));

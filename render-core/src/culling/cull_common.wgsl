@@ -34,7 +34,7 @@ struct CullView {
 // Whether the method draws a raster mask (BVOL's boxes, GEOM's geometry, `incr`'s changed
 // region); FRAG's mask is its depths alone, and nothing clears or reads the raster for it.
 fn has_raster_mask(method: u32) -> bool {
-    return (method & (METHOD_BVOL | METHOD_GEOM | METHOD_INCREMENTAL)) != 0u;
+    return (method & METHODS_RASTER_MASK) != 0u;
 }
 
 // The filter's reach in mask texels, rounded up.

@@ -162,7 +162,7 @@ impl GpuCulling {
                     view: v,
                 };
                 let mask_layer = &sized.mask_layers[v as usize];
-                if method & (bits::BVOL | bits::GEOM | bits::INCREMENTAL) != 0 {
+                if method & bits::RASTER_MASK != 0 {
                     self.rasterise_mask(encoder, scene_gpu, scene, raster_bits, mask_layer, &mask);
                 }
                 let Some(layer) = frame

@@ -397,7 +397,7 @@ impl GpuCulling {
             bits_offset: view * sized.mask_size * sized.mask_size,
             mask_size: sized.mask_size,
             scale: sized.key.resolution / sized.mask_size,
-            raster_shown: b & (bits::GEOM | bits::BVOL | bits::INCREMENTAL) != 0,
+            raster_shown: b & bits::RASTER_MASK != 0,
             fragment_shown: b & bits::FRAG != 0,
         })
     }
