@@ -9,6 +9,7 @@ use render_core::gpu::{PassTiming, summed_by_label};
 pub struct TimingSample {
     pub time_s: f64,
     pub frame_ms: f64,
+    /// The frame's passes, summed by label; the steps timed inside a pass are left out.
     pub gpu: Vec<PassTiming>,
 }
 
@@ -36,7 +37,10 @@ impl TimingHistory {
         self.samples.push_back(TimingSample {
             time_s,
             frame_ms,
-            gpu: gpu.to_vec(),
+            gpu: summed_by_label(gpu)
+                .into_iter()
+                .filter(|p| p.depth == 0)
+                .collect(),
         });
         while self.samples.len() > Self::MAX_SAMPLES
             || self
@@ -87,8 +91,7 @@ impl TimingHistory {
         let now = self.newest().map_or(0.0, |s| s.time_s);
         let mut series: Vec<(String, Vec<[f64; 2]>)> = Vec::new();
         for sample in &self.samples {
-            let passes = summed_by_label(&sample.gpu);
-            for pass in passes.iter().filter(|p| p.depth == 0) {
+            for pass in &sample.gpu {
                 let point = [sample.time_s - now, pass.gpu_ms];
                 match series.iter_mut().find(|(label, _)| *label == pass.label) {
                     Some((_, points)) => points.push(point),
