@@ -123,10 +123,9 @@ fn decode(c: &Compressed, buffers: &[Vec<u8>]) -> Result<Vec<u8>, String> {
         .get(c.buffer)
         .and_then(|b| b.get(c.offset..c.offset.checked_add(c.length)?))
         .ok_or_else(|| format!("its compressed bytes lie outside buffer {}", c.buffer))?;
-    let failed = |e: meshopt::Error| format!("meshoptimizer could not decode it ({e})");
     let mut bytes = match c.mode.as_str() {
         "ATTRIBUTES" => decode_attributes(source, c.count, c.stride).map_err(failed)?,
-        "TRIANGLES" | "INDICES" => decode_indices(source, c).map_err(failed)?,
+        "TRIANGLES" | "INDICES" => decode_indices(source, c)?,
         other => {
             return Err(format!(
                 "its mode '{other}' is not one of ATTRIBUTES, TRIANGLES, INDICES"
@@ -137,24 +136,31 @@ fn decode(c: &Compressed, buffers: &[Vec<u8>]) -> Result<Vec<u8>, String> {
     Ok(bytes)
 }
 
-fn decode_indices(source: &[u8], c: &Compressed) -> meshopt::Result<Vec<u8>> {
-    let sequence = c.mode == "INDICES";
-    // The extension's index strides: 2 (16-bit) or 4 (32-bit).
-    Ok(if c.stride == 2 {
-        let indices: Vec<u16> = if sequence {
-            meshopt::decode_index_sequence(source, c.count)?
-        } else {
-            meshopt::decode_index_buffer(source, c.count)?
-        };
-        indices.iter().flat_map(|i| i.to_le_bytes()).collect()
+#[allow(clippy::needless_pass_by_value)] // a `map_err` callback
+fn failed(e: meshopt::Error) -> String {
+    format!("meshoptimizer could not decode it ({e})")
+}
+
+/// Indices as 16- or 32-bit little-endian words (the extension's strides 2 and 4). The encoding
+/// does not depend on the index size, so they are decoded as 32-bit and narrowed.
+fn decode_indices(source: &[u8], c: &Compressed) -> Result<Vec<u8>, String> {
+    let indices: Vec<u32> = if c.mode == "INDICES" {
+        meshopt::decode_index_sequence(source, c.count).map_err(failed)?
     } else {
-        let indices: Vec<u32> = if sequence {
-            meshopt::decode_index_sequence(source, c.count)?
-        } else {
-            meshopt::decode_index_buffer(source, c.count)?
-        };
-        indices.iter().flat_map(|i| i.to_le_bytes()).collect()
-    })
+        meshopt::decode_index_buffer(source, c.count).map_err(failed)?
+    };
+    match c.stride {
+        4 => Ok(indices.iter().flat_map(|i| i.to_le_bytes()).collect()),
+        2 => indices
+            .iter()
+            .map(|&i| u16::try_from(i).map(u16::to_le_bytes))
+            .collect::<Result<Vec<_>, _>>()
+            .map(|words| words.concat())
+            .map_err(|_| "a 16-bit index view holds an index above 65535".to_owned()),
+        other => Err(format!(
+            "indices take a stride of 2 or 4 bytes, not {other}"
+        )),
+    }
 }
 
 /// One vertex of `N` bytes, for meshoptimizer's vertex decoder (which takes the vertex size
