@@ -7,7 +7,7 @@ use std::sync::OnceLock;
 
 use glam::{Mat4, Vec3, Vec4};
 use render_core::frame::{
-    FrameCapture, FrameInput, FrameRenderer, FrameReport, FrameSettings, SceneGpu,
+    FrameCapture, FrameInput, FrameRenderer, FrameReport, FrameSettings, Method, SceneGpu,
 };
 use render_core::geom::Camera;
 use render_core::gpu::GpuContext;
@@ -115,6 +115,41 @@ pub fn biggest_building(scene: &Scene) -> Option<&Instance> {
         .iter()
         .filter(|i| i.casts_shadow && i.aabb_in_world.max.y - i.aabb_in_world.min.y > 8.0)
         .max_by(|a, b| volume(a).total_cmp(&volume(b)))
+}
+
+/// `frames` measured frames of `method` under `sun` at 256x192, by a renderer that `setup`
+/// prepares first: the renderer and the scene's buffers (for what the tests read afterwards)
+/// and every frame's report.
+pub fn measured_frames(
+    (scene, camera): (&Scene, &Camera),
+    (method, sun): (Method, Sun),
+    frames: usize,
+    setup: impl FnOnce(&mut FrameRenderer),
+) -> (FrameRenderer, SceneGpu, Vec<FrameReport>) {
+    let ctx = gpu();
+    let scene_gpu = SceneGpu::new(ctx, scene);
+    let mut renderer = FrameRenderer::new(ctx);
+    setup(&mut renderer);
+    let settings = FrameSettings {
+        sun,
+        method,
+        measure: true,
+        ..FrameSettings::default()
+    };
+    let input = FrameInput {
+        camera,
+        width: 256,
+        height: 192,
+        settings: &settings,
+    };
+    let reports = (0..frames)
+        .map(|_| {
+            renderer
+                .render_and_wait(ctx, scene, &scene_gpu, &input)
+                .expect("frame")
+        })
+        .collect();
+    (renderer, scene_gpu, reports)
 }
 
 /// Renders one frame headless and reads every target back.

@@ -10,12 +10,10 @@
 //! oracle's casters and no others.
 
 use glam::{Mat4, Vec3};
-use render_core::frame::{
-    CasterOutcome, FrameInput, FrameRenderer, FrameReport, FrameSettings, Method, SceneGpu,
-};
+use render_core::frame::{CasterOutcome, FrameReport, Method};
 use render_core::geom::Camera;
 use render_core::scene::{Instance, Mesh, Scene, Sun};
-use shadowlab_tests::{box_mesh, gpu};
+use shadowlab_tests::{box_mesh, measured_frames};
 
 const A: u32 = 1;
 const B: u32 = 2;
@@ -83,26 +81,8 @@ fn settled_outcomes(
     camera: &Camera,
     method: Method,
 ) -> (FrameReport, Vec<CasterOutcome>) {
-    let ctx = gpu();
-    let scene_gpu = SceneGpu::new(ctx, scene);
-    let mut renderer = FrameRenderer::new(ctx);
-    let settings = FrameSettings {
-        sun: scene.sun,
-        method,
-        measure: true,
-        ..FrameSettings::default()
-    };
-    let input = FrameInput {
-        camera,
-        width: 256,
-        height: 192,
-        settings: &settings,
-    };
-    let mut report = FrameReport::default();
-    for frame in 0..3 {
-        report = renderer
-            .render_and_wait(ctx, scene, &scene_gpu, &input)
-            .expect("frame");
+    let (renderer, _, reports) = measured_frames((scene, camera), (method, scene.sun), 3, |_| {});
+    for (frame, report) in reports.iter().enumerate() {
         if !method.may_err() {
             let e = report.error.expect("measured");
             assert_eq!(
@@ -113,6 +93,7 @@ fn settled_outcomes(
             );
         }
     }
+    let report = reports.last().expect("three frames").clone();
     (report, renderer.caster_outcomes())
 }
 

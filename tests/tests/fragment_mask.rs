@@ -4,12 +4,10 @@
 
 use glam::Vec3;
 use render_core::culling::FragmentMaskSource;
-use render_core::frame::{
-    FrameCapture, FrameInput, FrameRenderer, FrameReport, FrameSettings, Method, SceneGpu,
-};
+use render_core::frame::{FrameCapture, FrameReport, Method};
 use render_core::geom::Camera;
 use render_core::scene::{Scene, Sun, load_builtin};
-use shadowlab_tests::{biggest_building, box_on_plane, gpu, translated};
+use shadowlab_tests::{biggest_building, box_on_plane, gpu, measured_frames, translated};
 
 /// Three measured frames of FRAG with its mask from `source`: every report, the drawn
 /// casters and the capture of the last.
@@ -19,29 +17,10 @@ fn frag(
     sun: Sun,
     source: FragmentMaskSource,
 ) -> (Vec<FrameReport>, Vec<u32>, FrameCapture) {
+    let (renderer, _, reports) = measured_frames((scene, camera), (Method::Frag, sun), 3, |r| {
+        r.set_fragment_mask_source(source);
+    });
     let ctx = gpu();
-    let scene_gpu = SceneGpu::new(ctx, scene);
-    let mut renderer = FrameRenderer::new(ctx);
-    renderer.set_fragment_mask_source(source);
-    let settings = FrameSettings {
-        sun,
-        method: Method::Frag,
-        measure: true,
-        ..FrameSettings::default()
-    };
-    let input = FrameInput {
-        camera,
-        width: 256,
-        height: 192,
-        settings: &settings,
-    };
-    let reports = (0..3)
-        .map(|_| {
-            renderer
-                .render_and_wait(ctx, scene, &scene_gpu, &input)
-                .expect("frame")
-        })
-        .collect();
     let capture = FrameCapture::read(ctx, renderer.targets().expect("targets")).expect("readback");
     (reports, renderer.drawn_casters(), capture)
 }

@@ -2,13 +2,11 @@
 //! each view on its own, per-view counts sum to the totals, and the picture and the maps are
 //! the one-view frame's, for every method.
 
-use render_core::frame::{
-    FrameCapture, FrameInput, FrameRenderer, FrameReport, FrameSettings, Method, SceneGpu,
-};
+use render_core::frame::{FrameCapture, FrameReport, Method};
 use render_core::geom::Camera;
 use render_core::gpu::read_texture_layer;
 use render_core::scene::{Scene, load_builtin};
-use shadowlab_tests::{city_small_street_camera, gpu};
+use shadowlab_tests::{city_small_street_camera, gpu, measured_frames};
 
 /// What one frame of a view count gave.
 struct Frame {
@@ -23,28 +21,12 @@ struct Frame {
 
 /// `frames` measured frames of `method` with the view rendered `views` times; the last one.
 fn last_frame(scene: &Scene, camera: &Camera, method: Method, views: u32, frames: usize) -> Frame {
+    let (renderer, scene_gpu, reports) =
+        measured_frames((scene, camera), (method, scene.sun), frames, |r| {
+            r.set_repeated_views(views);
+        });
+    let report = reports.last().expect("a frame").clone();
     let ctx = gpu();
-    let scene_gpu = SceneGpu::new(ctx, scene);
-    let mut renderer = FrameRenderer::new(ctx);
-    renderer.set_repeated_views(views);
-    let settings = FrameSettings {
-        sun: scene.sun,
-        method,
-        measure: true,
-        ..FrameSettings::default()
-    };
-    let input = FrameInput {
-        camera,
-        width: 256,
-        height: 192,
-        settings: &settings,
-    };
-    let mut report = FrameReport::default();
-    for _ in 0..frames {
-        report = renderer
-            .render_and_wait(ctx, scene, &scene_gpu, &input)
-            .expect("frame");
-    }
     let maps = (0..views)
         .map(|layer| {
             read_texture_layer(
