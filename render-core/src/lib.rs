@@ -2,7 +2,7 @@
 //! No egui and no winit here; the UI reads the plain data types this crate reports.
 //!
 //! Modules, from the bottom up (each imports only those before it): `geom`, `scene`, `gpu`,
-//! `shaders`, `scene_gpu`, `shadow_view`, `view`, `culling`, `technique`, `shadow_map`,
+//! `shaders`, `palette`, `scene_gpu`, `shadow_view`, `view`, `culling`, `technique`, `shadow_map`,
 //! `metrics`, `overlays`, `frame`.
 
 pub mod culling;
@@ -11,6 +11,7 @@ pub mod geom;
 pub mod gpu;
 pub mod metrics;
 pub mod overlays;
+pub mod palette;
 pub mod scene;
 pub mod scene_gpu;
 pub mod shadow_map;

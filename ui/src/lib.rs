@@ -2,15 +2,19 @@
 //! requested actions out. No GPU objects and no windowing here; the `app` crate owns those.
 //!
 //! The app calls [`theme::apply`] once, then each frame [`SidePanel::record`] with the newest
-//! report and [`SidePanel::show`] (or [`SidePanel::ui`] inside its own panel).
+//! report, [`SidePanel::show`] (the keyboard shortcuts and the panel; [`SidePanel::ui`] draws
+//! the panel into the caller's) and [`SidePanel::show_over_view`] (the overlays' legend and the
+//! F1 help over the 3D view).
 
 mod format;
 pub mod history;
+pub mod legend;
+pub mod shortcuts;
 mod side_panel;
 pub mod theme;
 
 pub use history::TimingHistory;
-pub use side_panel::SidePanel;
+pub use side_panel::{PanelTab, SidePanel};
 
 use render_core::frame::FrameReport;
 use render_core::scene::SceneFacts;

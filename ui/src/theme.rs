@@ -19,15 +19,24 @@ pub const PASS_LINES: [Color32; 6] = [
 ];
 
 /// Default outer width of the side panel, points.
-pub const SIDE_PANEL_WIDTH: f32 = 310.0;
+pub const SIDE_PANEL_WIDTH: f32 = 370.0;
 /// Largest side of the light-view inset, points.
 pub const LIGHT_VIEW_SIZE: f32 = 200.0;
 /// Height of the timings plot, points.
 pub const PLOT_HEIGHT: f32 = 140.0;
 /// Gap between the columns and rows of the fact grids.
 pub const GRID_SPACING: Vec2 = Vec2::new(12.0, 4.0);
+/// Space either side of a tab's title, points.
+pub const TAB_TITLE_SPACING: f32 = 5.0;
+/// Space between a tab's edge and its contents.
+pub const TAB_MARGIN: egui::Margin = egui::Margin::symmetric(4, 6);
 /// Gap between sections.
 pub const SECTION_GAP: f32 = 6.0;
+/// Gap between the legend and the view's corner, points.
+pub const LEGEND_MARGIN: f32 = 8.0;
+/// The legend's background over the 3D view, and its text.
+pub const LEGEND_FILL: Color32 = Color32::from_rgba_premultiplied(10, 10, 14, 215);
+pub const LEGEND_TEXT: Color32 = Color32::from_gray(235);
 /// Width of sliders in the settings grids.
 pub const SLIDER_WIDTH: f32 = 90.0;
 

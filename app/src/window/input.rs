@@ -1,5 +1,6 @@
-//! Mouse and keyboard: winit's window events routed to egui, the camera and the shortcuts, and
-//! a click on the 3D view that picks the object under the cursor.
+//! Mouse and keyboard: winit's window events routed to egui and the camera (the panel's
+//! shortcuts are `ui::shortcuts`, read from egui's input), and a click on the 3D view that picks
+//! the object under the cursor.
 
 use glam::Vec2;
 use render_core::gpu::read_texel;
@@ -22,9 +23,7 @@ impl Running {
                 self.alt_held = m.state().alt_key();
                 self.keys.fast = m.state().shift_key();
             }
-            WindowEvent::KeyboardInput { event: key, .. }
-                if !self.egui_ctx.egui_wants_keyboard_input() =>
-            {
+            WindowEvent::KeyboardInput { event: key, .. } if !self.egui_ctx.text_edit_focused() => {
                 if let PhysicalKey::Code(code) = key.physical_key {
                     self.on_key(code, key.state == ElementState::Pressed);
                 }
@@ -59,8 +58,6 @@ impl Running {
             KeyCode::KeyD => self.keys.right = pressed,
             KeyCode::KeyE => self.keys.up = pressed,
             KeyCode::KeyQ => self.keys.down = pressed,
-            KeyCode::KeyF if pressed => self.frame_scene(),
-            KeyCode::F12 if pressed => self.screenshot_requested = true,
             KeyCode::Escape if pressed => self.controller.drag = Drag::None,
             _ => {}
         }

@@ -32,19 +32,12 @@ impl Running {
         };
         let view_texture = self.view_texture;
         let full_output = self.egui_ctx.run_ui(raw_input, |ui| {
-            egui::Panel::left("settings")
-                .default_size(330.0)
-                .resizable(true)
-                .show(ui, |ui| {
-                    egui::ScrollArea::vertical().show(ui, |ui| {
-                        actions = self.side_panel.ui(
-                            ui,
-                            &mut self.settings,
-                            &mut self.screenshot_settings,
-                            &input,
-                        );
-                    });
-                });
+            actions = self.side_panel.show(
+                ui,
+                &mut self.settings,
+                &mut self.screenshot_settings,
+                &input,
+            );
             egui::CentralPanel::default()
                 .frame(egui::Frame::NONE)
                 .show(ui, |ui| {
@@ -55,6 +48,8 @@ impl Running {
                         ui.painter().image(id, view_rect, uv, egui::Color32::WHITE);
                     }
                 });
+            self.side_panel
+                .show_over_view(ui.ctx(), view_rect, &self.settings);
         });
         self.view_rect = view_rect;
         self.egui_state

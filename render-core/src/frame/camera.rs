@@ -6,6 +6,7 @@ use crate::culling::codes;
 use crate::gpu::{
     FrameTimer, color_attachment, depth_attachment, pass_label, pipeline_layout, shader_module,
 };
+use crate::palette;
 use crate::scene_gpu::{DrawList, SceneGpu};
 use crate::shaders::compose;
 use crate::technique::LIGHT_WGSL_PATH;
@@ -27,11 +28,13 @@ const SKY: wgpu::Color = wgpu::Color {
 /// (and measurement is switched off).
 pub(crate) fn shader_source(light_wgsl: &str, early_depth_test: bool) -> String {
     let codes = codes::wgsl();
+    let palette = palette::wgsl();
     let light = format!("#import {light_wgsl}\n");
     let source = compose(
         "frame/camera.wgsl",
         &[
             (codes::WGSL_PATH, codes.as_str()),
+            (palette::WGSL_PATH, palette.as_str()),
             (LIGHT_WGSL_PATH, light.as_str()),
         ],
     );

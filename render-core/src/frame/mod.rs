@@ -17,6 +17,7 @@
 mod camera;
 mod capture;
 pub mod compare;
+mod legend;
 mod report;
 mod results;
 mod settings;
@@ -24,6 +25,7 @@ mod settings;
 use std::time::Instant;
 
 pub use capture::FrameCapture;
+pub use legend::{LegendEntry, LegendGroup, legend};
 pub use report::{CpuTimings, FrameCounts, FrameReport, LightFacts};
 pub use settings::{FrameSettings, Overlays};
 

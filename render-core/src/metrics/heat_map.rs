@@ -1,12 +1,17 @@
 //! The error heat map overlay. Long-lived pipeline; the bind group follows the view targets.
 
 use crate::gpu::{bind_group_layout, color_attachment, fullscreen_pipeline, texture, view_entry};
+use crate::palette;
 use crate::shaders::compose;
 use crate::view::targets::{COLOR_FORMAT, ViewTargets};
 
 /// The heat map's shader, as the renderer and the validation test compose it.
 pub(crate) fn shader_source() -> String {
-    compose("metrics/heat_map.wgsl", &[])
+    let palette = palette::wgsl();
+    compose(
+        "metrics/heat_map.wgsl",
+        &[(palette::WGSL_PATH, palette.as_str())],
+    )
 }
 
 pub struct HeatMapOverlay {

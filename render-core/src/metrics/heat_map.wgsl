@@ -1,6 +1,7 @@
 // The error heat map: tints pixels whose shadow differs from the reference. Red: shadow missing
 // (the reference is darker), blue: extra shadow. Reads the shading pass's shadow target
 // (red channel: method, green: reference).
+#import palette.wgsl
 
 @group(0) @binding(0) var shadow_factors: texture_2d<f32>;
 
@@ -18,7 +19,5 @@ fn fs_heat_map(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32>
         discard;
     }
     let strength = 0.45 + 0.5 * min(abs(difference), 1.0);
-    let missing = vec3<f32>(1.0, 0.05, 0.05);
-    let extra = vec3<f32>(0.1, 0.35, 1.0);
-    return vec4<f32>(select(extra, missing, difference < 0.0), strength);
+    return vec4<f32>(select(PALETTE_EXTRA_SHADOW, PALETTE_MISSING_SHADOW, difference < 0.0), strength);
 }

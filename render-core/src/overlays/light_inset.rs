@@ -36,9 +36,13 @@ mod show {
 /// The inset's shader, as the renderer and the validation test compose it.
 pub(crate) fn shader_source() -> String {
     let codes = codes::wgsl();
+    let palette = crate::palette::wgsl();
     compose(
         "overlays/light_inset.wgsl",
-        &[(codes::WGSL_PATH, codes.as_str())],
+        &[
+            (codes::WGSL_PATH, codes.as_str()),
+            (crate::palette::WGSL_PATH, palette.as_str()),
+        ],
     )
 }
 

@@ -48,22 +48,22 @@ fn fs_light_view(in: VsOut) -> @location(0) vec4<f32> {
     let depth = textureLoad(shadow_map, texel, 0);
     let near = pow(clamp(1.0 - depth, 0.0, 1.0), 2.0);
     let cleared = depth >= 1.0;
-    var colour = select(vec3<f32>(0.05 + 0.95 * near), vec3<f32>(0.02, 0.02, 0.08), cleared);
+    var colour = select(mix(PALETTE_MAP_FAR, PALETTE_MAP_NEAR, near), PALETTE_MAP_EMPTY, cleared);
 
     let m = local / max(inset.show.y, 1u);
     var mask = vec3<f32>(0.0);
     if ((inset.show.x & SHOW_RASTER_MASK) != 0u) {
         let marked = textureLoad(mask_raster, m, 0).x;
         if (marked >= MASK_MARKED_GEOMETRY) {
-            mask = vec3<f32>(0.1, 0.9, 0.2);
+            mask = PALETTE_MASK_GEOMETRY;
         } else if (marked >= MASK_MARKED_BOX) {
-            mask = vec3<f32>(0.15, 0.35, 1.0);
+            mask = PALETTE_MASK_BOX;
         }
     }
     if ((inset.show.x & SHOW_FRAGMENT_MASK) != 0u) {
         let width = inset.square.w;
         if (bitcast<f32>(mask_bits[inset.show.w + m.y * width + m.x]) > 0.0) {
-            mask = vec3<f32>(1.0, 0.12, 0.1);
+            mask = PALETTE_MASK_FRAGMENT;
         }
     }
     if (any(mask > vec3<f32>(0.0))) {

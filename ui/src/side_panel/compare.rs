@@ -31,9 +31,10 @@ pub fn ui(
                 "method",
                 "casters",
                 "× oracle",
-                "error px",
-                "shadow",
-                "culling",
+                // Two lines, so the columns are as narrow as their numbers.
+                "error\npx",
+                "shadow\nms",
+                "cull\nms",
             ] {
                 ui.label(egui::RichText::new(heading).color(theme::MUTED));
             }
@@ -55,8 +56,12 @@ pub fn ui(
                 } else {
                     ui.label(error);
                 }
-                ui.label(row.shadow_ms.map_or("–".into(), millis));
-                ui.label(row.culling_ms.map_or("–".into(), millis));
+                // The unit is in the heading, so the columns stay narrow.
+                for ms in [row.shadow_ms, row.culling_ms] {
+                    ui.label(ms.map_or("–".into(), |ms| {
+                        millis(ms).trim_end_matches(" ms").to_owned()
+                    }));
+                }
                 ui.end_row();
             }
         });

@@ -1,4 +1,5 @@
-//! Counts, culling stages and timings of the newest frame.
+//! The newest frame: what the shadow pass could not do as asked (over the tabs), its counts
+//! and culling stages (the Counts tab), its timings (the Timings tab, above the plot).
 
 use render_core::frame::FrameReport;
 
@@ -10,10 +11,10 @@ use crate::{PanelInput, theme};
 /// Shown where a count has not come back from the GPU yet.
 const PENDING: &str = "…";
 
-pub fn ui(ui: &mut egui::Ui, input: &PanelInput<'_>, newest: Option<&TimingSample>) {
+/// The Counts tab.
+pub fn counts_ui(ui: &mut egui::Ui, input: &PanelInput<'_>) {
     match input.report {
         Some(report) => {
-            problems(ui, report);
             counts(ui, report);
             stages(ui, report);
         }
@@ -21,13 +22,11 @@ pub fn ui(ui: &mut egui::Ui, input: &PanelInput<'_>, newest: Option<&TimingSampl
             ui.label(egui::RichText::new("No frame rendered yet").color(theme::MUTED));
         }
     }
-    ui.add_space(theme::SECTION_GAP);
-    timings(ui, input, newest);
 }
 
 /// A shadow pass that could not run as asked, and what the device changes about the method:
 /// shown first, in the warning colour, so a number below is not read as the method's own.
-fn problems(ui: &mut egui::Ui, report: &FrameReport) {
+pub fn problems(ui: &mut egui::Ui, report: &FrameReport) {
     if let Some(failure) = &report.shadow_failure {
         ui.label(
             egui::RichText::new(format!("Shadow pass failed: {failure}")).color(theme::WARNING),
@@ -89,7 +88,8 @@ fn stages(ui: &mut egui::Ui, report: &FrameReport) {
     });
 }
 
-fn timings(ui: &mut egui::Ui, input: &PanelInput<'_>, newest: Option<&TimingSample>) {
+/// The Timings tab's numbers.
+pub fn timings(ui: &mut egui::Ui, input: &PanelInput<'_>, newest: Option<&TimingSample>) {
     grid::facts(ui, "frame_timings", |ui| {
         grid::row(
             ui,

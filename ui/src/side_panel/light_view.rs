@@ -1,5 +1,7 @@
 //! The light's view: the shadow map's depth with the receiver mask and culled casters as an
-//! inset image, and facts about the light frustum.
+//! inset image, its legend, and facts about the light frustum.
+
+use render_core::frame::{FrameSettings, Overlays, legend};
 
 use super::grid;
 use crate::format::{length, metres};
@@ -8,7 +10,7 @@ use crate::{PanelInput, theme};
 /// Size of the texture the app provides, texels.
 const TEXTURE_SIZE: f32 = 256.0;
 
-pub fn ui(ui: &mut egui::Ui, input: &PanelInput<'_>) {
+pub fn ui(ui: &mut egui::Ui, input: &PanelInput<'_>, settings: &FrameSettings) {
     if let Some(texture) = input.light_view {
         let side = ui.available_width().min(theme::LIGHT_VIEW_SIZE);
         let sized = egui::load::SizedTexture::new(texture, [TEXTURE_SIZE, TEXTURE_SIZE]);
@@ -17,16 +19,15 @@ pub fn ui(ui: &mut egui::Ui, input: &PanelInput<'_>) {
                 .fit_to_exact_size(egui::Vec2::splat(side))
                 .alt_text("Light view"),
         );
-        ui.label(
-            egui::RichText::new(
-                "shadow map depth, near = bright; receiver mask: BVOL blue, GEOM green, \
-                 FRAG red; stripes: casters the method culled (when measuring): orange by \
-                 the light frustum, yellow by light occlusion, magenta by the mask, the \
-                 footprint or the shadow volume",
-            )
-            .small()
-            .color(theme::MUTED),
-        );
+        // The legend of the inset alone, whatever else is on the view.
+        let inset_only = FrameSettings {
+            overlays: Overlays {
+                light_view: true,
+                ..Overlays::default()
+            },
+            ..*settings
+        };
+        crate::legend::ui(ui, &legend(&inset_only));
     } else {
         ui.label(egui::RichText::new("No light view this frame").color(theme::MUTED));
     }

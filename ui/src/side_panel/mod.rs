@@ -1,5 +1,8 @@
-//! The side panel: scene facts, sun, shadow settings, light view, frame statistics, timings
-//! plot and screenshots, one collapsible section each.
+//! The side panel: a message line, then tabs (`egui_tiles`, so a tab can also be dragged
+//! beside another): Scene (facts, selection, sun, screenshots), Shadows (method and settings),
+//! Compare (every method's row), Counts (casters, error, stages), Timings (CPU and GPU times
+//! and their plot) and Light (the light's view and its legend). A failed shadow pass is named
+//! over the tabs. Each tab fits a 720-pixel-high window and scrolls below that.
 
 mod compare;
 mod frame_stats;
@@ -19,14 +22,63 @@ mod tests;
 use render_core::frame::{FrameReport, FrameSettings};
 
 use crate::history::TimingHistory;
-use crate::{PanelInput, ScreenshotSettings, UiAction, theme};
+use crate::{PanelInput, ScreenshotSettings, UiAction, legend, shortcuts, theme};
 
-/// The lab's control and statistics panel. Long-lived: it keeps the timing history and the sun
-/// angles the user set.
-#[derive(Debug, Default)]
+/// A tab of the side panel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum PanelTab {
+    Scene,
+    Shadows,
+    Compare,
+    Counts,
+    Timings,
+    Light,
+}
+
+impl PanelTab {
+    pub const ALL: [Self; 6] = [
+        Self::Scene,
+        Self::Shadows,
+        Self::Compare,
+        Self::Counts,
+        Self::Timings,
+        Self::Light,
+    ];
+
+    pub fn title(self) -> &'static str {
+        match self {
+            Self::Scene => "Scene",
+            Self::Shadows => "Shadows",
+            Self::Compare => "Compare",
+            Self::Counts => "Counts",
+            Self::Timings => "Timings",
+            Self::Light => "Light",
+        }
+    }
+}
+
+/// The lab's control and statistics panel. Long-lived: it keeps the timing history, the sun
+/// angles the user set, the tabs' layout and whether the help is open.
+#[derive(Debug)]
 pub struct SidePanel {
     history: TimingHistory,
     sun: sun::SunEditor,
+    tabs: egui_tiles::Tree<PanelTab>,
+    help_open: bool,
+}
+
+impl Default for SidePanel {
+    fn default() -> Self {
+        Self {
+            history: TimingHistory::default(),
+            sun: sun::SunEditor::default(),
+            tabs: egui_tiles::Tree::new_tabs(
+                egui::Id::unique("shadowlab_panel_tabs"),
+                PanelTab::ALL.to_vec(),
+            ),
+            help_open: false,
+        }
+    }
 }
 
 impl SidePanel {
@@ -45,8 +97,32 @@ impl SidePanel {
         &self.history
     }
 
-    /// Draws the panel's contents into `ui` (the caller provides the panel and scrolling),
-    /// edits `settings` and `screenshot`, and returns what the user asked for this frame.
+    /// Brings `tab` to the front.
+    pub fn open_tab(&mut self, tab: PanelTab) {
+        self.tabs
+            .make_active(|_, tile| matches!(tile, egui_tiles::Tile::Pane(t) if *t == tab));
+    }
+
+    /// The tabs shown now (one, unless the user dragged a tab beside another).
+    pub fn shown_tabs(&self) -> Vec<PanelTab> {
+        let active = self.tabs.active_tiles();
+        PanelTab::ALL
+            .into_iter()
+            .filter(|tab| {
+                active.iter().any(|id| {
+                    matches!(self.tabs.tiles.get(*id), Some(egui_tiles::Tile::Pane(t)) if t == tab)
+                })
+            })
+            .collect()
+    }
+
+    /// Whether the keyboard help (F1) is open.
+    pub fn help_open(&self) -> bool {
+        self.help_open
+    }
+
+    /// Draws the message and the tabs into `ui` (the caller provides the panel), edits
+    /// `settings` and `screenshot`, and returns what the user asked for this frame.
     pub fn ui(
         &mut self,
         ui: &mut egui::Ui,
@@ -58,40 +134,36 @@ impl SidePanel {
         if let Some(text) = input.message {
             message::ui(ui, text);
         }
-        section(ui, "Scene", |ui| {
-            scene::ui(
-                ui,
-                (input.scene, input.units),
-                &mut settings.animate,
-                &mut actions,
-            );
-        });
-        if let Some(selected) = input.selection {
-            section(ui, "Selected object", |ui| selection::ui(ui, selected));
+        if let Some(report) = input.report {
+            frame_stats::problems(ui, report);
         }
-        section(ui, "Sun", |ui| self.sun.ui(ui, &mut settings.sun));
-        section(ui, "Shadows", |ui| shadows::ui(ui, settings));
-        section(ui, "Compare methods", |ui| {
-            compare::ui(
-                ui,
-                &mut settings.compare_all,
-                settings.method,
-                input.compare,
-            );
+        ui.horizontal(|ui| {
+            ui.label(egui::RichText::new(settings.method.name()).strong())
+                .on_hover_text(settings.method.summary());
+            ui.label(egui::RichText::new("M / Shift+M: method").color(theme::MUTED));
+            if ui
+                .small_button("Shortcuts (F1)")
+                .on_hover_text("Every keyboard shortcut and mouse control")
+                .clicked()
+            {
+                self.help_open ^= true;
+            }
         });
-        section(ui, "Light view", |ui| light_view::ui(ui, input));
-        section(ui, "Frame", |ui| {
-            frame_stats::ui(ui, input, self.history.newest());
-        });
-        section(ui, "Timings", |ui| timings_plot::ui(ui, &self.history));
-        section(ui, "Screenshot", |ui| {
-            screenshot::ui(ui, screenshot, input.last_screenshot, &mut actions);
-        });
+        let mut panes = Panes {
+            history: &self.history,
+            sun: &mut self.sun,
+            settings,
+            screenshot,
+            input,
+            actions: &mut actions,
+        };
+        self.tabs.ui(&mut panes, ui);
         actions
     }
 
-    /// Shows the panel on the left of `root_ui` (resizable, scrolling) and returns what the user
-    /// asked for. The space left in `root_ui` afterwards is the 3D view's.
+    /// Takes this frame's keyboard shortcuts, then shows the panel on the left of `root_ui`
+    /// (resizable) and returns what the user asked for. The space left in `root_ui` afterwards
+    /// is the 3D view's; pass it to [`SidePanel::show_over_view`].
     pub fn show(
         &mut self,
         root_ui: &mut egui::Ui,
@@ -99,22 +171,120 @@ impl SidePanel {
         screenshot: &mut ScreenshotSettings,
         input: &PanelInput<'_>,
     ) -> Vec<UiAction> {
-        egui::Panel::left("shadowlab_side_panel")
+        let pressed = shortcuts::apply(root_ui.ctx(), settings);
+        if let Some(tab) = pressed.tab {
+            self.open_tab(tab);
+        }
+        self.help_open ^= pressed.toggle_help;
+        let mut actions = pressed.actions;
+        let panel = egui::Panel::left("shadowlab_side_panel")
             .default_size(theme::SIDE_PANEL_WIDTH)
-            .show(root_ui, |ui| {
-                egui::ScrollArea::vertical()
-                    .auto_shrink([false, true])
-                    .show(ui, |ui| self.ui(ui, settings, screenshot, input))
-                    .inner
-            })
-            .inner
+            .resizable(true)
+            .show(root_ui, |ui| self.ui(ui, settings, screenshot, input));
+        actions.extend(panel.inner);
+        actions
+    }
+
+    /// Over the 3D view's rectangle `view`: the legend of the overlays `settings` turn on,
+    /// and the keyboard help while it is open.
+    pub fn show_over_view(
+        &mut self,
+        ctx: &egui::Context,
+        view: egui::Rect,
+        settings: &FrameSettings,
+    ) {
+        legend::show(ctx, view, &render_core::frame::legend(settings));
+        if self.help_open {
+            shortcuts::show_help(ctx, view, &mut self.help_open);
+        }
     }
 }
 
-/// A collapsible section, open at first.
-fn section(ui: &mut egui::Ui, title: &str, add_contents: impl FnOnce(&mut egui::Ui)) {
-    egui::CollapsingHeader::new(egui::RichText::new(title).strong())
-        .default_open(true)
-        .show(ui, add_contents);
+/// What the tabs draw from and edit this frame.
+struct Panes<'a, 'i> {
+    history: &'a TimingHistory,
+    sun: &'a mut sun::SunEditor,
+    settings: &'a mut FrameSettings,
+    screenshot: &'a mut ScreenshotSettings,
+    input: &'a PanelInput<'i>,
+    actions: &'a mut Vec<UiAction>,
+}
+
+impl Panes<'_, '_> {
+    fn tab_ui(&mut self, ui: &mut egui::Ui, tab: PanelTab) {
+        let input = self.input;
+        match tab {
+            PanelTab::Scene => {
+                scene::ui(
+                    ui,
+                    (input.scene, input.units),
+                    &mut self.settings.animate,
+                    self.actions,
+                );
+                if let Some(selected) = input.selection {
+                    heading(ui, "Selected object");
+                    selection::ui(ui, selected);
+                }
+                heading(ui, "Sun");
+                self.sun.ui(ui, &mut self.settings.sun);
+                heading(ui, "Screenshot");
+                screenshot::ui(ui, self.screenshot, input.last_screenshot, self.actions);
+            }
+            PanelTab::Shadows => shadows::ui(ui, self.settings),
+            PanelTab::Compare => compare::ui(
+                ui,
+                &mut self.settings.compare_all,
+                self.settings.method,
+                input.compare,
+            ),
+            PanelTab::Counts => frame_stats::counts_ui(ui, input),
+            PanelTab::Timings => {
+                frame_stats::timings(ui, input, self.history.newest());
+                ui.add_space(theme::SECTION_GAP);
+                timings_plot::ui(ui, self.history);
+            }
+            PanelTab::Light => light_view::ui(ui, input, self.settings),
+        }
+    }
+}
+
+impl egui_tiles::Behavior<PanelTab> for Panes<'_, '_> {
+    fn tab_title_for_pane(&mut self, tab: &PanelTab) -> egui::WidgetText {
+        tab.title().into()
+    }
+
+    fn pane_ui(
+        &mut self,
+        ui: &mut egui::Ui,
+        _tile: egui_tiles::TileId,
+        tab: &mut PanelTab,
+    ) -> egui_tiles::UiResponse {
+        egui::ScrollArea::vertical()
+            .id_salt(tab.title())
+            .auto_shrink([false, false])
+            .show(ui, |ui| {
+                egui::Frame::new()
+                    .inner_margin(theme::TAB_MARGIN)
+                    .show(ui, |ui| self.tab_ui(ui, *tab));
+            });
+        egui_tiles::UiResponse::None
+    }
+
+    fn tab_title_spacing(&self, _visuals: &egui::Visuals) -> f32 {
+        theme::TAB_TITLE_SPACING
+    }
+
+    fn simplification_options(&self) -> egui_tiles::SimplificationOptions {
+        egui_tiles::SimplificationOptions {
+            all_panes_must_have_tabs: true,
+            ..Default::default()
+        }
+    }
+}
+
+/// A part's title within a tab.
+fn heading(ui: &mut egui::Ui, title: &str) {
     ui.add_space(theme::SECTION_GAP);
+    ui.label(egui::RichText::new(title).strong());
+    ui.separator();
 }

@@ -1,5 +1,6 @@
-//! The side panel driven through `egui_kittest`: what it shows, what clicks do, and one image
-//! snapshot. Goldens live in `ui/tests/snapshots/`; a missing or different one fails the test.
+//! The side panel driven through `egui_kittest`: what each tab shows, what clicks and keys do,
+//! and an image snapshot of each tab in a 1280x720 window. Goldens live in
+//! `ui/tests/snapshots/`; a missing or different one fails the test.
 //! Regenerate them with `UPDATE_SNAPSHOTS=1 cargo test -p ui` and review the new images.
 
 use egui::accesskit::Role;
@@ -15,7 +16,7 @@ use render_core::scene::{SceneFacts, Sun, Units};
 use render_core::frame::Method;
 use render_core::frame::compare::CompareRow;
 
-use super::SidePanel;
+use super::{PanelTab, SidePanel};
 use crate::{PanelInput, ScreenshotSettings, UiAction};
 
 const WIDTH: f32 = 300.0;
@@ -149,8 +150,14 @@ impl Lab {
             compare: Some(&self.compare),
         };
         let actions = if self.in_own_panel {
-            self.panel
-                .show(ui, &mut self.settings, &mut self.screenshot, &input)
+            let actions = self
+                .panel
+                .show(ui, &mut self.settings, &mut self.screenshot, &input);
+            let view = ui.available_rect_before_wrap();
+            ui.painter()
+                .rect_filled(view, 0.0, egui::Color32::from_gray(60));
+            self.panel.show_over_view(ui.ctx(), view, &self.settings);
+            actions
         } else {
             self.panel
                 .ui(ui, &mut self.settings, &mut self.screenshot, &input)
@@ -172,6 +179,12 @@ fn gradient() -> egui::ColorImage {
     egui::ColorImage::new([size, size], pixels)
 }
 
+/// The panel with `tab` in front.
+fn harness_on(mut lab: Lab, tab: PanelTab) -> Harness<'static, Lab> {
+    lab.panel.open_tab(tab);
+    harness(lab)
+}
+
 fn harness(lab: Lab) -> Harness<'static, Lab> {
     let mut harness = Harness::builder()
         .with_size(egui::vec2(WIDTH, HEIGHT))
@@ -182,32 +195,57 @@ fn harness(lab: Lab) -> Harness<'static, Lab> {
 }
 
 #[test]
-fn scene_facts_and_counts_are_shown() {
-    let harness = harness(Lab::new());
-    for label in [
-        "Objects",
-        "1,234",
-        "Triangles",
-        "1,234,567",
-        "builtin:city",
-        "(-50.00, 0.00, -40.00) m",
-        "100 × 42.5 × 80.0 m",
-        "873 / 1,200",
-        "Receivers visible",
-        "…",
-        "456,789",
-        "345,678",
-        "light frustum",
-        "GPU shadow map",
-        "0.049 × 0.049 m",
-        "142 m",
-        "shot-0001.png",
-        "llvmpipe (LLVM 19.1.7, 256 bits) (Vulkan)",
+fn each_tab_shows_its_facts() {
+    for (tab, labels) in [
+        (
+            PanelTab::Scene,
+            &[
+                "Objects",
+                "1,234",
+                "Triangles",
+                "1,234,567",
+                "builtin:city",
+                "(-50.00, 0.00, -40.00) m",
+                "100 × 42.5 × 80.0 m",
+                "shot-0001.png",
+            ][..],
+        ),
+        (
+            PanelTab::Counts,
+            &[
+                "873 / 1,200",
+                "Receivers visible",
+                "…",
+                "456,789",
+                "345,678",
+                "light frustum",
+            ][..],
+        ),
+        (
+            PanelTab::Timings,
+            &[
+                "GPU shadow map",
+                "llvmpipe (LLVM 19.1.7, 256 bits) (Vulkan)",
+                "ms over the last 10 s",
+            ][..],
+        ),
+        (
+            PanelTab::Light,
+            &["0.049 × 0.049 m", "142 m", "map: near the light"][..],
+        ),
     ] {
-        assert!(
-            harness.query_by_label(label).is_some(),
-            "no label {label:?} in the panel"
-        );
+        let harness = harness_on(Lab::new(), tab);
+        assert_eq!(harness.state().panel.shown_tabs(), [tab]);
+        for label in labels {
+            assert!(
+                harness.query_by_label(label).is_some(),
+                "no label {label:?} in the {tab:?} tab"
+            );
+        }
+        // Other tabs' contents are not drawn.
+        if tab != PanelTab::Scene {
+            assert!(harness.query_by_label("Triangles").is_none());
+        }
     }
 }
 
@@ -215,14 +253,14 @@ fn scene_facts_and_counts_are_shown() {
 fn received_count_replaces_the_pending_mark() {
     let mut lab = Lab::new();
     lab.report.counts.receivers_visible = Some(4321);
-    let harness = harness(lab);
+    let harness = harness_on(lab, PanelTab::Counts);
     assert!(harness.query_by_label("4,321").is_some());
     assert!(harness.query_by_label("…").is_none());
 }
 
 #[test]
 fn a_failed_shadow_pass_and_a_fallback_are_named() {
-    let plain = harness(Lab::new());
+    let plain = harness_on(Lab::new(), PanelTab::Counts);
     assert!(
         plain
             .query_by_label_contains("Shadow pass failed")
@@ -233,7 +271,7 @@ fn a_failed_shadow_pass_and_a_fallback_are_named() {
     lab.report.shadow_failure =
         Some("frag: GPU culling has no scene buffers; every caster was drawn instead".into());
     lab.report.notes = vec!["geom: receiver boxes stand in for their geometry".into()];
-    let failed = harness(lab);
+    let failed = harness_on(lab, PanelTab::Counts);
     let failure = "Shadow pass failed: frag: GPU culling has no scene buffers";
     assert!(failed.query_by_label_contains(failure).is_some());
     assert!(
@@ -285,11 +323,10 @@ fn the_units_combo_reads_a_file_again_in_another_unit() {
 
 #[test]
 fn each_method_says_what_it_does_and_cites_its_paper() {
-    let mut harness = harness(Lab::new());
-    // Units (for a built-in, disabled), then the method.
+    let mut harness = harness_on(Lab::new(), PanelTab::Shadows);
     harness
         .get_all_by_role(Role::ComboBox)
-        .nth(1)
+        .next()
         .expect("the method combo box")
         .click();
     harness.run();
@@ -338,7 +375,7 @@ fn no_clicks_no_actions_and_no_setting_changes() {
 
 #[test]
 fn pcf_kernel_combo_edits_settings() {
-    let mut harness = harness(Lab::new());
+    let mut harness = harness_on(Lab::new(), PanelTab::Shadows);
     harness
         .get_by_role_and_label(Role::ComboBox, "PCF kernel")
         .click();
@@ -353,7 +390,7 @@ fn pcf_kernel_combo_edits_settings() {
 
 #[test]
 fn resolution_combo_edits_settings() {
-    let mut harness = harness(Lab::new());
+    let mut harness = harness_on(Lab::new(), PanelTab::Shadows);
     harness
         .get_by_role_and_label(Role::ComboBox, "Resolution")
         .click();
@@ -390,7 +427,7 @@ fn the_selected_object_says_why_it_was_culled() {
 
 #[test]
 fn oracle_tightness_and_error_are_shown_when_measured() {
-    let harness = harness(Lab::new());
+    let harness = harness_on(Lab::new(), PanelTab::Counts);
     harness.get_by_label("291");
     harness.get_by_label("3.00");
     harness.get_by_label("Missing shadow px");
@@ -400,15 +437,18 @@ fn oracle_tightness_and_error_are_shown_when_measured() {
 
 #[test]
 fn checkboxes_edit_settings() {
-    let mut harness = harness(Lab::new());
+    let mut harness = harness_on(Lab::new(), PanelTab::Shadows);
     harness.get_by_label("Shadows enabled").click();
     harness.get_by_label("Light view in corner").click();
     harness.get_by_label("Tint casters by outcome").click();
-    harness.get_by_label("Include panel").click();
-    harness.get_by_label("Animate dynamic objects").click();
     harness.get_by_label("Measure error and oracle").click();
     harness.run();
     harness.get_by_label("Error heat map").click();
+    harness.run();
+    harness.state_mut().panel.open_tab(PanelTab::Scene);
+    harness.run();
+    harness.get_by_label("Include panel").click();
+    harness.get_by_label("Animate dynamic objects").click();
     harness.run();
     let lab = harness.state();
     assert!(!lab.settings.shadow.shadows_enabled);
@@ -484,7 +524,7 @@ fn message_is_shown_only_when_present() {
 fn missing_gpu_timestamps_are_explained() {
     let mut lab = Lab::new();
     lab.has_gpu_timestamps = false;
-    let harness = harness(lab);
+    let harness = harness_on(lab, PanelTab::Timings);
     assert!(
         harness
             .query_by_label("GPU timestamps not available on this adapter")
@@ -508,12 +548,201 @@ fn record_keeps_only_the_last_ten_seconds() {
     assert_eq!(history.pass_series().len(), 3);
 }
 
-/// The whole panel, rendered with wgpu (lavapipe on CPU-only machines:
-/// `WGPU_BACKEND=vulkan XDG_RUNTIME_DIR=$(mktemp -d) cargo test -p ui`).
+/// Every method's row, as "compare all" lists them.
+fn compare_rows() -> Vec<CompareRow> {
+    Method::ALL
+        .into_iter()
+        .enumerate()
+        .map(|(i, method)| CompareRow {
+            method,
+            casters_rendered: 420 - 30 * i as u32,
+            triangles: 42_000 - 3_000 * i as u64,
+            casters_oracle: Some(75),
+            error_px: Some(if method.may_err() { 37 } else { 0 }),
+            shadow_ms: Some(2.5 - 0.1 * i as f64),
+            culling_ms: Some(0.4),
+            stale: false,
+        })
+        .collect()
+}
+
+/// The window's layout: the panel at its default width beside the view, at 1280x720.
+fn window_on(tab: PanelTab, setup: impl FnOnce(&mut Lab)) -> Harness<'static, Lab> {
+    let mut lab = Lab::new();
+    lab.in_own_panel = true;
+    lab.compare = compare_rows();
+    lab.settings.compare_all = true;
+    lab.settings.measure = true;
+    lab.settings.method = Method::Bvol;
+    lab.settings.overlays.light_view = true;
+    lab.settings.overlays.casters = true;
+    lab.selection = Some(crate::Selection {
+        name: "block_3_7/building_2".into(),
+        casts_shadow: true,
+        receives_shadow: true,
+        visible: true,
+        shadow_map: "light frustum".into(),
+        oracle: Some(false),
+    });
+    // Every pass a measured GPU-culled frame times, the culling steps inside their scope.
+    lab.report.gpu = [
+        (pass_label::CAMERA_PREPASS, 0),
+        (pass_label::CULLING, 0),
+        (pass_label::culling::MASKS, 1),
+        (pass_label::culling::PYRAMIDS, 1),
+        (pass_label::culling::CASTER_TESTS, 1),
+        (pass_label::culling::FOOTPRINTS, 1),
+        (pass_label::SHADOW_MAP, 0),
+        (pass_label::REFERENCE_MAP, 0),
+        (pass_label::SHADING, 0),
+        (pass_label::OVERLAYS, 0),
+    ]
+    .into_iter()
+    .map(|(label, depth)| PassTiming {
+        depth,
+        ..pass(label, 0.5)
+    })
+    .collect();
+    setup(&mut lab);
+    lab.panel.open_tab(tab);
+    let mut harness = Harness::builder()
+        .with_size(egui::vec2(1280.0, 720.0))
+        .with_context_setup(crate::theme::apply)
+        .build_ui_state(|ui, lab: &mut Lab| lab.ui(ui), lab);
+    harness.run();
+    harness
+}
+
+/// Each tab in a 1280x720 window, rendered with wgpu (lavapipe on CPU-only machines:
+/// `WGPU_BACKEND=vulkan XDG_RUNTIME_DIR=$(mktemp -d) cargo test -p ui`), with the legend of
+/// the overlays over the view. Each tab's last widget ends above the window's bottom: nothing
+/// needs scrolling.
 #[test]
-fn side_panel_snapshot() {
-    let mut harness = harness(Lab::new());
-    harness.snapshot("side_panel");
+fn each_tab_fits_a_1280x720_window_and_matches_its_snapshot() {
+    let mut snapshots = egui_kittest::SnapshotResults::new();
+    for (tab, last) in [
+        (PanelTab::Scene, "Screenshot (F12)"),
+        (PanelTab::Shadows, "Error heat map"),
+        (PanelTab::Compare, "oracle"),
+        (PanelTab::Counts, "light frustum"),
+        (PanelTab::Timings, "ms over the last 10 s"),
+        (PanelTab::Light, "Covers scene"),
+    ] {
+        let mut harness = window_on(tab, |_| {});
+        harness.snapshot(format!("tab_{}", tab.title().to_lowercase()));
+        snapshots.extend_harness(&mut harness);
+        let bottom = harness
+            .query_all_by_label(last)
+            .map(|node| node.rect().bottom())
+            .fold(f32::MIN, f32::max);
+        let plot = if tab == PanelTab::Timings {
+            crate::theme::PLOT_HEIGHT
+        } else {
+            0.0
+        };
+        assert!(bottom > 0.0, "no {last:?} in the {tab:?} tab");
+        let panel_right = crate::theme::SIDE_PANEL_WIDTH;
+        for title in PanelTab::ALL
+            .map(PanelTab::title)
+            .into_iter()
+            .chain(["cull\nms"])
+        {
+            if let Some(node) = harness.query_by_label(title) {
+                assert!(
+                    node.rect().right() <= panel_right,
+                    "{title:?} ends at {} px, right of the panel",
+                    node.rect().right()
+                );
+            } else {
+                assert!(
+                    title == "cull\nms" && tab != PanelTab::Compare,
+                    "no {title:?}"
+                );
+            }
+        }
+        assert!(
+            bottom + plot <= 720.0,
+            "the {tab:?} tab ends at {} px, below the window",
+            bottom + plot
+        );
+    }
+    snapshots.unwrap();
+}
+
+#[test]
+fn the_help_overlay_lists_every_shortcut_and_matches_its_snapshot() {
+    let mut harness = window_on(PanelTab::Scene, |_| {});
+    assert!(harness.query_by_label("Keyboard shortcuts (F1)").is_none());
+    harness.key_press(egui::Key::F1);
+    harness.run();
+    assert!(harness.state().panel.help_open());
+    for (keys, what) in crate::shortcuts::help() {
+        assert!(harness.query_by_label(&keys).is_some(), "{keys} not listed");
+        assert!(harness.query_by_label(what).is_some(), "{what} not listed");
+    }
+    harness.snapshot("help_overlay");
+    harness.key_press(egui::Key::F1);
+    harness.run();
+    assert!(!harness.state().panel.help_open());
+}
+
+#[test]
+fn keys_switch_methods_overlays_and_tabs() {
+    let mut harness = window_on(PanelTab::Scene, |lab| {
+        lab.settings = FrameSettings::default();
+    });
+    let first = Method::ALL[0];
+    assert_eq!(harness.state().settings.method, first);
+    harness.key_press(egui::Key::M);
+    harness.run();
+    assert_eq!(harness.state().settings.method, Method::ALL[1]);
+    harness.key_press_modifiers(egui::Modifiers::SHIFT, egui::Key::M);
+    harness.key_press_modifiers(egui::Modifiers::SHIFT, egui::Key::M);
+    harness.run();
+    assert_eq!(
+        harness.state().settings.method,
+        Method::ALL[Method::ALL.len() - 1],
+        "back past the first method to the last"
+    );
+    for key in [egui::Key::L, egui::Key::C, egui::Key::H, egui::Key::K] {
+        harness.key_press(key);
+    }
+    harness.run();
+    let settings = harness.state().settings;
+    assert!(settings.overlays.light_view && settings.overlays.casters);
+    assert!(
+        settings.overlays.error && settings.measure,
+        "H measures too"
+    );
+    assert!(settings.compare_all);
+    harness.key_press(egui::Key::F4);
+    harness.run();
+    assert_eq!(harness.state().panel.shown_tabs(), [PanelTab::Compare]);
+    harness.key_press(egui::Key::F12);
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::O);
+    harness.run();
+    assert_eq!(
+        harness.state().actions,
+        [UiAction::Screenshot, UiAction::OpenFile]
+    );
+    // The legend names what the overlays now show, in the view.
+    assert!(harness.query_by_label("Casters tint").is_some());
+    assert!(harness.query_by_label("shadow missing").is_some());
+}
+
+#[test]
+fn keys_typed_into_a_text_field_are_not_shortcuts() {
+    let mut harness = window_on(PanelTab::Scene, |lab| {
+        lab.settings = FrameSettings::default();
+    });
+    harness
+        .get_by_role_and_label(Role::TextInput, "Folder")
+        .focus();
+    harness.run();
+    harness.key_press(egui::Key::M);
+    harness.key_press(egui::Key::L);
+    harness.run();
+    assert_eq!(harness.state().settings, FrameSettings::default());
 }
 
 #[test]
@@ -536,7 +765,7 @@ fn compare_all_switches_on_and_lists_every_row() {
         stale: false,
     })
     .collect();
-    let mut harness = harness(lab);
+    let mut harness = harness_on(lab, PanelTab::Compare);
     // Off: the table is hidden even with rows.
     assert!(harness.query_by_label("dr-progressive").is_none());
     harness.get_by_label("Compare all methods").click();

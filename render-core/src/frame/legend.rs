@@ -1,0 +1,166 @@
+//! The legend of the overlays a frame shows, for the view and for screenshots: each overlay's
+//! colours from `crate::palette` and what they mean.
+
+use crate::culling::Method;
+use crate::culling::codes::method_bits;
+use crate::palette::{
+    CULLED_LIGHT_FRUSTUM, CULLED_LIGHT_OCCLUSION, CULLED_MASK, EXCLUDED, EXTRA_SHADOW, MAP_EMPTY,
+    MAP_FAR, MAP_NEAR, MASK_BOX, MASK_FRAGMENT, MASK_GEOMETRY, MISSING_SHADOW, RENDERED, Swatch,
+};
+
+use super::FrameSettings;
+
+/// One line of a legend: a colour (striped when the picture shows it as stripes) and what it
+/// means.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LegendEntry {
+    pub rgb: [f32; 3],
+    pub striped: bool,
+    pub label: &'static str,
+}
+
+/// The legend of one overlay.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LegendGroup {
+    pub title: &'static str,
+    pub entries: Vec<LegendEntry>,
+}
+
+fn entry(swatch: Swatch, label: &'static str) -> LegendEntry {
+    LegendEntry {
+        rgb: swatch.rgb,
+        striped: false,
+        label,
+    }
+}
+
+/// What caster outcome colours mean, for the tint and (striped) for the inset.
+fn outcomes(striped: bool) -> Vec<LegendEntry> {
+    [
+        (RENDERED, "rendered into the map"),
+        (CULLED_LIGHT_FRUSTUM, "culled: light frustum"),
+        (CULLED_LIGHT_OCCLUSION, "culled: light occlusion"),
+        (
+            CULLED_MASK,
+            "culled: receiver mask, footprint, changed region or volume",
+        ),
+        (EXCLUDED, "excluded by hand"),
+    ]
+    .into_iter()
+    .filter(|(s, _)| !striped || *s != RENDERED)
+    .map(|(swatch, label)| LegendEntry {
+        striped,
+        ..entry(swatch, label)
+    })
+    .collect()
+}
+
+/// The legend of every overlay `settings` turn on, in the order the picture draws them; empty
+/// when no overlay is on. The light view lists the mask the method draws.
+pub fn legend(settings: &FrameSettings) -> Vec<LegendGroup> {
+    let overlays = settings.overlays;
+    let mut groups = Vec::new();
+    if overlays.casters {
+        groups.push(LegendGroup {
+            title: "Casters tint",
+            entries: outcomes(false),
+        });
+    }
+    if overlays.error && settings.measure {
+        groups.push(LegendGroup {
+            title: "Error against the reference",
+            entries: vec![
+                entry(MISSING_SHADOW, "shadow missing"),
+                entry(EXTRA_SHADOW, "shadow where there is none"),
+            ],
+        });
+    }
+    if overlays.light_view {
+        let bits = settings.method.gpu_bits().unwrap_or(0);
+        let mut entries = vec![
+            entry(MAP_NEAR, "map: near the light"),
+            entry(MAP_FAR, "map: far from the light"),
+            entry(MAP_EMPTY, "map: no caster"),
+        ];
+        if bits & method_bits::RASTER_MASK != 0 {
+            entries.push(entry(MASK_GEOMETRY, "mask: receiver geometry"));
+            entries.push(entry(MASK_BOX, "mask: receiver box"));
+        }
+        if bits & method_bits::FRAG != 0 {
+            entries.push(entry(MASK_FRAGMENT, "mask: visible receiver depths"));
+        }
+        if settings.measure || settings.method == Method::Oracle {
+            if overlays.casters {
+                entries.push(LegendEntry {
+                    striped: true,
+                    ..entry(CULLED_MASK, "stripes: culled casters, coloured as the tint")
+                });
+            } else {
+                entries.extend(outcomes(true));
+            }
+        }
+        groups.push(LegendGroup {
+            title: "Light view (top left)",
+            entries,
+        });
+    }
+    groups
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::frame::Overlays;
+
+    #[test]
+    fn the_legend_follows_the_overlays_and_the_method() {
+        let mut settings = FrameSettings::default();
+        assert!(legend(&settings).is_empty());
+
+        settings.overlays = Overlays {
+            light_view: true,
+            error: true,
+            casters: true,
+        };
+        settings.method = Method::Frag;
+        let titles: Vec<_> = legend(&settings).iter().map(|g| g.title).collect();
+        // The error map needs measuring.
+        assert_eq!(titles, ["Casters tint", "Light view (top left)"]);
+        let light = legend(&settings).pop().expect("light view");
+        let labels: Vec<_> = light.entries.iter().map(|e| e.label).collect();
+        assert!(labels.contains(&"mask: visible receiver depths"));
+        assert!(
+            !labels.contains(&"mask: receiver box"),
+            "FRAG draws no boxes"
+        );
+        assert!(
+            light.entries.iter().all(|e| !e.striped),
+            "no ids, no stripes"
+        );
+
+        settings.measure = true;
+        settings.method = Method::Bvol;
+        let groups = legend(&settings);
+        assert_eq!(groups[1].entries[0].label, "shadow missing");
+        assert!(
+            groups[1].entries[0].rgb == MISSING_SHADOW.rgb,
+            "the heat map's colour"
+        );
+        let light = &groups[2];
+        assert!(
+            light
+                .entries
+                .iter()
+                .any(|e| e.label == "mask: receiver box")
+        );
+        let stripes = light.entries.iter().filter(|e| e.striped).count();
+        assert_eq!(
+            stripes, 1,
+            "the tint's legend explains the stripes' colours"
+        );
+        settings.overlays.casters = false;
+        let light = legend(&settings).pop().expect("light view");
+        let stripes = light.entries.iter().filter(|e| e.striped).count();
+        assert_eq!(stripes, 4, "every culled outcome, not rendered");
+    }
+}

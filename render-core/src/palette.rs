@@ -1,0 +1,86 @@
+//! The overlays' colours, in one place: the shaders read them as the constants of the virtual
+//! file `palette.wgsl` ([`wgsl`]), and the legends of the view and of screenshots
+//! (`frame::legend`) name them, so a legend always shows the colour the picture uses.
+
+/// A named overlay colour: `PALETTE_<name>` in WGSL, linear RGB in 0..1.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Swatch {
+    pub name: &'static str,
+    pub rgb: [f32; 3],
+}
+
+const fn swatch(name: &'static str, rgb: [f32; 3]) -> Swatch {
+    Swatch { name, rgb }
+}
+
+/// Casters tint and inset stripes: what happened to a caster in the shadow pass.
+pub const RENDERED: Swatch = swatch("RENDERED", [0.15, 0.85, 0.25]);
+pub const EXCLUDED: Swatch = swatch("EXCLUDED", [0.6, 0.2, 0.9]);
+pub const CULLED_LIGHT_FRUSTUM: Swatch = swatch("CULLED_LIGHT_FRUSTUM", [1.0, 0.55, 0.05]);
+pub const CULLED_LIGHT_OCCLUSION: Swatch = swatch("CULLED_LIGHT_OCCLUSION", [0.95, 0.85, 0.1]);
+/// Culled by the receiver mask, the changed region, the footprint test or the shadow volume.
+pub const CULLED_MASK: Swatch = swatch("CULLED_MASK", [0.95, 0.1, 0.75]);
+/// Error heat map: the method leaves light where the reference has shadow, and the opposite.
+pub const MISSING_SHADOW: Swatch = swatch("MISSING_SHADOW", [1.0, 0.05, 0.05]);
+pub const EXTRA_SHADOW: Swatch = swatch("EXTRA_SHADOW", [0.1, 0.35, 1.0]);
+/// The light's view: texels no caster covers, and the masks over the map.
+pub const MAP_EMPTY: Swatch = swatch("MAP_EMPTY", [0.02, 0.02, 0.08]);
+pub const MAP_NEAR: Swatch = swatch("MAP_NEAR", [1.0, 1.0, 1.0]);
+pub const MAP_FAR: Swatch = swatch("MAP_FAR", [0.05, 0.05, 0.05]);
+pub const MASK_GEOMETRY: Swatch = swatch("MASK_GEOMETRY", [0.1, 0.9, 0.2]);
+pub const MASK_BOX: Swatch = swatch("MASK_BOX", [0.15, 0.35, 1.0]);
+pub const MASK_FRAGMENT: Swatch = swatch("MASK_FRAGMENT", [1.0, 0.12, 0.1]);
+
+const ALL: [Swatch; 13] = [
+    RENDERED,
+    EXCLUDED,
+    CULLED_LIGHT_FRUSTUM,
+    CULLED_LIGHT_OCCLUSION,
+    CULLED_MASK,
+    MISSING_SHADOW,
+    EXTRA_SHADOW,
+    MAP_EMPTY,
+    MAP_NEAR,
+    MAP_FAR,
+    MASK_GEOMETRY,
+    MASK_BOX,
+    MASK_FRAGMENT,
+];
+
+pub(crate) const WGSL_PATH: &str = "palette.wgsl";
+
+/// The swatches as WGSL constants, for [`WGSL_PATH`].
+pub(crate) fn wgsl() -> String {
+    use std::fmt::Write as _;
+    let mut out = String::from(
+        "// Written by palette.rs from the Rust definitions: do not edit, do not copy.\n",
+    );
+    for Swatch {
+        name,
+        rgb: [r, g, b],
+    } in ALL
+    {
+        let _ = writeln!(
+            out,
+            "const PALETTE_{name} = vec3<f32>({r:?}, {g:?}, {b:?});"
+        );
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_swatch_is_written_once_for_the_shaders() {
+        let source = wgsl();
+        for Swatch { name, .. } in ALL {
+            assert_eq!(
+                source.matches(&format!("const PALETTE_{name} ")).count(),
+                1,
+                "{name}"
+            );
+        }
+    }
+}
