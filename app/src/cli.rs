@@ -357,6 +357,10 @@ pub struct ShotArgs {
     /// happened to it in the shadow pass, and whether it is in the oracle set.
     #[arg(long)]
     pub detail: bool,
+    /// Leave the overlays' legend out of the picture (drawn over its bottom-left corner
+    /// whenever an overlay is on, as in the window).
+    #[arg(long)]
+    pub no_legend: bool,
 }
 
 /// `shadowlab bench`.

@@ -133,7 +133,12 @@ pub fn shot(args: &ShotArgs) -> anyhow::Result<()> {
             .targets()
             .context("no targets after a frame")?,
     )?;
-    write_png(&capture.color, &args.out)?;
+    let picture = if args.no_legend {
+        capture.color
+    } else {
+        crate::legend_image::with_legend(ctx, &capture.color, &settings)?
+    };
+    write_png(&picture, &args.out)?;
     let stats_path = args
         .stats
         .clone()

@@ -3,6 +3,7 @@
 mod bench;
 mod cli;
 mod headless;
+mod legend_image;
 mod scene_source;
 mod window;
 

@@ -1,31 +1,12 @@
 //! The `shadowlab` binary as a user runs it: headless `shot` of the city, `bench`, `scenes`,
 //! bad input with clear messages, and the real window under a display (Xvfb in CI).
 
+mod common;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 use std::time::{Duration, Instant};
 
-fn shadowlab() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_shadowlab"))
-}
-
-fn out_dir(test: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(test);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
-}
-
-fn run(cmd: &mut Command) -> Output {
-    cmd.output().expect("shadowlab runs")
-}
-
-fn text(output: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&output.stdout),
-        String::from_utf8_lossy(&output.stderr)
-    )
-}
+use common::{out_dir, run, shadowlab, text};
 
 #[test]
 fn shot_of_the_city_writes_a_picture_and_stats() {

@@ -42,23 +42,41 @@ fn swatch(ui: &mut egui::Ui, entry: &LegendEntry) {
     );
 }
 
-/// The groups as lines of swatches and labels, into `ui`.
-pub fn ui(ui: &mut egui::Ui, groups: &[LegendGroup]) {
+/// One group: its title, then a line per colour.
+fn group_ui(ui: &mut egui::Ui, group: &LegendGroup) {
     // Rows as high as their text, not as a button.
     ui.spacing_mut().interact_size.y = SWATCH + 3.0;
+    ui.label(egui::RichText::new(group.title).strong().small());
+    for entry in &group.entries {
+        ui.horizontal(|ui| {
+            ui.spacing_mut().item_spacing.x = 5.0;
+            swatch(ui, entry);
+            ui.label(egui::RichText::new(entry.label).small());
+        });
+    }
+}
+
+/// The groups one below the other, into `ui` (the panel's light view).
+pub fn ui(ui: &mut egui::Ui, groups: &[LegendGroup]) {
     for (i, group) in groups.iter().enumerate() {
         if i > 0 {
             ui.add_space(theme::SECTION_GAP);
         }
-        ui.label(egui::RichText::new(group.title).strong().small());
-        for entry in &group.entries {
-            ui.horizontal(|ui| {
-                ui.spacing_mut().item_spacing.x = 5.0;
-                swatch(ui, entry);
-                ui.label(egui::RichText::new(entry.label).small());
-            });
-        }
+        group_ui(ui, group);
     }
+}
+
+/// The groups side by side, so the legend stays low over the view, wrapping to a new row where
+/// the view is narrow.
+fn columns_ui(ui: &mut egui::Ui, groups: &[LegendGroup]) {
+    ui.horizontal_wrapped(|ui| {
+        for (i, group) in groups.iter().enumerate() {
+            if i > 0 {
+                ui.add_space(theme::LEGEND_MARGIN);
+            }
+            ui.vertical(|ui| group_ui(ui, group));
+        }
+    });
 }
 
 /// The legend over the bottom-left corner of `view` (the 3D view's rectangle), on a dark
@@ -70,6 +88,7 @@ pub fn show(ctx: &egui::Context, view: egui::Rect, groups: &[LegendGroup]) {
     egui::Area::new(egui::Id::unique("shadowlab_legend"))
         .order(egui::Order::Foreground)
         .interactable(false)
+        .fade_in(false)
         .pivot(egui::Align2::LEFT_BOTTOM)
         .fixed_pos(view.left_bottom() + egui::vec2(theme::LEGEND_MARGIN, -theme::LEGEND_MARGIN))
         .constrain_to(view)
@@ -79,9 +98,10 @@ pub fn show(ctx: &egui::Context, view: egui::Rect, groups: &[LegendGroup]) {
                 .corner_radius(4.0)
                 .inner_margin(6.0)
                 .show(ui, |ui| {
+                    ui.set_max_width(view.width() - 4.0 * theme::LEGEND_MARGIN);
                     ui.style_mut().visuals.override_text_color = Some(theme::LEGEND_TEXT);
                     ui.spacing_mut().item_spacing.y = 2.0;
-                    self::ui(ui, groups);
+                    columns_ui(ui, groups);
                 });
         });
 }

@@ -1,5 +1,5 @@
-//! Screenshots from the window: the 3D view or the whole window as PNG, with the frame's stats
-//! as JSON beside it.
+//! Screenshots from the window: the 3D view (with the overlays' legend) or the whole window as
+//! PNG, with the frame's stats as JSON beside it.
 
 use std::path::Path;
 
@@ -9,6 +9,7 @@ use render_core::gpu::read_texture;
 use super::Running;
 use super::surface::read_capture;
 use crate::headless::{stats_json, write_png};
+use crate::legend_image::with_legend;
 
 impl Running {
     /// Writes the 3D view (or, with "include panel", the whole window) as PNG plus stats JSON.
@@ -28,9 +29,11 @@ impl Running {
                 .renderer
                 .targets()
                 .context("no frame has been rendered yet")?;
-            read_texture(&self.ctx, &targets.color, wgpu::TextureAspect::All)?
+            let view = read_texture(&self.ctx, &targets.color, wgpu::TextureAspect::All)?
                 .into_rgba_image()
-                .context("colour target is not RGBA8")?
+                .context("colour target is not RGBA8")?;
+            // The window's capture has the legend egui drew; the view alone gets it here.
+            with_legend(&self.ctx, &view, &self.settings)?
         };
         let stamp = std::time::SystemTime::now()
             .duration_since(std::time::UNIX_EPOCH)

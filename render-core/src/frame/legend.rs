@@ -40,11 +40,8 @@ fn outcomes(striped: bool) -> Vec<LegendEntry> {
         (RENDERED, "rendered into the map"),
         (CULLED_LIGHT_FRUSTUM, "culled: light frustum"),
         (CULLED_LIGHT_OCCLUSION, "culled: light occlusion"),
-        (
-            CULLED_MASK,
-            "culled: receiver mask, footprint, changed region or volume",
-        ),
-        (EXCLUDED, "excluded by hand"),
+        (CULLED_MASK, "culled: receiver mask, footprint or volume"),
+        (EXCLUDED, "excluded on request"),
     ]
     .into_iter()
     .filter(|(s, _)| !striped || *s != RENDERED)
