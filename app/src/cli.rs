@@ -53,13 +53,18 @@ pub struct OpenArgs {
     /// "include panel" does) into this folder: a PNG and its stats JSON.
     #[arg(long, value_name = "DIR", requires = "exit_after_frames")]
     pub screenshot_dir: Option<PathBuf>,
+    /// Start from the defaults instead of the remembered scene, camera and settings (which
+    /// are still saved when the window closes).
+    #[arg(long)]
+    pub fresh: bool,
 }
 
 #[derive(Args, Debug, Clone)]
 pub struct SceneArgs {
     /// builtin:NAME or a path to a .gltf / .glb file (`shadowlab scenes` lists the built-ins).
-    #[arg(value_name = "SCENE", default_value = "builtin:city")]
-    pub scene: String,
+    /// Default: builtin:city; the window reopens the last scene it showed.
+    #[arg(value_name = "SCENE")]
+    pub scene: Option<String>,
     /// Seed of built-in scenes.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
@@ -71,7 +76,15 @@ pub struct SceneArgs {
     pub units: Units,
 }
 
+/// The scene when none is named.
+pub const DEFAULT_SCENE: &str = "builtin:city";
+
 impl SceneArgs {
+    /// The scene named on the command line, or [`DEFAULT_SCENE`].
+    pub fn spec(&self) -> &str {
+        self.scene.as_deref().unwrap_or(DEFAULT_SCENE)
+    }
+
     pub fn load_options(&self) -> LoadOptions {
         LoadOptions {
             seed: self.seed,
@@ -146,10 +159,15 @@ pub const DEFAULT_FOV_DEG: f32 = 60.0;
 impl ViewArgs {
     /// The frame settings these arguments ask for, starting from the scene's sun.
     pub fn settings(&self, scene: &Scene) -> anyhow::Result<FrameSettings> {
-        let mut settings = FrameSettings {
+        self.settings_over(FrameSettings {
             sun: scene.sun,
             ..FrameSettings::default()
-        };
+        })
+    }
+
+    /// `base` with what these arguments set changed.
+    pub fn settings_over(&self, base: FrameSettings) -> anyhow::Result<FrameSettings> {
+        let mut settings = base;
         if let Some(sun) = self.sun {
             if sun.length_squared() == 0.0 || !sun.is_finite() {
                 bail!("--sun must be a non-zero direction x,y,z, got {sun}");
@@ -335,7 +353,7 @@ mod tests {
         );
         let open =
             Cli::try_parse_from(["shadowlab", "scene.glb"]).expect("a scene path opens the window");
-        assert_eq!(open.open.scene.scene, "scene.glb");
+        assert_eq!(open.open.scene.spec(), "scene.glb");
         assert!(parse_methods("none,bogus").is_err());
     }
 }

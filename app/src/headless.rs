@@ -40,7 +40,7 @@ impl Session {
         let Loaded {
             mut scene,
             notes: scene_notes,
-        } = load_scene(&scene_args.scene, &scene_args.load_options())?;
+        } = load_scene(scene_args.spec(), &scene_args.load_options())?;
         for note in &scene_notes {
             eprintln!("note: {note}");
         }

@@ -65,6 +65,9 @@ pub enum UiAction {
     ReloadScene,
     /// Load the current scene again, its coordinates read in this unit.
     SetUnits(render_core::scene::Units),
+    /// Method, shadow parameters, overlays, sun, camera and screenshot options back to their
+    /// defaults.
+    ResetSettings,
 }
 
 /// Read-only facts the panel shows this frame.
@@ -89,4 +92,6 @@ pub struct PanelInput<'a> {
     pub selection: Option<&'a Selection>,
     /// Every method's row for the current view, while "compare all" is on.
     pub compare: Option<&'a [render_core::frame::compare::CompareRow]>,
+    /// The file the window remembers its scene, camera and settings in.
+    pub settings_file: Option<&'a str>,
 }

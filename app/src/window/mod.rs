@@ -2,11 +2,13 @@
 //! frame the headless CLI renders, shown in egui's central panel as a texture.
 //!
 //! This file opens the window and runs the frame loop; `input` handles the mouse and keyboard
-//! (picking included), `view` runs the egui pass and draws the 3D view, `screenshot` saves one.
+//! (picking included), `view` runs the egui pass and draws the 3D view, `screenshot` saves one,
+//! `remembered` keeps the scene, camera and settings between runs.
 
 mod camera_control;
 mod input;
 mod loading;
+mod remembered;
 mod screenshot;
 mod surface;
 mod view;
@@ -27,7 +29,7 @@ use winit::event::WindowEvent;
 use winit::event_loop::{ActiveEventLoop, EventLoop};
 use winit::window::{Window, WindowId};
 
-use crate::cli::{DEFAULT_FOV_DEG, OpenArgs};
+use crate::cli::{DEFAULT_FOV_DEG, DEFAULT_SCENE, OpenArgs};
 use crate::scene_source::{LoadOptions, Loaded, load_scene};
 use camera_control::{CameraController, MoveKeys};
 use loading::Loading;
@@ -80,6 +82,12 @@ impl ApplicationHandler for App<'_> {
         running.on_window_event(event_loop, &event);
     }
 
+    fn exiting(&mut self, _event_loop: &ActiveEventLoop) {
+        if let Some(running) = &self.running {
+            running.remember();
+        }
+    }
+
     fn about_to_wait(&mut self, _event_loop: &ActiveEventLoop) {
         if let Some(running) = &self.running {
             running.window.request_redraw();
@@ -116,6 +124,9 @@ struct Running {
     compare: Option<CompareAll>,
     last_frame_ms: f64,
     message: Option<String>,
+    /// Where the scene, camera and settings are remembered (none when the system names no
+    /// config folder).
+    settings_file: Option<PathBuf>,
     last_screenshot: Option<String>,
     file_dialog: Option<mpsc::Receiver<Option<PathBuf>>>,
     /// A scene loading on a worker thread.
@@ -138,8 +149,24 @@ struct Running {
 
 impl Running {
     fn new(event_loop: &ActiveEventLoop, args: &OpenArgs) -> anyhow::Result<Self> {
-        let load_options = args.scene.load_options();
-        let Loaded { scene, notes } = load_scene(&args.scene.scene, &load_options)?;
+        let settings_file = remembered::settings_path();
+        let mut restored = remembered::restore(args, settings_file.as_deref());
+        let mut messages: Vec<String> = restored.problem.take().into_iter().collect();
+        let (Loaded { scene, notes }, load_options) =
+            match load_scene(&restored.spec, &restored.options) {
+                Ok(loaded) => (loaded, restored.options),
+                // The last scene is gone or broken: the default opens, and the panel says why.
+                Err(e) if restored.spec_remembered => {
+                    messages.push(format!("Could not reopen the last scene: {e:#}"));
+                    DEFAULT_SCENE.clone_into(&mut restored.spec);
+                    restored.camera = None;
+                    restored.sun = None;
+                    let options = args.scene.load_options();
+                    (load_scene(DEFAULT_SCENE, &options)?, options)
+                }
+                Err(e) => return Err(e),
+            };
+        messages.extend(notes.iter().map(|n| format!("Note: {n}")));
         let attributes = Window::default_attributes()
             .with_title(format!("shadowlab: {}", scene.name))
             .with_inner_size(winit::dpi::LogicalSize::new(1400.0, 860.0));
@@ -180,17 +207,21 @@ impl Running {
             wgpu::FilterMode::Linear,
         );
         let scene_gpu = SceneGpu::new(&ctx, &scene);
-        let mut settings = args.view.settings(&scene)?;
-        settings.sun = scene.sun;
+        let mut settings = args.view.settings_over(FrameSettings {
+            sun: restored.sun.unwrap_or(scene.sun),
+            ..restored.frame
+        })?;
         settings.compare_all = args.compare;
-        if let Some(sun) = args.view.sun {
-            settings.sun = render_core::scene::Sun::from_direction(sun);
-        }
         let aspect = size.width.max(1) as f32 / size.height.max(1) as f32;
         let mut controller =
             CameraController::framing(&scene.bounds(), aspect, DEFAULT_FOV_DEG.to_radians());
         if args.view.eye.is_some() || args.view.target.is_some() {
             controller.camera = args.view.camera(&scene, aspect)?;
+        } else if let Some((camera, fly_speed)) = restored.camera {
+            controller.camera = camera;
+            if let Some(speed) = fly_speed.filter(|s| s.is_finite() && *s > 0.0) {
+                controller.fly_speed_m_per_s = speed;
+            }
         }
         let now = Instant::now();
         Ok(Self {
@@ -203,7 +234,7 @@ impl Running {
             facts: SceneFacts::from(&scene),
             scene_gpu,
             scene,
-            scene_spec: args.scene.scene.clone(),
+            scene_spec: restored.spec,
             load_options,
             settings,
             controller,
@@ -211,12 +242,16 @@ impl Running {
             alt_held: false,
             cursor_px: None,
             side_panel: ui::SidePanel::new(),
-            screenshot_settings: match &args.screenshot_dir {
-                Some(dir) => ui::ScreenshotSettings {
+            screenshot_settings: match (&args.screenshot_dir, restored.screenshot) {
+                (Some(dir), _) => ui::ScreenshotSettings {
                     folder: dir.display().to_string(),
                     include_panel: true,
                 },
-                None => ui::ScreenshotSettings::default(),
+                (None, Some((folder, include_panel))) => ui::ScreenshotSettings {
+                    folder,
+                    include_panel,
+                },
+                (None, None) => ui::ScreenshotSettings::default(),
             },
             view_texture: None,
             light_view_texture,
@@ -224,7 +259,8 @@ impl Running {
             last_report: None,
             compare: None,
             last_frame_ms: 0.0,
-            message: (!notes.is_empty()).then(|| format!("Note: {}", notes.join("; "))),
+            message: (!messages.is_empty()).then(|| messages.join(". ")),
+            settings_file,
             last_screenshot: None,
             file_dialog: None,
             loading: None,

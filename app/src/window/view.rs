@@ -17,6 +17,7 @@ impl Running {
         let mut view_rect = self.view_rect;
         let adapter = self.ctx.adapter_description();
         let selection = self.selection();
+        let settings_file = self.settings_file.as_ref().map(|p| p.display().to_string());
         let input = ui::PanelInput {
             scene: &self.facts,
             units: self.load_options.units,
@@ -29,6 +30,7 @@ impl Running {
             fps: self.fps,
             selection: selection.as_ref(),
             compare: self.compare.as_ref().map(CompareAll::rows),
+            settings_file: settings_file.as_deref(),
         };
         let view_texture = self.view_texture;
         let full_output = self.egui_ctx.run_ui(raw_input, |ui| {
@@ -64,6 +66,7 @@ impl Running {
                     self.open_scene(&spec);
                 }
                 ui::UiAction::SetUnits(units) => self.set_units(units),
+                ui::UiAction::ResetSettings => self.reset_settings(),
             }
         }
         EguiFrame {

@@ -3,8 +3,19 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+/// The binary, with a config folder of its own (the window remembers its settings there, not
+/// in the user's): a fresh folder per command, so no run reads another's settings.
 pub fn shadowlab() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_shadowlab"))
+    use std::sync::atomic::{AtomicU32, Ordering};
+    static RUNS: AtomicU32 = AtomicU32::new(0);
+    let config = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!(
+        "config-{}-{}",
+        std::process::id(),
+        RUNS.fetch_add(1, Ordering::Relaxed)
+    ));
+    let mut command = Command::new(env!("CARGO_BIN_EXE_shadowlab"));
+    command.env("SHADOWLAB_CONFIG_DIR", config);
+    command
 }
 
 pub fn out_dir(test: &str) -> PathBuf {

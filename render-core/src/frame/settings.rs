@@ -9,6 +9,7 @@ use crate::shadow_view::ShadowSettings;
 
 /// Overlays drawn on top of the shaded view.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default)]
 pub struct Overlays {
     /// The light's view (shadow-map depth) in the top-left corner.
     pub light_view: bool,
@@ -44,6 +45,7 @@ impl Overlays {
 
 /// Everything the user sets that shapes a frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
 pub struct FrameSettings {
     pub shadow: ShadowSettings,
     #[serde(skip)]

@@ -36,7 +36,7 @@ pub fn camera_basis(forward: DVec3, world_up: DVec3) -> (DVec3, DVec3) {
 
 /// A pinhole camera. Depth is reversed (near maps to 1, far to 0) for precision over 0.01 m to
 /// 10 km; the camera pass clears depth to 0 and keeps the greater value.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Camera {
     pub eye: Vec3,
     /// Unit view direction.

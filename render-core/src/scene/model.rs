@@ -123,7 +123,7 @@ impl Instance {
 }
 
 /// The sun: a directional light. `direction_to_sun` points from the scene towards the sun.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Sun {
     pub direction_to_sun: Vec3,
 }

@@ -10,7 +10,9 @@ use glam::{Mat4, Vec3};
 use super::Scene;
 
 /// A file's length unit.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
+)]
 pub enum Units {
     #[default]
     Metres,

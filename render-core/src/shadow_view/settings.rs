@@ -61,6 +61,7 @@ impl FromStr for PcfKernel {
 
 /// Shadow-map parameters.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
 pub struct ShadowSettings {
     pub shadows_enabled: bool,
     /// Shadow map width and height in texels (512 to 8192).

@@ -230,7 +230,11 @@ impl Panes<'_, '_> {
                 heading(ui, "Screenshot");
                 screenshot::ui(ui, self.screenshot, input.last_screenshot, self.actions);
             }
-            PanelTab::Shadows => shadows::ui(ui, self.settings),
+            PanelTab::Shadows => {
+                shadows::ui(ui, self.settings);
+                heading(ui, "Remembered");
+                shadows::remembered_ui(ui, input.settings_file, self.actions);
+            }
             PanelTab::Compare => compare::ui(
                 ui,
                 &mut self.settings.compare_all,

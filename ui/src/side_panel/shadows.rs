@@ -1,8 +1,10 @@
-//! Shadow-map settings: on/off, method, resolution, biases, PCF and overlays.
+//! Shadow-map settings: on/off, method, resolution, biases, PCF and overlays; where settings
+//! are remembered and their reset.
 
 use render_core::frame::{FrameSettings, Method, PcfKernel};
 
 use super::grid;
+use crate::{UiAction, theme};
 
 const MEASURE_HELP: &str = "Also render the reference shadow map of every caster, then count the visible pixels \
      whose shadow differs from it and the casters a correct map needs (the oracle). Costs a \
@@ -94,4 +96,36 @@ pub fn ui(ui: &mut egui::Ui, settings: &mut FrameSettings) {
         ui.checkbox(&mut settings.overlays.error, "Error heat map")
             .on_hover_text(ERROR_OVERLAY_HELP);
     });
+}
+
+/// Where the settings are remembered, and the button that resets them.
+pub fn remembered_ui(ui: &mut egui::Ui, settings_file: Option<&str>, actions: &mut Vec<UiAction>) {
+    match settings_file {
+        Some(path) => {
+            ui.label(
+                egui::RichText::new(format!(
+                    "Scene, camera and settings are saved to {path} when the window closes"
+                ))
+                .small()
+                .color(theme::MUTED),
+            );
+        }
+        None => {
+            ui.label(
+                egui::RichText::new("This system names no config folder: nothing is remembered")
+                    .small()
+                    .color(theme::WARNING),
+            );
+        }
+    }
+    if ui
+        .button("Reset settings")
+        .on_hover_text(
+            "Method, shadow parameters, overlays, sun, camera and screenshot options back to \
+             their defaults; the scene stays open",
+        )
+        .clicked()
+    {
+        actions.push(UiAction::ResetSettings);
+    }
 }

@@ -148,6 +148,7 @@ impl Lab {
             fps: Some(59.9),
             selection: self.selection.as_ref(),
             compare: Some(&self.compare),
+            settings_file: Some("/home/user/.config/shadowlab/settings.json"),
         };
         let actions = if self.in_own_panel {
             let actions = self
@@ -299,6 +300,21 @@ fn buttons_return_actions() {
             "after clicking {button:?}"
         );
     }
+}
+
+#[test]
+fn the_shadows_tab_names_the_settings_file_and_resets_settings() {
+    let mut harness = harness_on(Lab::new(), PanelTab::Shadows);
+    assert!(
+        harness
+            .query_by_label_contains("/home/user/.config/shadowlab/settings.json")
+            .is_some()
+    );
+    harness
+        .get_by_role_and_label(Role::Button, "Reset settings")
+        .click();
+    harness.run();
+    assert_eq!(harness.state().actions, [UiAction::ResetSettings]);
 }
 
 #[test]
