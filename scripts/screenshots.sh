@@ -16,7 +16,10 @@ run shot builtin:city --size 1280x720 --shadow-res 2048 \
 if command -v xvfb-run >/dev/null 2>&1 || [ -n "${DISPLAY:-}" ]; then
     wrap=(); [ -z "${DISPLAY:-}" ] && wrap=(xvfb-run -a -s "-screen 0 1600x1000x24")
     shots=$(mktemp -d)
-    "${wrap[@]}" cargo run --release --quiet -- builtin:city --eye=-250,90,160 --target=-90,0,40 \
+    # A config folder of its own: the picture starts from the defaults and the user's
+    # remembered settings stay untouched.
+    SHADOWLAB_CONFIG_DIR="$shots/config" "${wrap[@]}" cargo run --release --quiet -- \
+        builtin:city --eye=-250,90,160 --target=-90,0,40 --overlay light-view \
         --exit-after-frames 8 --screenshot-dir "$shots"
     mv "$shots"/*.png screenshots/window.png
     rm -rf "$shots"

@@ -53,6 +53,10 @@ pub struct OpenArgs {
     /// "include panel" does) into this folder: a PNG and its stats JSON.
     #[arg(long, value_name = "DIR", requires = "exit_after_frames")]
     pub screenshot_dir: Option<PathBuf>,
+    /// Smoke test: after the first frame, open SCENE as "Open glTF…" does; the window closes
+    /// once it has loaded or failed (and then still shows the scene it had).
+    #[arg(long, value_name = "SCENE", requires = "exit_after_frames")]
+    pub then_open: Option<String>,
     /// Start from the defaults instead of the remembered scene, camera and settings (which
     /// are still saved when the window closes).
     #[arg(long)]

@@ -140,6 +140,8 @@ struct Running {
     exit_after_frames: Option<u64>,
     /// The smoke test's screenshot is still to be taken.
     exit_screenshot_pending: bool,
+    /// The smoke test's scene to open after the first frame.
+    then_open: Option<String>,
     started: Instant,
     /// Time of the scene's scripted motion; advances while "animate" is on.
     scene_time_s: f64,
@@ -270,6 +272,7 @@ impl Running {
             frames_presented: 0,
             exit_after_frames: args.exit_after_frames,
             exit_screenshot_pending: args.screenshot_dir.is_some(),
+            then_open: args.then_open.clone(),
             started: now,
             scene_time_s: 0.0,
             last_frame: now,
@@ -340,10 +343,10 @@ impl Running {
                 );
             }
             Err(e) => {
-                log::error!("{e:#}");
-                self.message = Some(format!(
-                    "Could not open {spec}: {e:#}. The current scene stays open."
-                ));
+                let message =
+                    format!("Could not open {spec}: {e:#}. The current scene stays open.");
+                log::error!("{message}");
+                self.message = Some(message);
             }
         }
     }
@@ -414,9 +417,12 @@ impl Running {
 
         let egui_frame = self.run_egui();
         self.draw_view();
-        let last_frame = self
-            .exit_after_frames
-            .is_some_and(|n| self.frames_presented + 1 >= n);
+        // The smoke test waits for a scene it is loading.
+        let settled = self.loading.is_none() && self.then_open.is_none();
+        let last_frame = settled
+            && self
+                .exit_after_frames
+                .is_some_and(|n| self.frames_presented + 1 >= n);
         if last_frame && self.exit_screenshot_pending {
             self.screenshot_requested = true;
         }
@@ -427,6 +433,9 @@ impl Running {
             return;
         }
         self.frames_presented += 1;
+        if let Some(spec) = self.then_open.take() {
+            self.open_scene(&spec);
+        }
         if self.screenshot_requested {
             self.screenshot_requested = false;
             self.exit_screenshot_pending = false;
@@ -437,6 +446,7 @@ impl Running {
         }
         if let Some(n) = self.exit_after_frames
             && self.frames_presented >= n
+            && settled
             && !self.exit_screenshot_pending
         {
             if let Some(png) = &self.last_screenshot {
