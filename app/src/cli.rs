@@ -5,7 +5,8 @@ use std::path::PathBuf;
 use anyhow::{Context as _, bail};
 use clap::{Args, Parser, Subcommand};
 use glam::Vec3;
-use render_core::frame::{FrameSettings, Method, PcfKernel, ShadowSettings};
+use render_core::cascades::{CascadeFit, MAX_CASCADES, SplitScheme};
+use render_core::frame::{FrameSettings, Method, PcfKernel, ShadowSettings, ShadowSetup};
 use render_core::geom::Camera;
 use render_core::scene::{ChunkSettings, Scene, Sun, Units};
 
@@ -152,6 +153,31 @@ pub struct ViewArgs {
     /// Normal offset, in shadow texels.
     #[arg(long, value_name = "TEXELS")]
     pub normal_offset: Option<f32>,
+    /// Shadow setup: single (one map) or cascades.
+    #[arg(long, value_parser = parse_setup, value_name = "SETUP")]
+    pub shadow: Option<ShadowSetup>,
+    /// Number of cascades, 1 to 8 (with --shadow cascades).
+    #[arg(long, value_name = "N")]
+    pub cascades: Option<u32>,
+    /// How the view is split into cascades: uniform, logarithmic, practical, geometric,
+    /// manual.
+    #[arg(long, value_parser = parse_split, value_name = "SCHEME")]
+    pub split: Option<SplitScheme>,
+    /// The practical split's logarithmic share, 0 to 1.
+    #[arg(long, value_name = "L")]
+    pub lambda: Option<f32>,
+    /// The geometric split: where the first cascade ends, metres.
+    #[arg(long, value_name = "M")]
+    pub split_first: Option<f32>,
+    /// The geometric split: each far distance over the one before.
+    #[arg(long, value_name = "R")]
+    pub split_ratio: Option<f32>,
+    /// The manual split's distances between cascades, metres, increasing: d1,d2,...
+    #[arg(long, value_name = "D1,D2,...")]
+    pub splits: Option<String>,
+    /// How each cascade is fitted: tight (the slice's light-space box) or sphere (stabilised).
+    #[arg(long, value_parser = parse_cascade_fit, value_name = "FIT")]
+    pub cascade_fit: Option<CascadeFit>,
     /// Pose dynamic objects (the city's cars) as they are this many seconds into their motion.
     #[arg(long, value_name = "SECONDS", allow_hyphen_values = true)]
     pub time: Option<f64>,
@@ -212,7 +238,68 @@ impl ViewArgs {
         for name in &self.overlay {
             settings.overlays.enable(name).map_err(anyhow::Error::msg)?;
         }
+        self.cascade_settings(&mut settings)?;
         Ok(settings)
+    }
+
+    /// The setup and the cascades' flags over `settings`.
+    fn cascade_settings(&self, settings: &mut FrameSettings) -> anyhow::Result<()> {
+        let cascades = &mut settings.cascades;
+        if let Some(setup) = self.shadow {
+            settings.setup = setup;
+        }
+        if let Some(count) = self.cascades {
+            if !(1..=MAX_CASCADES).contains(&count) {
+                bail!("--cascades {count} is outside 1 to {MAX_CASCADES}");
+            }
+            cascades.count = count;
+        }
+        if let Some(scheme) = self.split {
+            cascades.splits.scheme = scheme;
+        }
+        if let Some(lambda) = self.lambda {
+            if !(0.0..=1.0).contains(&lambda) {
+                bail!("--lambda {lambda} is outside 0 to 1");
+            }
+            cascades.splits.lambda = lambda;
+        }
+        if let Some(first) = self.split_first {
+            if !(first.is_finite() && first > 0.0) {
+                bail!("--split-first must be a distance above 0 metres");
+            }
+            cascades.splits.first_m = first;
+        }
+        if let Some(ratio) = self.split_ratio {
+            if !(ratio.is_finite() && ratio >= 1.0) {
+                bail!("--split-ratio must be at least 1");
+            }
+            cascades.splits.ratio = ratio;
+        }
+        if let Some(list) = &self.splits {
+            let distances = list
+                .split(',')
+                .map(|d| d.trim().parse::<f32>())
+                .collect::<Result<Vec<_>, _>>()
+                .ok()
+                .filter(|d| d.iter().all(|d| d.is_finite() && *d > 0.0))
+                .filter(|d| d.windows(2).all(|w| w[0] < w[1]))
+                .with_context(|| {
+                    format!("--splits '{list}': give increasing distances in metres, d1,d2,...")
+                })?;
+            if distances.len() > cascades.splits.manual_m.len() {
+                bail!(
+                    "--splits gives {} distances; 8 cascades need at most 7",
+                    distances.len()
+                );
+            }
+            cascades.splits.manual_m = [0.0; 7];
+            cascades.splits.manual_m[..distances.len()].copy_from_slice(&distances);
+            cascades.splits.scheme = SplitScheme::Manual;
+        }
+        if let Some(fit) = self.cascade_fit {
+            cascades.fit = fit;
+        }
+        Ok(())
     }
 
     pub fn size(&self) -> anyhow::Result<(u32, u32)> {
@@ -293,6 +380,18 @@ fn parse_method(s: &str) -> Result<Method, String> {
 }
 
 fn parse_pcf(s: &str) -> Result<PcfKernel, String> {
+    s.parse()
+}
+
+fn parse_setup(s: &str) -> Result<ShadowSetup, String> {
+    s.parse()
+}
+
+fn parse_split(s: &str) -> Result<SplitScheme, String> {
+    s.parse()
+}
+
+fn parse_cascade_fit(s: &str) -> Result<CascadeFit, String> {
     s.parse()
 }
 

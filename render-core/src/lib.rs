@@ -2,9 +2,10 @@
 //! No egui and no winit here; the UI reads the plain data types this crate reports.
 //!
 //! Modules, from the bottom up (each imports only those before it): `geom`, `scene`, `gpu`,
-//! `shaders`, `palette`, `scene_gpu`, `shadow_view`, `view`, `culling`, `technique`, `shadow_map`,
-//! `metrics`, `overlays`, `frame`.
+//! `shaders`, `palette`, `scene_gpu`, `shadow_view`, `view`, `culling`, `technique`,
+//! `shadow_map`, `cascades`, `metrics`, `overlays`, `frame`.
 
+pub mod cascades;
 pub mod culling;
 pub mod frame;
 pub mod geom;

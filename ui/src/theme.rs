@@ -22,6 +22,8 @@ pub const PASS_LINES: [Color32; 6] = [
 pub const SIDE_PANEL_WIDTH: f32 = 370.0;
 /// Largest side of the light-view inset, points.
 pub const LIGHT_VIEW_SIZE: f32 = 200.0;
+/// Height of the cascades' texel plot, points.
+pub const CASCADE_PLOT_HEIGHT: f32 = 110.0;
 /// Height of the timings plot, points.
 pub const PLOT_HEIGHT: f32 = 140.0;
 /// Gap between the columns and rows of the fact grids.

@@ -27,7 +27,7 @@ use std::time::Instant;
 pub use capture::FrameCapture;
 pub use legend::{LegendEntry, LegendGroup, legend};
 pub use report::{CpuTimings, FrameCounts, FrameReport, LightFacts};
-pub use settings::{FrameSettings, Overlays};
+pub use settings::{FrameSettings, Overlays, ShadowSetup};
 
 pub use crate::culling::{CasterOutcome, Method, Stage};
 pub use crate::gpu::pass_label;
@@ -41,13 +41,14 @@ pub(crate) use camera::shader_source as camera_shader_source;
 use camera::{CameraPasses, ShadingGroups};
 use results::Latest;
 
+use crate::cascades::Cascades;
 use crate::geom::{Camera, Frustum};
 use crate::gpu::{FrameTimer, GpuContext};
 use crate::metrics::{HeatMapOverlay, MeasureResources};
 use crate::overlays::LightInset;
 use crate::scene::Scene;
 use crate::scene_gpu::DrawList;
-use crate::shadow_map::SingleMap;
+use crate::shadow_map::{MapTechnique, SunView};
 use crate::shadow_view::{ShadowView, ViewBuffer};
 use crate::technique::{DrawInput, ShadowPasses, ShadowTechnique, TechniqueInput};
 use crate::view::gpu_data::{FrameUniforms, OVERLAY_CASTERS};
@@ -77,8 +78,10 @@ pub struct FrameRenderer {
     bindings: FrameBindings,
     views: ViewBuffer,
     camera: CameraPasses,
-    /// The shadow technique (the single map).
-    single: SingleMap,
+    /// The shadow technique: maps of the sun, one view or one per cascade.
+    maps: MapTechnique,
+    /// Copies of the single map's view (1 but in tests of the per-view path).
+    repeated_views: u32,
     visibility: VisibilityPass,
     /// Objects in the view frustum (camera passes), refilled per frame.
     camera_list: DrawList,
@@ -110,9 +113,9 @@ impl FrameRenderer {
         }
         let bindings = FrameBindings::new(device);
         let views = ViewBuffer::new(device);
-        let single = SingleMap::new(ctx, &bindings.layout, views.pass_layout());
+        let maps = MapTechnique::new(ctx, &bindings.layout, views.pass_layout());
         let measure = MeasureResources::new(device);
-        let (light_wgsl, light_layout) = single.light_term();
+        let (light_wgsl, light_layout) = maps.light_term();
         let camera = CameraPasses::new(
             device,
             light_wgsl,
@@ -123,7 +126,8 @@ impl FrameRenderer {
             bindings,
             views,
             camera,
-            single,
+            maps,
+            repeated_views: 1,
             visibility: VisibilityPass::new(ctx),
             camera_list: DrawList::new(ctx, "Frame::camera_draws"),
             scratch: Vec::new(),
@@ -153,7 +157,13 @@ impl FrameRenderer {
     ) -> FrameReport {
         let setup = self.begin_frame(ctx, scene, scene_gpu, input);
         let technique_input = self.technique_input(&setup, scene, scene_gpu, input.camera);
-        let views = self.single.prepare(ctx, &technique_input);
+        self.maps.set_layout(match setup.settings.setup {
+            ShadowSetup::Single => Box::new(SunView {
+                copies: self.repeated_views,
+            }),
+            ShadowSetup::Cascades => Box::new(Cascades::new(setup.settings.cascades)),
+        });
+        let views = self.maps.prepare(ctx, &technique_input);
         let frame_group = self.write_frame(ctx, &setup, input.camera, scene_gpu, &views);
         let mut encoder = ctx
             .device
@@ -173,7 +183,7 @@ impl FrameRenderer {
             scene_gpu,
             self.frame_index,
         );
-        let shadows = self.single.draw(
+        let shadows = self.maps.draw(
             &mut encoder,
             &technique_input,
             &DrawInput {
@@ -209,7 +219,7 @@ impl FrameRenderer {
         let (width, height) = (input.width.max(1), input.height.max(1));
         let mut settings = *input.settings;
         settings.measure &= self.measurement_available;
-        settings.method = self.single.effective_method(settings.method);
+        settings.method = self.maps.effective_method(settings.method);
         if self
             .targets
             .as_ref()
@@ -344,7 +354,7 @@ impl FrameRenderer {
         if settings.overlays.error && settings.measure {
             self.heat_map.draw(&ctx.device, encoder, targets);
         }
-        if let Some(sources) = self.single.inset(0) {
+        if let Some(sources) = self.maps.inset(0) {
             let group = self.light_inset.bind(&ctx.device, &ctx.queue, &sources);
             let onto = settings.overlays.light_view.then_some((
                 &targets.color_view,
@@ -365,7 +375,7 @@ impl FrameRenderer {
         self.timer.end_frame();
         self.visibility.after_submit();
         self.measure.after_submit();
-        self.single.after_submit();
+        self.maps.after_submit();
         self.latest
             .submitted(self.frame_index, &setup.settings, setup.camera_culling_ms);
     }
@@ -379,7 +389,7 @@ impl FrameRenderer {
             frame_index: self.frame_index,
             width,
             height,
-            technique: self.single.name(),
+            technique: self.maps.name(),
             counts: FrameCounts {
                 objects_drawn_camera: self.camera_list.len(),
                 triangles_camera: self.camera_list.triangles,
@@ -407,27 +417,27 @@ impl FrameRenderer {
         self.light_inset.texture_unorm()
     }
 
-    /// Renders the single map's view `count` times, each culled and counted on its own
-    /// ([`SingleMap::set_repeated_views`]): a test of the per-view path.
+    /// Renders the single map's view `count` times, each into its own layer, culled and
+    /// counted on its own ([`SunView`]): a test of the per-view path.
     pub fn set_repeated_views(&mut self, count: u32) {
-        self.single.set_repeated_views(count);
+        self.repeated_views = count.max(1);
     }
 
     /// Where FRAG's mask comes from: the prepass's surface targets (the default) or a second
     /// pass over the visible geometry, to compare the two.
     pub fn set_fragment_mask_source(&mut self, source: crate::culling::FragmentMaskSource) {
-        self.single.set_fragment_mask_source(source);
+        self.maps.set_fragment_mask_source(source);
     }
 
     /// The method's shadow maps (a depth array, one layer per view), for tests.
     pub fn shadow_depth_texture(&self) -> &wgpu::Texture {
-        self.single.depth_texture()
+        self.maps.depth_texture()
     }
 
     /// Leaves these instances out of the method's shadow maps from the next frame on, while
     /// the reference keeps them: shows what a caster contributes, and lets tests check that
     /// the error measure sees a missing caster.
     pub fn exclude_casters(&mut self, instances: &[u32]) {
-        self.single.exclude(instances);
+        self.maps.exclude(instances);
     }
 }

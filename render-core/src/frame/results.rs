@@ -63,7 +63,7 @@ impl FrameRenderer {
             report.gpu.clone_from(timings);
             report.gpu_frame_index = Some(*frame);
         }
-        let shadows = self.single.collect();
+        let shadows = self.maps.collect();
         report.cpu.culling_ms = shadows.cpu_culling_ms + latest.camera_culling_ms;
         report.set_shadows(shadows);
         if let Some(m) = latest.measured.as_ref().filter(|_| latest.measuring) {
@@ -85,19 +85,19 @@ impl FrameRenderer {
                     .measured
                     .as_ref()
                     .is_some_and(|m| m.frame_index == frame))
-            && self.single.has_results_of(frame)
+            && self.maps.has_results_of(frame)
     }
 
     /// What happened to each instance in the shadow pass, over every view (rendered where any
     /// view drew it): the last frame's for the CPU methods, the newest that came back for the
     /// GPU methods.
     pub fn caster_outcomes(&self) -> Vec<CasterOutcome> {
-        combined_outcomes(&self.single.view_outcomes())
+        combined_outcomes(&self.maps.view_outcomes())
     }
 
     /// Per shadow view, what happened to each instance (as [`FrameRenderer::caster_outcomes`]).
     pub fn view_caster_outcomes(&self) -> Vec<Vec<CasterOutcome>> {
-        self.single
+        self.maps
             .view_outcomes()
             .into_iter()
             .map(<[CasterOutcome]>::to_vec)

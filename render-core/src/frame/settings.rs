@@ -3,6 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::cascades::CascadeSettings;
 use crate::culling::Method;
 use crate::scene::Sun;
 use crate::shadow_view::ShadowSettings;
@@ -43,11 +44,47 @@ impl Overlays {
     }
 }
 
+/// How the sun's shadow is mapped.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ShadowSetup {
+    /// One map fitted to the view (or the whole scene for `incr`).
+    #[default]
+    Single,
+    /// One map per slice of the view frustum ([`FrameSettings::cascades`]).
+    Cascades,
+}
+
+impl ShadowSetup {
+    pub const ALL: [Self; 2] = [Self::Single, Self::Cascades];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Single => "single",
+            Self::Cascades => "cascades",
+        }
+    }
+}
+
+impl std::str::FromStr for ShadowSetup {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        Self::ALL
+            .into_iter()
+            .find(|setup| setup.name() == s)
+            .ok_or_else(|| format!("unknown shadow setup '{s}' (available: single, cascades)"))
+    }
+}
+
 /// Everything the user sets that shapes a frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct FrameSettings {
     pub shadow: ShadowSettings,
+    /// One map or cascades, and the cascades' count, splits and fit.
+    pub setup: ShadowSetup,
+    pub cascades: CascadeSettings,
     #[serde(skip)]
     pub sun: Sun,
     pub method: Method,

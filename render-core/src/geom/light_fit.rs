@@ -27,7 +27,7 @@ pub struct LightFrustum {
 }
 
 /// Light-space extent as `(min, max)` with x, y across the light and z along its direction.
-type Extent = (DVec3, DVec3);
+pub(super) type Extent = (DVec3, DVec3);
 
 /// Fits the light frustum for `camera` (with `aspect` = width / height) and the scene bounds.
 pub fn fit_directional_light(
@@ -77,6 +77,77 @@ pub fn fit_focused_light(
     )
 }
 
+/// The light's frame: x, y across its direction and z along it, around an anchor at the
+/// scene's centre (so far-away cameras keep their precision).
+pub(super) struct LightSpace {
+    anchor: DVec3,
+    right: DVec3,
+    up: DVec3,
+    direction: DVec3,
+    /// The scene's bounds (a unit box around the origin when they are empty or not finite)
+    /// and their light-space extent.
+    pub scene: Aabb,
+    pub scene_extent: Extent,
+}
+
+impl LightSpace {
+    pub fn new(direction_to_sun: Vec3, scene_bounds: &Aabb) -> Self {
+        let direction = (-direction_to_sun.as_dvec3())
+            .try_normalize()
+            .unwrap_or(DVec3::NEG_Y);
+        let (right, up) = basis_for_direction(direction);
+        let scene = if scene_bounds.is_empty()
+            || !scene_bounds.min.is_finite()
+            || !scene_bounds.max.is_finite()
+        {
+            Aabb::new(Vec3::splat(-1.0), Vec3::splat(1.0))
+        } else {
+            *scene_bounds
+        };
+        let mut space = Self {
+            anchor: scene.center().as_dvec3(),
+            right,
+            up,
+            direction,
+            scene,
+            scene_extent: (DVec3::ZERO, DVec3::ZERO),
+        };
+        space.scene_extent = extent_of(&scene.corners().map(|c| space.to_light(c.as_dvec3())));
+        space
+    }
+
+    pub fn to_light(&self, p: DVec3) -> DVec3 {
+        let q = p - self.anchor;
+        DVec3::new(q.dot(self.right), q.dot(self.up), q.dot(self.direction))
+    }
+
+    /// The orthographic frustum of the light-space box `min..max`, for a map `resolution`
+    /// texels square.
+    pub fn frustum(
+        &self,
+        (min, max): Extent,
+        resolution: u32,
+        covers_whole_scene: bool,
+    ) -> LightFrustum {
+        let light_from_world = look_to_mat4(self.anchor, self.direction, self.up);
+        // The view looks down -z, so light depth d maps to view z = -d: near/far are depths.
+        let clip_from_light = orthographic(min.x, max.x, min.y, max.y, min.z, max.z);
+        let res = f64::from(resolution);
+        LightFrustum {
+            light_from_world: light_from_world.as_mat4(),
+            clip_from_light: clip_from_light.as_mat4(),
+            light_clip_from_world: (clip_from_light * light_from_world).as_mat4(),
+            light_direction: self.direction.as_vec3(),
+            texel_size_m: [
+                ((max.x - min.x) / res) as f32,
+                ((max.y - min.y) / res) as f32,
+            ],
+            depth_range_m: (max.z - min.z) as f32,
+            covers_whole_scene,
+        }
+    }
+}
+
 fn fit(
     view: Option<(&Camera, f32)>,
     direction_to_sun: Vec3,
@@ -84,27 +155,12 @@ fn fit(
     receivers: Option<&Aabb>,
     resolution: u32,
 ) -> LightFrustum {
-    let light_direction = (-direction_to_sun.as_dvec3())
-        .try_normalize()
-        .unwrap_or(DVec3::NEG_Y);
-    let (right, up) = basis_for_direction(light_direction);
-    let scene = if scene_bounds.is_empty()
-        || !scene_bounds.min.is_finite()
-        || !scene_bounds.max.is_finite()
-    {
-        Aabb::new(Vec3::splat(-1.0), Vec3::splat(1.0))
-    } else {
-        *scene_bounds
-    };
-    let anchor = scene.center().as_dvec3();
-    let to_light = |p: DVec3| {
-        let q = p - anchor;
-        DVec3::new(q.dot(right), q.dot(up), q.dot(light_direction))
-    };
-    let scene_corners = scene.corners().map(|c| to_light(c.as_dvec3()));
-    let scene_extent = extent_of(&scene_corners);
-
-    let view = view.and_then(|(camera, aspect)| view_extent(camera, aspect, &scene, &to_light));
+    let space = LightSpace::new(direction_to_sun, scene_bounds);
+    let scene_extent = space.scene_extent;
+    let view = view.and_then(|(camera, aspect)| {
+        view_corners(camera, aspect, &space.scene, None)
+            .map(|c| extent_of(&c.map(|p| space.to_light(p))))
+    });
     let (extent, covers_whole_scene) = match view {
         Some(view) => {
             let min = DVec3::new(
@@ -129,7 +185,7 @@ fn fit(
     if let Some(focus) =
         receivers.filter(|r| !r.is_empty() && r.min.is_finite() && r.max.is_finite())
     {
-        let (lo, hi) = extent_of(&focus.corners().map(|c| to_light(c.as_dvec3())));
+        let (lo, hi) = extent_of(&focus.corners().map(|c| space.to_light(c.as_dvec3())));
         let (fmin, fmax) = (
             DVec3::new(min.x.max(lo.x), min.y.max(lo.y), min.z),
             DVec3::new(max.x.min(hi.x), max.y.min(hi.y), max.z.min(hi.z)),
@@ -139,27 +195,14 @@ fn fit(
         }
     }
     let resolution = resolution.max(16);
-    let (min, max) = pad_and_snap((min, max), resolution);
-
-    let light_from_world = look_to_mat4(anchor, light_direction, up);
-    // The view looks down -z, so light depth d maps to view z = -d: near/far are depths.
-    let clip_from_light = orthographic(min.x, max.x, min.y, max.y, min.z, max.z);
-    let res = f64::from(resolution);
-    LightFrustum {
-        light_from_world: light_from_world.as_mat4(),
-        clip_from_light: clip_from_light.as_mat4(),
-        light_clip_from_world: (clip_from_light * light_from_world).as_mat4(),
-        light_direction: light_direction.as_vec3(),
-        texel_size_m: [
-            ((max.x - min.x) / res) as f32,
-            ((max.y - min.y) / res) as f32,
-        ],
-        depth_range_m: (max.z - min.z) as f32,
+    space.frustum(
+        pad_and_snap((min, max), resolution),
+        resolution,
         covers_whole_scene,
-    }
+    )
 }
 
-fn extent_of(points: &[DVec3]) -> Extent {
+pub(super) fn extent_of(points: &[DVec3]) -> Extent {
     points
         .iter()
         .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
@@ -167,14 +210,10 @@ fn extent_of(points: &[DVec3]) -> Extent {
         })
 }
 
-/// The light-space extent of the view frustum cut to the depth range where it can meet the
-/// scene, or `None` when the scene lies wholly behind or beyond it.
-fn view_extent(
-    camera: &Camera,
-    aspect: f32,
-    scene: &Aabb,
-    to_light: &impl Fn(DVec3) -> DVec3,
-) -> Option<Extent> {
+/// The view depths `(near, far)` where the view frustum can meet the scene: the camera's
+/// near and far planes cut to the depths of the scene's corners; `None` when the scene lies
+/// wholly behind or beyond the view.
+pub fn view_depth_range(camera: &Camera, scene: &Aabb) -> Option<(f64, f64)> {
     let eye = camera.eye.as_dvec3();
     let forward = camera
         .forward
@@ -186,6 +225,21 @@ fn view_extent(
     let scene_near = depths.iter().copied().fold(f64::INFINITY, f64::min);
     let near = f64::from(camera.near_m).max(scene_near).max(1e-6);
     let far = f64::from(camera.far_m).min(scene_far);
+    (far.is_finite() && far > near).then_some((near, far))
+}
+
+/// The world corners of the view frustum between the depths where it can meet the scene,
+/// further cut to `depths` when given; `None` when nothing of it is left.
+pub(super) fn view_corners(
+    camera: &Camera,
+    aspect: f32,
+    scene: &Aabb,
+    depths: Option<[f64; 2]>,
+) -> Option<[DVec3; 8]> {
+    let (mut near, mut far) = view_depth_range(camera, scene)?;
+    if let Some([lo, hi]) = depths {
+        (near, far) = (near.max(lo), far.min(hi));
+    }
     if far.is_nan() || far <= near {
         return None;
     }
@@ -194,15 +248,12 @@ fn view_extent(
     } else {
         1.0
     };
-    let corners = camera
-        .frustum_corners_world(aspect, near, far)
-        .map(to_light);
-    Some(extent_of(&corners))
+    Some(camera.frustum_corners_world(aspect, near, far))
 }
 
 /// Grows the extent by a margin and snaps x/y to whole texels so the map does not shimmer when
 /// the camera only translates.
-fn pad_and_snap((min, max): Extent, resolution: u32) -> Extent {
+pub(super) fn pad_and_snap((min, max): Extent, resolution: u32) -> Extent {
     let size = max - min;
     let z_margin = size.z.abs() * 1e-3 + 1e-2;
     let (mut min, mut max) = (

@@ -4,8 +4,12 @@ mod aabb;
 mod camera;
 mod frustum;
 mod light_fit;
+mod slice_fit;
 
 pub use aabb::Aabb;
 pub use camera::{Camera, basis_for_direction};
 pub use frustum::{Containment, Frustum, Plane};
-pub use light_fit::{LightFrustum, fit_directional_light, fit_focused_light, fit_whole_scene};
+pub use light_fit::{
+    LightFrustum, fit_directional_light, fit_focused_light, fit_whole_scene, view_depth_range,
+};
+pub use slice_fit::{SliceFit, fit_view_slice};

@@ -1,26 +1,27 @@
-//! The single directional shadow map, the first shadow technique: one view of the sun fitted
-//! to the camera's view (FOCUS: to the visible receivers; `incr`: the whole scene, a map that
-//! persists between frames), its casters chosen by the frame's method, and the reference map
-//! of every caster the measures need. Its views render into layers of a depth array, so a
-//! frame may also render the same view several times ([`SingleMap::set_repeated_views`]),
-//! each culled and counted on its own.
+//! Directional shadow maps, the first shadow technique: views of the sun chosen by a
+//! [`ViewLayout`] (the single map: one view fitted to the camera's view, FOCUS: to the visible
+//! receivers, `incr`: the whole scene, a map that persists between frames; `cascades/`: one
+//! per slice of the view frustum), each in a layer of a depth array, its casters chosen by the
+//! frame's method per view, and the reference maps of every caster the measures need.
 //!
 //! Long-lived: pipelines, textures (following resolution and layers), GPU culling, the CPU
-//! casters' lists, the persistent map's key. Per frame: the views and the draw lists.
+//! casters' lists, the persistent map's key. Per frame: the layout, the views and the draw
+//! lists.
 
 mod cpu_casters;
+mod layout;
 pub(crate) mod maps;
 
 use std::time::Instant;
 
 use cpu_casters::CpuCasters;
+pub use layout::{SunView, ViewLayout};
 pub use maps::{CASTER_ID_FORMAT, MapKind};
 use maps::{MapArrays, ViewPass};
 
 use crate::culling::{CullError, CullFrame, CullTargets, FragmentMaskSource, GpuCulling, Method};
-use crate::geom::{fit_focused_light, fit_whole_scene};
 use crate::gpu::{GpuContext, LogOnce, pass_label};
-use crate::shadow_view::{ShadowSettings, ShadowView, ViewTarget};
+use crate::shadow_view::{ShadowSettings, ShadowView};
 use crate::technique::{
     DrawInput, InsetSources, ShadowPasses, ShadowReport, ShadowTechnique, TechniqueInput,
     ViewReport,
@@ -29,8 +30,10 @@ use crate::technique::{
 /// The technique's light term (imported as `technique/light.wgsl` by the shading pass).
 pub(crate) const LIGHT_WGSL: &str = "shadow_map/light.wgsl";
 
-/// The single map technique.
-pub struct SingleMap {
+/// The shadow-map technique.
+pub struct MapTechnique {
+    /// Which views this frame renders.
+    layout: Box<dyn ViewLayout>,
     maps: MapArrays,
     cpu: CpuCasters,
     culling: GpuCulling,
@@ -38,8 +41,6 @@ pub struct SingleMap {
     method: Method,
     indirect_first_instance: bool,
     warned_no_indirect: LogOnce,
-    /// How many times the view is rendered (1 but in tests of the view seam).
-    repeated_views: u32,
     /// Incremental updates: what the persistent maps were drawn for (scene, exclusions, and
     /// each view's light).
     static_map_key: Option<(u64, u64, Vec<[u32; 16]>)>,
@@ -62,7 +63,7 @@ struct LastFrame {
     cpu_culling_ms: f64,
 }
 
-impl SingleMap {
+impl MapTechnique {
     /// `frame_layout` is group 0 of scene passes, `pass_view_layout` one shadow view alone.
     pub fn new(
         ctx: &GpuContext,
@@ -70,6 +71,7 @@ impl SingleMap {
         pass_view_layout: &wgpu::BindGroupLayout,
     ) -> Self {
         Self {
+            layout: Box::new(SunView::default()),
             maps: MapArrays::new(
                 &ctx.device,
                 frame_layout,
@@ -83,7 +85,6 @@ impl SingleMap {
                 .features()
                 .contains(wgpu::Features::INDIRECT_FIRST_INSTANCE),
             warned_no_indirect: LogOnce::default(),
-            repeated_views: 1,
             static_map_key: None,
             exclusions_version: 0,
             last: LastFrame::default(),
@@ -91,12 +92,9 @@ impl SingleMap {
         }
     }
 
-    /// Renders the map's view `count` times (at least once), each into its own layer, culled
-    /// and counted on its own. The shading pass takes the least light of them, so the picture
-    /// is the one view's. A test of the per-view path that cascades and many lights use, not
-    /// a shadow setup of its own.
-    pub fn set_repeated_views(&mut self, count: u32) {
-        self.repeated_views = count.max(1);
+    /// The views the next frames render (the single map, a copy of it per layer, cascades).
+    pub fn set_layout(&mut self, layout: Box<dyn ViewLayout>) {
+        self.layout = layout;
     }
 
     /// Where FRAG's mask comes from (the prepass's surface, or a second camera pass).
@@ -244,6 +242,9 @@ impl SingleMap {
             texel_size_m: light.texel_size_m,
             depth_range_m: light.depth_range_m,
             covers_whole_scene: light.covers_whole_scene,
+            shades_depth_m: view
+                .shades_depth_m
+                .map(|d| (d.is_finite() && d.abs() < f32::MAX).then_some(d)),
             ..ViewReport::default()
         };
         if !self.last.gpu_culled {
@@ -268,9 +269,9 @@ impl SingleMap {
     }
 }
 
-impl ShadowTechnique for SingleMap {
+impl ShadowTechnique for MapTechnique {
     fn name(&self) -> &'static str {
-        "single"
+        self.layout.name()
     }
 
     fn light_term(&self) -> (&'static str, &wgpu::BindGroupLayout) {
@@ -300,36 +301,13 @@ impl ShadowTechnique for SingleMap {
             ShadowSettings::MIN_RESOLUTION,
             ShadowSettings::MAX_RESOLUTION.min(limits.max_texture_dimension_2d),
         );
-        let layers = self.repeated_views.min(limits.max_texture_array_layers);
+        let layers = self.layout.layers().min(limits.max_texture_array_layers);
         self.maps.ensure(&ctx.device, resolution, layers);
-        let resolution = self.maps.resolution();
-        let bounds = input.scene.bounds();
-        let light = if self.method.static_light() {
-            fit_whole_scene(input.direction_to_sun, &bounds, resolution)
-        } else {
-            // FOCUS fits to the newest visible receivers that have come back.
-            let focus = input
-                .visible_receivers
-                .filter(|_| self.method == Method::Focus);
-            fit_focused_light(
-                input.camera,
-                input.aspect,
-                input.direction_to_sun,
-                &bounds,
-                focus.as_ref(),
-                resolution,
-            )
-        };
-        (0..self.maps.layers())
-            .map(|layer| {
-                let name = if layer == 0 {
-                    "sun".to_owned()
-                } else {
-                    format!("sun (copy {layer})")
-                };
-                ShadowView::covering_all_depths(&name, light, ViewTarget::layer(layer, resolution))
-            })
-            .collect()
+        let mut views = self
+            .layout
+            .views(input, self.method, self.maps.resolution());
+        views.truncate(self.maps.layers() as usize);
+        views
     }
 
     fn draw(

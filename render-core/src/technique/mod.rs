@@ -84,6 +84,8 @@ pub struct ViewReport {
     pub texel_size_m: [f32; 2],
     pub depth_range_m: f32,
     pub covers_whole_scene: bool,
+    /// The camera view depths it shades, metres (`null` in JSON for an open end).
+    pub shades_depth_m: [Option<f32>; 2],
 }
 
 /// A technique's part of the report, the newest it has.

@@ -17,6 +17,7 @@ pub fn counts_ui(ui: &mut egui::Ui, input: &PanelInput<'_>) {
         Some(report) => {
             counts(ui, report);
             stages(ui, report);
+            views(ui, report);
         }
         None => {
             ui.label(egui::RichText::new("No frame rendered yet").color(theme::MUTED));
@@ -86,6 +87,32 @@ fn stages(ui: &mut egui::Ui, report: &FrameReport) {
             grid::row(ui, &stage.name, thousands(stage.remaining.into()));
         }
     });
+}
+
+/// Per shadow view (a cascade each), when there are several: casters drawn, the oracle's and
+/// the texel size.
+fn views(ui: &mut egui::Ui, report: &FrameReport) {
+    if report.views.len() < 2 {
+        return;
+    }
+    ui.add_space(theme::SECTION_GAP);
+    egui::Grid::new("frame_views")
+        .num_columns(4)
+        .striped(true)
+        .spacing(theme::GRID_SPACING)
+        .show(ui, |ui| {
+            for heading in ["view", "casters", "oracle", "texel"] {
+                ui.label(egui::RichText::new(heading).color(theme::MUTED));
+            }
+            ui.end_row();
+            for view in &report.views {
+                ui.label(view.name.as_str());
+                ui.label(thousands(view.casters_rendered.into()));
+                ui.label(optional_count(view.casters_oracle));
+                ui.label(format!("{} m", crate::format::length(view.texel_size_m[0])));
+                ui.end_row();
+            }
+        });
 }
 
 /// The Timings tab's numbers.

@@ -4,6 +4,7 @@
 //! and their plot) and Light (the light's view and its legend). A failed shadow pass is named
 //! over the tabs. Each tab fits a 720-pixel-high window and scrolls below that.
 
+mod cascades;
 mod compare;
 mod frame_stats;
 mod grid;
@@ -232,6 +233,8 @@ impl Panes<'_, '_> {
             }
             PanelTab::Shadows => {
                 shadows::ui(ui, self.settings);
+                heading(ui, "Setup");
+                cascades::ui(ui, self.settings, input.report);
                 heading(ui, "Remembered");
                 shadows::remembered_ui(ui, input.settings_file, self.actions);
             }

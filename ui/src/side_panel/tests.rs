@@ -7,7 +7,8 @@ use egui::accesskit::Role;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable as _;
 use render_core::frame::{
-    CpuTimings, FrameCounts, FrameReport, FrameSettings, LightFacts, PcfKernel, Stage, pass_label,
+    CpuTimings, FrameCounts, FrameReport, FrameSettings, LightFacts, PcfKernel, ShadowSetup, Stage,
+    ViewReport, pass_label,
 };
 use render_core::gpu::PassTiming;
 use render_core::metrics::ShadowError;
@@ -318,6 +319,46 @@ fn the_shadows_tab_names_the_settings_file_and_resets_settings() {
 }
 
 #[test]
+fn the_setup_combo_turns_cascades_on_and_shows_their_controls() {
+    let mut harness = harness_on(Lab::new(), PanelTab::Shadows);
+    assert!(
+        harness.query_by_label("Lambda").is_none(),
+        "no cascades, no split controls"
+    );
+    harness
+        .get_by_role_and_label(Role::ComboBox, "Setup")
+        .click();
+    harness.run();
+    harness
+        .get_by_role(Role::ListBox)
+        .get_by_label("cascades")
+        .click();
+    harness.run();
+    assert_eq!(harness.state().settings.setup, ShadowSetup::Cascades);
+    // The default split is the practical one, with its lambda.
+    harness.get_by_role_and_label(Role::Slider, "Lambda");
+    harness
+        .get_by_role_and_label(Role::Slider, "Cascades")
+        .set_value_accesskit(6.0);
+    harness.run();
+    assert_eq!(harness.state().settings.cascades.count, 6);
+    harness
+        .get_by_role_and_label(Role::ComboBox, "Split")
+        .click();
+    harness.run();
+    harness
+        .get_by_role(Role::ListBox)
+        .get_by_label("geometric")
+        .click();
+    harness.run();
+    assert_eq!(
+        harness.state().settings.cascades.splits.scheme,
+        render_core::cascades::SplitScheme::Geometric
+    );
+    harness.get_by_role_and_label(Role::Slider, "Ratio");
+}
+
+#[test]
 fn the_units_combo_reads_a_file_again_in_another_unit() {
     let mut lab = Lab::new();
     lab.scene.name = "scenes/diorama.gltf".into();
@@ -619,6 +660,25 @@ fn window_on(tab: PanelTab, setup: impl FnOnce(&mut Lab)) -> Harness<'static, La
         ..pass(label, 0.5)
     })
     .collect();
+    // Four cascades, as the street view gives them.
+    lab.settings.setup = ShadowSetup::Cascades;
+    lab.report.views = [
+        (None, 9.5, 0.08),
+        (Some(9.5), 38.0, 0.16),
+        (Some(38.0), 150.0, 0.32),
+        (Some(150.0), 600.0, 1.26),
+    ]
+    .into_iter()
+    .enumerate()
+    .map(|(i, (near, far, texel))| ViewReport {
+        name: format!("cascade {i}"),
+        casters_rendered: 20 + 10 * i as u32,
+        casters_oracle: Some(15 + 7 * i as u32),
+        texel_size_m: [texel, texel],
+        shades_depth_m: [near, Some(far)],
+        ..ViewReport::default()
+    })
+    .collect();
     setup(&mut lab);
     lab.panel.open_tab(tab);
     let mut harness = Harness::builder()
@@ -638,9 +698,9 @@ fn each_tab_fits_a_1280x720_window_and_matches_its_snapshot() {
     let mut snapshots = egui_kittest::SnapshotResults::new();
     for (tab, last) in [
         (PanelTab::Scene, "Screenshot (F12)"),
-        (PanelTab::Shadows, "Error heat map"),
+        (PanelTab::Shadows, "Reset settings"),
         (PanelTab::Compare, "oracle"),
-        (PanelTab::Counts, "light frustum"),
+        (PanelTab::Counts, "cascade 3"),
         (PanelTab::Timings, "ms over the last 10 s"),
         (PanelTab::Light, "Covers scene"),
     ] {

@@ -1,0 +1,162 @@
+//! Cascaded shadow maps (Engel, "Cascaded Shadow Maps", `ShaderX5` 4.1): the view frustum cut
+//! along its depth into slices ([`splits`]), each slice a view of the sun fitted to it in its
+//! own layer of the map array. The map technique (`shadow_map/`) renders, culls and shades
+//! them as it does any views: every method runs per cascade, masks included, and the light
+//! term takes each point from the cascade whose depths hold it (`view_shades`).
+
+pub mod splits;
+
+use serde::{Deserialize, Serialize};
+
+use crate::culling::Method;
+use crate::geom::{SliceFit, fit_view_slice, view_depth_range};
+use crate::shadow_map::ViewLayout;
+use crate::shadow_view::{ShadowView, ViewTarget};
+use crate::technique::TechniqueInput;
+
+pub use splits::{SplitScheme, Splits};
+
+/// The most cascades a frame renders.
+pub const MAX_CASCADES: u32 = 8;
+
+/// How each cascade's light box is fitted to its slice.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum CascadeFit {
+    /// The light-space box of the slice's corners: the most texels on the slice, but the box
+    /// changes size as the camera turns, so shadow edges crawl.
+    Tight,
+    /// A square around the slice's bounding sphere, moved in whole texels: its size never
+    /// changes and its texel grid stays put when the camera moves or turns (stabilised).
+    #[default]
+    Sphere,
+}
+
+impl CascadeFit {
+    pub const ALL: [Self; 2] = [Self::Tight, Self::Sphere];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Tight => "tight",
+            Self::Sphere => "sphere",
+        }
+    }
+}
+
+impl std::str::FromStr for CascadeFit {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        Self::ALL
+            .into_iter()
+            .find(|fit| fit.name() == s)
+            .ok_or_else(|| format!("unknown cascade fit '{s}' (available: tight, sphere)"))
+    }
+}
+
+/// The cascades a user sets.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct CascadeSettings {
+    /// 1 to [`MAX_CASCADES`].
+    pub count: u32,
+    pub splits: Splits,
+    pub fit: CascadeFit,
+}
+
+impl Default for CascadeSettings {
+    fn default() -> Self {
+        Self {
+            count: 4,
+            splits: Splits::default(),
+            fit: CascadeFit::default(),
+        }
+    }
+}
+
+/// The cascades as the map technique's views.
+#[derive(Clone, Debug, Default)]
+pub struct Cascades {
+    pub settings: CascadeSettings,
+}
+
+impl Cascades {
+    pub fn new(settings: CascadeSettings) -> Self {
+        Self { settings }
+    }
+
+    /// The view depths that bound this frame's cascades (`count + 1`, increasing) and the far
+    /// end of the scene's depths, or `None` when the view frustum does not meet the scene.
+    pub fn split_distances(&self, input: &TechniqueInput<'_>) -> Option<(Vec<f64>, f64)> {
+        let (near, far) = view_depth_range(input.camera, &input.scene.bounds())?;
+        let count = self.settings.count.clamp(1, MAX_CASCADES);
+        Some((self.settings.splits.distances(count, near, far), far))
+    }
+}
+
+impl ViewLayout for Cascades {
+    fn name(&self) -> &'static str {
+        "cascades"
+    }
+
+    fn layers(&self) -> u32 {
+        self.settings.count.clamp(1, MAX_CASCADES)
+    }
+
+    /// One view per slice that holds depths; a slice of no depth (a geometric split beyond
+    /// the scene) is not rendered. Without a view of the scene, one view of the whole scene
+    /// keeps the frame sound.
+    fn views(
+        &self,
+        input: &TechniqueInput<'_>,
+        _method: Method,
+        resolution: u32,
+    ) -> Vec<ShadowView> {
+        let bounds = input.scene.bounds();
+        let Some((distances, scene_far)) = self.split_distances(input) else {
+            let light = crate::geom::fit_whole_scene(input.direction_to_sun, &bounds, resolution);
+            return vec![ShadowView::covering_all_depths(
+                "cascade 0 (whole scene)",
+                light,
+                ViewTarget::layer(0, resolution),
+            )];
+        };
+        let fit = match self.settings.fit {
+            CascadeFit::Tight => SliceFit::Tight,
+            CascadeFit::Sphere => SliceFit::Sphere,
+        };
+        let mut views = Vec::new();
+        for (i, pair) in distances.windows(2).enumerate() {
+            let [near, far] = [pair[0], pair[1]];
+            if far <= near {
+                continue;
+            }
+            let light = fit_view_slice(
+                (input.camera, input.aspect),
+                input.direction_to_sun,
+                &bounds,
+                [near, far],
+                (resolution, fit),
+            );
+            let layer = views.len() as u32;
+            views.push(ShadowView {
+                name: format!("cascade {i}"),
+                light,
+                target: ViewTarget::layer(layer, resolution),
+                // Neighbours share their boundary, so each depth has one cascade. The first
+                // also shades anything nearer, and one that reaches the scene's far end a
+                // little beyond it (rounding); depths past a geometric split that ends short
+                // have none (Engel's shadow distance).
+                shades_depth_m: [
+                    if i == 0 { f32::MIN } else { near as f32 },
+                    if far >= scene_far {
+                        (far * (1.0 + 1e-4)) as f32
+                    } else {
+                        far as f32
+                    },
+                ],
+            });
+        }
+        views
+    }
+}

@@ -1,0 +1,196 @@
+//! Cascaded shadow maps through the whole frame: the exact shadow of a box under each
+//! cascade, every method culling each cascade on its own without error, and the hard views
+//! (everything within 20 m, sky only).
+
+use glam::Vec3;
+use render_core::cascades::{CascadeSettings, SplitScheme, Splits};
+use render_core::frame::SceneGpu;
+use render_core::frame::{FrameInput, FrameRenderer, FrameSettings, Method, ShadowSetup};
+use render_core::geom::Camera;
+use render_core::scene::{Sun, load_builtin};
+use shadowlab_tests::{
+    box_on_plane, city_small_street_camera, expected_shadow, gpu, pixels_of, render,
+};
+
+const GROUND: u32 = 1;
+
+fn cascades(count: u32) -> FrameSettings {
+    FrameSettings {
+        setup: ShadowSetup::Cascades,
+        cascades: CascadeSettings {
+            count,
+            ..CascadeSettings::default()
+        },
+        ..FrameSettings::default()
+    }
+}
+
+#[test]
+fn each_cascade_shadows_the_ground_exactly_where_the_box_does() {
+    let sun = Sun::from_azimuth_elevation_deg(30.0, 50.0);
+    let scene = box_on_plane(60.0, Vec3::new(2.0, 3.0, 2.0), 0.5, sun);
+    // Low over the ground, so the view holds near and far ground, and the box's shadow in the
+    // near cascades.
+    let camera = Camera::look_at(
+        Vec3::new(-6.0, 2.0, 9.0),
+        Vec3::new(20.0, 0.0, -25.0),
+        60f32.to_radians(),
+        0.05,
+        200.0,
+    );
+    let settings = FrameSettings { sun, ..cascades(4) };
+    let (report, capture) = render(&scene, &camera, &settings, 320, 200);
+    assert_eq!(report.technique, "cascades");
+    assert_eq!(report.views.len(), 4, "{:?}", report.views);
+    let texels: Vec<f32> = report.views.iter().map(|v| v.texel_size_m[0]).collect();
+    assert!(
+        texels.windows(2).all(|w| w[0] < w[1]),
+        "each cascade's texels are coarser than the one before: {texels:?}"
+    );
+    // The PCF border of the coarsest cascade that shades a ground pixel.
+    let border = texels[3] * (settings.shadow.pcf.width() as f32 * 0.5 + 1.0);
+    // The box: 2 x 3 x 2 m, its bottom 0.5 m above the ground.
+    let (min, max) = (Vec3::new(-1.0, 0.5, -1.0), Vec3::new(1.0, 3.5, 1.0));
+    let (mut shadowed, mut lit, mut wrong) = (0, 0, Vec::new());
+    for (i, p) in pixels_of(&capture, &camera, GROUND) {
+        let Some(expected) = expected_shadow(p, sun.direction_to_sun, min, max, border) else {
+            continue;
+        };
+        let dark = capture.shadow[i] == 0;
+        let bright = capture.shadow[i] == 255;
+        if expected {
+            shadowed += 1;
+        } else {
+            lit += 1;
+        }
+        if (expected && !dark) || (!expected && !bright) {
+            wrong.push((p, capture.shadow[i]));
+        }
+    }
+    assert!(shadowed > 200, "{shadowed} shadowed ground pixels seen");
+    assert!(lit > 10_000, "{lit} lit ground pixels seen");
+    assert!(
+        wrong.is_empty(),
+        "{} wrong, first {:?}",
+        wrong.len(),
+        &wrong[..wrong.len().min(5)]
+    );
+}
+
+#[test]
+fn every_method_culls_each_cascade_on_its_own_without_error() {
+    let ctx = gpu();
+    let scene = load_builtin("city-small", 0).expect("city-small");
+    let scene_gpu = SceneGpu::new(ctx, &scene);
+    let camera = city_small_street_camera();
+    for method in [
+        Method::Ref,
+        Method::Bvol,
+        Method::Geom,
+        Method::Frag,
+        Method::DrConservative,
+    ] {
+        let mut renderer = FrameRenderer::new(ctx);
+        let settings = FrameSettings {
+            sun: scene.sun,
+            method,
+            measure: true,
+            ..cascades(3)
+        };
+        let input = FrameInput {
+            camera: &camera,
+            width: 256,
+            height: 192,
+            settings: &settings,
+        };
+        let mut report = None;
+        for _ in 0..3 {
+            report = Some(
+                renderer
+                    .render_and_wait(ctx, &scene, &scene_gpu, &input)
+                    .expect("frame"),
+            );
+        }
+        let report = report.expect("three frames");
+        assert_eq!(report.views.len(), 3, "{method:?}");
+        let error = report.error.expect("measured");
+        assert_eq!(
+            (error.missing_shadow_px, error.extra_shadow_px),
+            (0, 0),
+            "{method:?} against the reference of the same cascades"
+        );
+        for view in &report.views {
+            let oracle = view.casters_oracle.expect("oracle per cascade");
+            assert!(
+                view.casters_rendered >= oracle,
+                "{method:?} {}: {} drawn, the oracle needs {oracle}",
+                view.name,
+                view.casters_rendered
+            );
+            if method == Method::Frag {
+                assert!(
+                    view.casters_rendered as f32 <= 1.3 * oracle as f32 + 2.0,
+                    "frag {}: {} drawn for an oracle of {oracle}",
+                    view.name,
+                    view.casters_rendered
+                );
+            }
+        }
+        let total: u32 = report.views.iter().map(|v| v.casters_rendered).sum();
+        assert_eq!(
+            report.counts.casters_rendered, total,
+            "{method:?}: the total is the views' sum"
+        );
+    }
+}
+
+#[test]
+fn a_view_within_twenty_metres_skips_the_far_cascades_and_sky_keeps_one_view() {
+    let sun = Sun::from_azimuth_elevation_deg(60.0, 40.0);
+    // A 10 m ground: seen from 3 m away, every depth is within 20 m.
+    let scene = box_on_plane(5.0, Vec3::splat(1.0), 0.0, sun);
+    let camera = Camera::look_at(
+        Vec3::new(0.0, 4.0, 8.0),
+        Vec3::ZERO,
+        60f32.to_radians(),
+        0.1,
+        1000.0,
+    );
+    let settings = FrameSettings {
+        sun,
+        cascades: CascadeSettings {
+            count: 4,
+            splits: Splits {
+                scheme: SplitScheme::Geometric,
+                first_m: 10.0,
+                ratio: 3.0,
+                ..Splits::default()
+            },
+            ..CascadeSettings::default()
+        },
+        ..cascades(4)
+    };
+    let (report, _) = render(&scene, &camera, &settings, 128, 96);
+    // Depths up to about 15 m: the cascade to 10 m and the one to 30 m (cut to the scene).
+    let names: Vec<&str> = report.views.iter().map(|v| v.name.as_str()).collect();
+    assert_eq!(names, ["cascade 0", "cascade 1"]);
+
+    // Looking up at the sky: no depth of the scene is in view, one view over it all.
+    let sky = Camera::look_at(
+        Vec3::new(0.0, 20.0, 0.0),
+        Vec3::new(0.0, 40.0, 1.0),
+        60f32.to_radians(),
+        0.1,
+        1000.0,
+    );
+    let (report, capture) = render(&scene, &sky, &settings, 128, 96);
+    assert_eq!(report.views.len(), 1);
+    assert!(report.views[0].covers_whole_scene);
+    assert!(
+        report.views[0]
+            .texel_size_m
+            .iter()
+            .all(|t| t.is_finite() && *t > 0.0)
+    );
+    assert!(capture.depth.iter().all(|d| *d == 0.0), "only sky in view");
+}

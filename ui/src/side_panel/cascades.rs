@@ -1,0 +1,169 @@
+//! The shadow setup (one map or cascades) and the cascades' count, splits and fit, with the
+//! split distances and each cascade's texel size plotted against view depth.
+
+use egui_plot::{Line, Plot, PlotPoints};
+use render_core::cascades::{CascadeFit, MAX_CASCADES, SplitScheme};
+use render_core::frame::{FrameReport, FrameSettings, ShadowSetup};
+
+use super::grid;
+use crate::format::length;
+use crate::theme;
+
+const SETUP_HELP: &str = "single: one map fitted to the view. cascades: the view frustum cut \
+    along its depth, one map per slice (Engel), so near shadows get fine texels";
+const COUNT_HELP: &str = "How many slices, each with its own map of the chosen resolution";
+const SPLIT_HELP: &str = "Where the slices end: uniform, logarithmic, practical (Zhang's blend \
+    of the two), geometric (Engel: each far distance a ratio times the last), manual";
+const LAMBDA_HELP: &str = "The practical split's logarithmic share: 0 uniform, 1 logarithmic";
+const FIRST_HELP: &str = "Where the first cascade ends";
+const RATIO_HELP: &str = "Each cascade's far distance over the one before (Engel: doubled or \
+    tripled)";
+const MANUAL_HELP: &str = "The distances between cascades in metres, increasing: d1, d2, ...";
+const FIT_HELP: &str = "tight: the slice's box in light space, the most texels but edges crawl \
+    as the camera turns. sphere: a square around the slice's bounding sphere moved in whole \
+    texels, so shadows stand still (stabilised)";
+
+pub fn ui(ui: &mut egui::Ui, settings: &mut FrameSettings, report: Option<&FrameReport>) {
+    let cascades = &mut settings.cascades;
+    grid::facts(ui, "cascade_settings", |ui| {
+        grid::labelled(ui, "Setup", SETUP_HELP, |ui| {
+            egui::ComboBox::from_id_salt("shadow_setup")
+                .selected_text(settings.setup.name())
+                .show_ui(ui, |ui| {
+                    for setup in ShadowSetup::ALL {
+                        ui.selectable_value(&mut settings.setup, setup, setup.name());
+                    }
+                })
+                .response
+        });
+        if settings.setup != ShadowSetup::Cascades {
+            return;
+        }
+        grid::labelled(ui, "Cascades", COUNT_HELP, |ui| {
+            ui.add(egui::Slider::new(&mut cascades.count, 1..=MAX_CASCADES))
+        });
+        let splits = &mut cascades.splits;
+        grid::labelled(ui, "Split", SPLIT_HELP, |ui| {
+            egui::ComboBox::from_id_salt("cascade_split")
+                .selected_text(splits.scheme.name())
+                .show_ui(ui, |ui| {
+                    for scheme in SplitScheme::ALL {
+                        ui.selectable_value(&mut splits.scheme, scheme, scheme.name());
+                    }
+                })
+                .response
+        });
+        match splits.scheme {
+            SplitScheme::Practical => {
+                grid::labelled(ui, "Lambda", LAMBDA_HELP, |ui| {
+                    ui.add(egui::Slider::new(&mut splits.lambda, 0.0..=1.0))
+                });
+            }
+            SplitScheme::Geometric => {
+                grid::labelled(ui, "First", FIRST_HELP, |ui| {
+                    ui.add(
+                        egui::Slider::new(&mut splits.first_m, 0.5..=500.0)
+                            .logarithmic(true)
+                            .suffix(" m"),
+                    )
+                });
+                grid::labelled(ui, "Ratio", RATIO_HELP, |ui| {
+                    ui.add(egui::Slider::new(&mut splits.ratio, 1.0..=8.0))
+                });
+            }
+            SplitScheme::Manual => {
+                grid::labelled(ui, "Distances", MANUAL_HELP, |ui| {
+                    manual_distances(ui, &mut splits.manual_m)
+                });
+            }
+            SplitScheme::Uniform | SplitScheme::Logarithmic => {}
+        }
+        grid::labelled(ui, "Fit", FIT_HELP, |ui| {
+            egui::ComboBox::from_id_salt("cascade_fit")
+                .selected_text(cascades.fit.name())
+                .show_ui(ui, |ui| {
+                    for fit in CascadeFit::ALL {
+                        ui.selectable_value(&mut cascades.fit, fit, fit.name());
+                    }
+                })
+                .response
+        });
+    });
+    if settings.setup == ShadowSetup::Cascades
+        && let Some(report) = report
+    {
+        texel_plot(ui, report);
+    }
+}
+
+/// The manual distances as text; the settings change when the text parses.
+fn manual_distances(ui: &mut egui::Ui, manual_m: &mut [f32; 7]) -> egui::Response {
+    let shown: Vec<String> = manual_m
+        .iter()
+        .filter(|d| **d > 0.0)
+        .map(|d| format!("{d}"))
+        .collect();
+    let mut text = shown.join(", ");
+    let response = ui.text_edit_singleline(&mut text);
+    if response.changed() {
+        let parsed: Option<Vec<f32>> = text
+            .split(',')
+            .filter(|t| !t.trim().is_empty())
+            .map(|t| {
+                t.trim()
+                    .parse::<f32>()
+                    .ok()
+                    .filter(|d| d.is_finite() && *d > 0.0)
+            })
+            .collect();
+        if let Some(distances) = parsed.filter(|d| d.len() <= manual_m.len()) {
+            *manual_m = [0.0; 7];
+            manual_m[..distances.len()].copy_from_slice(&distances);
+        }
+    }
+    response
+}
+
+/// Each cascade's texel size over the depths it shades: a step per cascade, the splits where
+/// the steps change.
+fn texel_plot(ui: &mut egui::Ui, report: &FrameReport) {
+    let steps: Vec<(f64, f64, f64)> = report
+        .views
+        .iter()
+        .filter_map(|v| {
+            let near = f64::from(v.shades_depth_m[0].unwrap_or(0.0));
+            let far = f64::from(v.shades_depth_m[1]?);
+            Some((near.max(0.0), far, f64::from(v.texel_size_m[0])))
+        })
+        .collect();
+    if steps.is_empty() {
+        return;
+    }
+    let ends: Vec<String> = std::iter::once(steps[0].0)
+        .chain(steps.iter().map(|s| s.1))
+        .map(|d| length(d as f32))
+        .collect();
+    ui.label(
+        egui::RichText::new(format!("splits: {} m", ends.join(" · ")))
+            .small()
+            .color(theme::MUTED),
+    );
+    Plot::new("cascade_texels")
+        .height(theme::CASCADE_PLOT_HEIGHT)
+        .x_axis_label("view depth, m")
+        .y_axis_label("texel, m")
+        .allow_drag(false)
+        .allow_zoom(false)
+        .allow_scroll(false)
+        .show(ui, |plot| {
+            // A flat segment per cascade, in its own colour.
+            for (i, &(near, far, texel)) in steps.iter().enumerate() {
+                let segment = PlotPoints::from(vec![[near, texel], [far, texel]]);
+                plot.line(
+                    Line::new(format!("cascade {i}"), segment)
+                        .color(theme::pass_line(i))
+                        .width(3.0),
+                );
+            }
+        });
+}
