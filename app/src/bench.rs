@@ -1,10 +1,14 @@
 //! `shadowlab bench`: fly a camera path with each method and print medians, optionally
-//! sweeping shadow-map size (Bittner's Table 4) or sun elevation (Bittner's Figure 7).
+//! sweeping shadow-map size (Bittner's Table 4), sun elevation (Bittner's Figure 7), cascade
+//! counts, split schemes or the practical split's lambda.
 
 use std::fmt::Write as _;
 
 use anyhow::Context as _;
-use render_core::frame::{FrameRenderer, FrameReport, FrameSettings, Method, pass_label};
+use render_core::cascades::{MAX_CASCADES, SplitScheme};
+use render_core::frame::{
+    FrameRenderer, FrameReport, FrameSettings, Method, ShadowSetup, pass_label,
+};
 use render_core::geom::Camera;
 use render_core::scene::{CameraPath, SceneFacts, Sun};
 
@@ -104,6 +108,61 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
                             ..base
                         },
                     )
+                })
+                .collect()
+        }
+        Some(Sweep::Cascades) => {
+            if let Some(n) = args
+                .cascade_counts
+                .iter()
+                .find(|n| !(1..=MAX_CASCADES).contains(n))
+            {
+                anyhow::bail!("--cascade-counts: {n} is outside 1 to {MAX_CASCADES}");
+            }
+            let single = FrameSettings {
+                setup: ShadowSetup::Single,
+                ..base
+            };
+            std::iter::once(("single".to_owned(), single))
+                .chain(args.cascade_counts.iter().map(|&count| {
+                    let mut s = FrameSettings {
+                        setup: ShadowSetup::Cascades,
+                        ..base
+                    };
+                    s.cascades.count = count;
+                    (
+                        format!("{count} cascade{}", if count == 1 { "" } else { "s" }),
+                        s,
+                    )
+                }))
+                .collect()
+        }
+        Some(Sweep::Splits) => SplitScheme::ALL
+            .into_iter()
+            .filter(|s| *s != SplitScheme::Manual)
+            .map(|scheme| {
+                let mut s = FrameSettings {
+                    setup: ShadowSetup::Cascades,
+                    ..base
+                };
+                s.cascades.splits.scheme = scheme;
+                (scheme.name().to_owned(), s)
+            })
+            .collect(),
+        Some(Sweep::Lambda) => {
+            if let Some(l) = args.lambdas.iter().find(|l| !(0.0..=1.0).contains(*l)) {
+                anyhow::bail!("--lambdas: {l} is outside 0 to 1");
+            }
+            args.lambdas
+                .iter()
+                .map(|&lambda| {
+                    let mut s = FrameSettings {
+                        setup: ShadowSetup::Cascades,
+                        ..base
+                    };
+                    s.cascades.splits.scheme = SplitScheme::Practical;
+                    s.cascades.splits.lambda = lambda;
+                    (format!("lambda {lambda}"), s)
                 })
                 .collect()
         }

@@ -519,7 +519,8 @@ pub struct BenchArgs {
     /// this one is not among them).
     #[arg(long, default_value = "ref", value_name = "METHOD")]
     pub baseline: String,
-    /// Repeat the table for several shadow-map sizes or sun elevations.
+    /// Repeat the table for several shadow-map sizes, sun elevations, cascade counts (after
+    /// the single map), split schemes or practical-split lambdas.
     #[arg(long, value_enum)]
     pub sweep: Option<Sweep>,
     /// Shadow-map sizes of `--sweep resolution`.
@@ -538,6 +539,22 @@ pub struct BenchArgs {
         value_name = "DEG,DEG"
     )]
     pub elevations: Vec<f32>,
+    /// Cascade counts of `--sweep cascades`.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "1,2,4,8",
+        value_name = "N,N"
+    )]
+    pub cascade_counts: Vec<u32>,
+    /// Lambdas of `--sweep lambda`.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "0,0.25,0.5,0.75,1",
+        value_name = "L,L"
+    )]
+    pub lambdas: Vec<f32>,
 }
 
 /// What `bench --sweep` varies.
@@ -547,4 +564,10 @@ pub enum Sweep {
     Resolution,
     /// Sun elevation, as in Bittner's Figure 7.
     Elevation,
+    /// The single map, then cascades of each of `--cascade-counts`.
+    Cascades,
+    /// Every split scheme but manual, with the cascades of the other flags.
+    Splits,
+    /// The practical split's lambda, over `--lambdas`.
+    Lambda,
 }

@@ -150,13 +150,21 @@ pub fn shot(args: &ShotArgs) -> anyhow::Result<()> {
     }
     std::fs::write(&stats_path, serde_json::to_string_pretty(&stats)?)
         .with_context(|| format!("writing {}", stats_path.display()))?;
+    let drawn = match report.views.len() {
+        0 | 1 => format!(
+            "{} of {} casters drawn",
+            report.counts.casters_rendered, report.counts.casters_total
+        ),
+        views => format!(
+            "{} caster draws in {views} views ({} casters)",
+            report.counts.casters_rendered, report.counts.casters_total
+        ),
+    };
     println!(
-        "{}: {}x{}, {} of {} casters drawn, {} receivers visible; stats in {}",
+        "{}: {}x{}, {drawn}, {} receivers visible; stats in {}",
         args.out.display(),
         width,
         height,
-        report.counts.casters_rendered,
-        report.counts.casters_total,
         report
             .counts
             .receivers_visible
