@@ -13,6 +13,9 @@ run shot builtin:city --size 1280x720 --shadow-res 2048 \
 run shot builtin:city --size 1280x720 --shadow-res 2048 \
     --eye=-330,30,8 --target=-220,4,20 --method frag --overlay light-view --overlay casters \
     --out screenshots/city-frag-casters.png --stats screenshots/city-frag-casters.json
+run shot builtin:city --size 1280x720 --shadow-res 2048 \
+    --eye=-330,3.5,8 --target=-200,12,8 --shadow cascades --method frag --overlay cascades \
+    --out screenshots/city-cascades.png --stats screenshots/city-cascades.json
 if command -v xvfb-run >/dev/null 2>&1 || [ -n "${DISPLAY:-}" ]; then
     wrap=(); [ -z "${DISPLAY:-}" ] && wrap=(xvfb-run -a -s "-screen 0 1600x1000x24")
     shots=$(mktemp -d)

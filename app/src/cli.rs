@@ -138,7 +138,7 @@ pub struct ViewArgs {
     /// Shadow caster method.
     #[arg(long, value_parser = parse_method, value_name = "NAME")]
     pub method: Option<Method>,
-    /// Overlay to draw (repeatable): light-view.
+    /// Overlay to draw (repeatable): light-view, error, casters, cascades.
     #[arg(long, value_name = "NAME")]
     pub overlay: Vec<String>,
     /// PCF kernel: off, 2x2, 3x3, 5x5.

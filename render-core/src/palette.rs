@@ -31,6 +31,18 @@ pub const MASK_GEOMETRY: Swatch = swatch("MASK_GEOMETRY", [0.1, 0.9, 0.2]);
 pub const MASK_BOX: Swatch = swatch("MASK_BOX", [0.15, 0.35, 1.0]);
 pub const MASK_FRAGMENT: Swatch = swatch("MASK_FRAGMENT", [1.0, 0.12, 0.1]);
 
+/// The shadow views (cascades) in order; a ninth view takes the first colour again.
+pub const VIEWS: [Swatch; 8] = [
+    swatch("VIEW_0", [0.9, 0.2, 0.2]),
+    swatch("VIEW_1", [0.2, 0.8, 0.25]),
+    swatch("VIEW_2", [0.2, 0.4, 1.0]),
+    swatch("VIEW_3", [0.95, 0.8, 0.1]),
+    swatch("VIEW_4", [0.8, 0.25, 0.9]),
+    swatch("VIEW_5", [0.1, 0.85, 0.85]),
+    swatch("VIEW_6", [1.0, 0.5, 0.1]),
+    swatch("VIEW_7", [0.6, 0.6, 0.6]),
+];
+
 const ALL: [Swatch; 13] = [
     RENDERED,
     EXCLUDED,
@@ -58,13 +70,23 @@ pub(crate) fn wgsl() -> String {
     for Swatch {
         name,
         rgb: [r, g, b],
-    } in ALL
+    } in ALL.iter().chain(&VIEWS)
     {
         let _ = writeln!(
             out,
             "const PALETTE_{name} = vec3<f32>({r:?}, {g:?}, {b:?});"
         );
     }
+    out.push_str("fn palette_view(v: u32) -> vec3<f32> {\n    switch v % 8u {\n");
+    for (i, Swatch { name, .. }) in VIEWS.iter().enumerate() {
+        let case = if i + 1 == VIEWS.len() {
+            "default".to_owned()
+        } else {
+            format!("case {i}u")
+        };
+        let _ = writeln!(out, "        {case}: {{ return PALETTE_{name}; }}");
+    }
+    out.push_str("    }\n}\n");
     out
 }
 
@@ -75,7 +97,7 @@ mod tests {
     #[test]
     fn every_swatch_is_written_once_for_the_shaders() {
         let source = wgsl();
-        for Swatch { name, .. } in ALL {
+        for Swatch { name, .. } in ALL.iter().chain(&VIEWS) {
             assert_eq!(
                 source.matches(&format!("const PALETTE_{name} ")).count(),
                 1,

@@ -5,7 +5,7 @@
 use std::collections::HashSet;
 
 use crate::scene_gpu::gpu_data::{FLAG_CASTER, FLAG_DYNAMIC, FLAG_RECEIVER};
-use crate::view::gpu_data::OVERLAY_CASTERS;
+use crate::view::gpu_data::{OVERLAY_CASTERS, OVERLAY_VIEWS};
 
 /// Every composed shader of the renderer: (label, WGSL).
 fn composed_shaders() -> Vec<(String, String)> {
@@ -109,6 +109,7 @@ fn constants_named_on_both_sides_agree() {
         ("FLAG_RECEIVER", FLAG_RECEIVER),
         ("FLAG_DYNAMIC", FLAG_DYNAMIC),
         ("OVERLAY_CASTERS", OVERLAY_CASTERS),
+        ("OVERLAY_VIEWS", OVERLAY_VIEWS),
         ("OUTCOME_RENDERED", crate::culling::codes::OUTCOME_RENDERED),
     ] {
         assert_eq!(u32_constant(&camera, name), Some(value), "{name}");

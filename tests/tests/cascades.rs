@@ -194,3 +194,61 @@ fn a_view_within_twenty_metres_skips_the_far_cascades_and_sky_keeps_one_view() {
     );
     assert!(capture.depth.iter().all(|d| *d == 0.0), "only sky in view");
 }
+
+/// sRGB byte to linear.
+fn linear(byte: u8) -> f32 {
+    let c = f32::from(byte) / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+#[test]
+fn the_cascade_tint_colours_each_point_by_the_cascade_whose_depths_hold_it() {
+    let sun = Sun::from_azimuth_elevation_deg(30.0, 50.0);
+    let scene = box_on_plane(60.0, Vec3::new(2.0, 3.0, 2.0), 0.5, sun);
+    let camera = Camera::look_at(
+        Vec3::new(-6.0, 2.0, 9.0),
+        Vec3::new(20.0, 0.0, -25.0),
+        60f32.to_radians(),
+        0.05,
+        200.0,
+    );
+    let plain = FrameSettings { sun, ..cascades(4) };
+    let mut tinted = plain;
+    tinted.overlays.cascades = true;
+    let (report, before) = render(&scene, &camera, &plain, 200, 120);
+    let (_, after) = render(&scene, &camera, &tinted, 200, 120);
+    let mut seen = [0; 4];
+    for (i, p) in pixels_of(&after, &camera, GROUND) {
+        let depth = (p - camera.eye).dot(camera.forward);
+        // Away from the boundaries, where rounding could pick the neighbour.
+        let Some(v) = report.views.iter().position(|view| {
+            let [near, far] = view.shades_depth_m;
+            near.is_none_or(|n| depth > n * 1.01) && far.is_some_and(|f| depth < f * 0.99)
+        }) else {
+            continue;
+        };
+        let (x, y) = (i as u32 % after.width, i as u32 / after.width);
+        let (a, b) = (
+            before.color.get_pixel(x, y).0,
+            after.color.get_pixel(x, y).0,
+        );
+        let tint = render_core::palette::VIEWS[v].rgb;
+        for c in 0..3 {
+            let expected = linear(a[c]) * 0.65 + tint[c] * 0.35;
+            let got = linear(b[c]);
+            assert!(
+                (got - expected).abs() < 0.02,
+                "ground at depth {depth:.1} m (cascade {v}): channel {c} is {got:.3}, the tint gives {expected:.3}"
+            );
+        }
+        seen[v] += 1;
+    }
+    assert!(
+        seen.iter().all(|n| *n > 20),
+        "ground pixels per cascade: {seen:?}"
+    );
+}

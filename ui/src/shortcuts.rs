@@ -14,6 +14,7 @@ enum Command {
     PreviousMethod,
     LightView,
     CastersTint,
+    CascadeTint,
     HeatMap,
     Measure,
     Shadows,
@@ -30,7 +31,7 @@ const fn key(key: Key) -> KeyboardShortcut {
 
 /// Every shortcut the panel handles but the tabs', with its line in the help. A shortcut with
 /// Shift comes before the same key without, which would also match it.
-const SHORTCUTS: [(KeyboardShortcut, Command, &str); 14] = [
+const SHORTCUTS: [(KeyboardShortcut, Command, &str); 15] = [
     (
         KeyboardShortcut::new(Modifiers::SHIFT, Key::M),
         Command::PreviousMethod,
@@ -39,6 +40,7 @@ const SHORTCUTS: [(KeyboardShortcut, Command, &str); 14] = [
     (key(Key::M), Command::NextMethod, "next method"),
     (key(Key::L), Command::LightView, "light view in the corner"),
     (key(Key::C), Command::CastersTint, "tint casters by outcome"),
+    (key(Key::V), Command::CascadeTint, "tint by cascade"),
     (
         key(Key::H),
         Command::HeatMap,
@@ -129,6 +131,7 @@ fn run(command: Command, settings: &mut FrameSettings, pressed: &mut Pressed) {
         Command::PreviousMethod => settings.method = step(Method::ALL.len() - 1),
         Command::LightView => settings.overlays.light_view ^= true,
         Command::CastersTint => settings.overlays.casters ^= true,
+        Command::CascadeTint => settings.overlays.cascades ^= true,
         Command::HeatMap => {
             settings.overlays.error ^= true;
             settings.measure |= settings.overlays.error;

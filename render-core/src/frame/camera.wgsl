@@ -7,6 +7,7 @@
 #import technique/light.wgsl
 
 const OVERLAY_CASTERS: u32 = 1u;
+const OVERLAY_VIEWS: u32 = 2u;
 
 struct PrepassOut {
     // Instance index + 1, 0 is sky.
@@ -45,7 +46,7 @@ fn fs_shade(in: VsOut) -> ShadeOut {
 
     let data = instances[in.instance];
     let receives = (data.flags.x & FLAG_RECEIVER) != 0u;
-    var light = LightReaching(1.0, 1.0, 0u);
+    var light = LightReaching(1.0, 1.0, 0u, false);
     if (frame.params.y != 0u && receives) {
         let measuring = frame.params.z != 0u;
         light = light_reaching(in.world_pos, geometric, measuring);
@@ -65,6 +66,9 @@ fn fs_shade(in: VsOut) -> ShadeOut {
         let code = outcomes[light.view * frame.views.y + in.instance] & STATE_OUTCOME_BITS;
         let tint = outcome_colour(code);
         color = mix(color, tint.rgb * (0.35 + 0.65 * max(dot(n, l), 0.0)), tint.a);
+    }
+    if ((frame.params.w & OVERLAY_VIEWS) != 0u && light.shaded) {
+        color = mix(color, palette_view(light.view), 0.35);
     }
     out.color = vec4<f32>(color, 1.0);
     out.shadow = vec4<f32>(visibility, light.reference, 0.0, 1.0);

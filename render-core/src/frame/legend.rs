@@ -6,9 +6,22 @@ use crate::culling::codes::method_bits;
 use crate::palette::{
     CULLED_LIGHT_FRUSTUM, CULLED_LIGHT_OCCLUSION, CULLED_MASK, EXCLUDED, EXTRA_SHADOW, MAP_EMPTY,
     MAP_FAR, MAP_NEAR, MASK_BOX, MASK_FRAGMENT, MASK_GEOMETRY, MISSING_SHADOW, RENDERED, Swatch,
+    VIEWS,
 };
 
 use super::FrameSettings;
+
+/// The cascade tint's lines, nearest first.
+const VIEW_LABELS: [&str; 8] = [
+    "cascade 0 (nearest)",
+    "cascade 1",
+    "cascade 2",
+    "cascade 3",
+    "cascade 4",
+    "cascade 5",
+    "cascade 6",
+    "cascade 7",
+];
 
 /// One line of a legend: a colour (striped when the picture shows it as stripes) and what it
 /// means.
@@ -61,6 +74,21 @@ pub fn legend(settings: &FrameSettings) -> Vec<LegendGroup> {
         groups.push(LegendGroup {
             title: "Casters tint",
             entries: outcomes(false),
+        });
+    }
+    if overlays.cascades {
+        let count = match settings.setup {
+            super::ShadowSetup::Single => 1,
+            super::ShadowSetup::Cascades => settings.cascades.count.clamp(1, VIEWS.len() as u32),
+        };
+        groups.push(LegendGroup {
+            title: "Cascade tint",
+            entries: VIEWS
+                .iter()
+                .zip(VIEW_LABELS)
+                .take(count as usize)
+                .map(|(swatch, label)| entry(*swatch, label))
+                .collect(),
         });
     }
     if overlays.error && settings.measure {
@@ -118,6 +146,7 @@ mod tests {
             light_view: true,
             error: true,
             casters: true,
+            cascades: false,
         };
         settings.method = Method::Frag;
         let titles: Vec<_> = legend(&settings).iter().map(|g| g.title).collect();
@@ -159,5 +188,19 @@ mod tests {
         let light = legend(&settings).pop().expect("light view");
         let stripes = light.entries.iter().filter(|e| e.striped).count();
         assert_eq!(stripes, 4, "every culled outcome, not rendered");
+
+        // The cascade tint lists as many colours as there are cascades.
+        settings.overlays = Overlays {
+            cascades: true,
+            ..Overlays::default()
+        };
+        settings.setup = super::super::ShadowSetup::Cascades;
+        settings.cascades.count = 3;
+        let groups = legend(&settings);
+        assert_eq!(groups[0].title, "Cascade tint");
+        let labels: Vec<_> = groups[0].entries.iter().map(|e| e.label).collect();
+        assert_eq!(labels, ["cascade 0 (nearest)", "cascade 1", "cascade 2"]);
+        let [r, g, b] = groups[0].entries[2].rgb;
+        assert!((r, g, b) == (VIEWS[2].rgb[0], VIEWS[2].rgb[1], VIEWS[2].rgb[2]));
     }
 }

@@ -51,7 +51,7 @@ use crate::scene_gpu::DrawList;
 use crate::shadow_map::{MapTechnique, SunView};
 use crate::shadow_view::{ShadowView, ViewBuffer};
 use crate::technique::{DrawInput, ShadowPasses, ShadowTechnique, TechniqueInput};
-use crate::view::gpu_data::{FrameUniforms, OVERLAY_CASTERS};
+use crate::view::gpu_data::{FrameUniforms, OVERLAY_CASTERS, OVERLAY_VIEWS};
 use crate::view::{FrameBindings, VisibilityPass};
 
 /// What a frame looks at.
@@ -296,11 +296,8 @@ impl FrameRenderer {
                 shadow.pcf.width(),
                 u32::from(shadow.shadows_enabled),
                 u32::from(settings.measure),
-                if settings.overlays.casters {
-                    OVERLAY_CASTERS
-                } else {
-                    0
-                },
+                (u32::from(settings.overlays.casters) * OVERLAY_CASTERS)
+                    | (u32::from(settings.overlays.cascades) * OVERLAY_VIEWS),
             ],
             views: [views.len() as u32, scene_gpu.instance_count, 0, 0],
         };

@@ -22,10 +22,12 @@ pub struct Overlays {
     /// mask, the texel-exact footprint or the shadow volume; purple excluded; non-casters
     /// untinted.
     pub casters: bool,
+    /// Each point tinted by the shadow view that shades it: a colour per cascade.
+    pub cascades: bool,
 }
 
 impl Overlays {
-    pub const NAMES: [&'static str; 3] = ["light-view", "error", "casters"];
+    pub const NAMES: [&'static str; 4] = ["light-view", "error", "casters", "cascades"];
 
     /// Turns on the overlay called `name`.
     pub fn enable(&mut self, name: &str) -> Result<(), String> {
@@ -33,6 +35,7 @@ impl Overlays {
             "light-view" => self.light_view = true,
             "error" => self.error = true,
             "casters" => self.casters = true,
+            "cascades" => self.cascades = true,
             _ => {
                 return Err(format!(
                     "unknown overlay '{name}' (available: {})",

@@ -13,8 +13,10 @@
 struct LightReaching {
     method: f32,
     reference: f32,
-    // The first view that shades the point (the `casters` overlay reads its outcomes).
+    // The first view that shades the point (the `casters` overlay reads its outcomes, the
+    // `cascades` overlay tints by it), and whether any does.
     view: u32,
+    shaded: bool,
 }
 
 // Fraction of kernel taps that see the light. With `mark`, every shadowed tap marks the
@@ -50,7 +52,7 @@ fn shadow_factor(reference: bool, l: ShadowLookup, mark: bool) -> f32 {
 
 // `measuring`: also the reference's factor (else equal to the method's) and the oracle.
 fn light_reaching(world_pos: vec3<f32>, geometric: vec3<f32>, measuring: bool) -> LightReaching {
-    var out = LightReaching(1.0, 1.0, 0u);
+    var out = LightReaching(1.0, 1.0, 0u, false);
     var first = true;
     for (var v = 0u; v < frame.views.x; v++) {
         if (!view_shades(v, world_pos)) {
@@ -58,6 +60,7 @@ fn light_reaching(world_pos: vec3<f32>, geometric: vec3<f32>, measuring: bool) -
         }
         if (first) {
             out.view = v;
+            out.shaded = true;
             first = false;
         }
         let lookup = shadow_lookup(world_pos, geometric, v);

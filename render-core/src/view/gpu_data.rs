@@ -4,6 +4,9 @@ use bytemuck::{Pod, Zeroable};
 
 /// Bit in [`FrameUniforms::params`]`[3]`: tint objects by caster outcome.
 pub const OVERLAY_CASTERS: u32 = 1;
+/// Bit in [`FrameUniforms::params`]`[3]`: tint each point by the shadow view that shades it
+/// (a cascade each).
+pub const OVERLAY_VIEWS: u32 = 2;
 
 /// Per-frame constants shared by every scene pass.
 #[repr(C)]

@@ -82,19 +82,25 @@ pub fn ui(ui: &mut egui::Ui, settings: &mut FrameSettings) {
                 .response
         });
     });
-    ui.checkbox(&mut settings.overlays.light_view, "Light view in corner")
-        .on_hover_text("Draw the shadow map's depth over the top-left corner of the 3D view");
-    ui.checkbox(&mut settings.overlays.casters, "Tint casters by outcome")
-        .on_hover_text(
-            "Green: drawn into the shadow map; culled: orange by the light frustum, yellow by light \
-             occlusion, magenta by the mask, the texel-exact footprint or the shadow volume; purple: \
-             excluded",
-        );
-    ui.checkbox(&mut settings.measure, "Measure error and oracle")
-        .on_hover_text(MEASURE_HELP);
-    ui.add_enabled_ui(settings.measure, |ui| {
-        ui.checkbox(&mut settings.overlays.error, "Error heat map")
-            .on_hover_text(ERROR_OVERLAY_HELP);
+    // The overlays and measuring flow in rows, so the tab stays short.
+    ui.horizontal_wrapped(|ui| {
+        ui.checkbox(&mut settings.overlays.light_view, "Light view in corner")
+            .on_hover_text("Draw the shadow map's depth over the top-left corner of the 3D view");
+        ui.checkbox(&mut settings.overlays.casters, "Tint casters by outcome")
+            .on_hover_text(
+                "Green: drawn into the shadow map; culled: orange by the light frustum, yellow by \
+                 light occlusion, magenta by the mask, the texel-exact footprint or the shadow \
+                 volume; purple: excluded",
+            );
+        ui.checkbox(&mut settings.overlays.cascades, "Tint by cascade")
+            .on_hover_text("Tint each point by the cascade (shadow view) that shades it");
+        ui.checkbox(&mut settings.measure, "Measure error and oracle")
+            .on_hover_text(MEASURE_HELP);
+        ui.add_enabled(
+            settings.measure,
+            egui::Checkbox::new(&mut settings.overlays.error, "Error heat map"),
+        )
+        .on_hover_text(ERROR_OVERLAY_HELP);
     });
 }
 
