@@ -34,6 +34,9 @@ struct BenchRow {
     tightness: Option<f64>,
     /// Worst frame's missing + extra shadow pixels.
     error_px_max: u32,
+    /// Undersampling in octaves: the median over frames of each frame's median and 95th
+    /// percentile.
+    undersampling: (Option<f64>, Option<f64>),
     /// Baseline GPU frame time / this method's, under the same setting.
     speed_up: Option<f64>,
     /// Median GPU ms per pass label (and depth: steps inside a pass are 1), in frame order.
@@ -292,6 +295,10 @@ fn summarise(setting: &str, method: &str, reports: &[(f64, FrameReport)]) -> Ben
             .filter_map(|(_, r)| r.error.map(|e| e.missing_shadow_px + e.extra_shadow_px))
             .max()
             .unwrap_or(0),
+        undersampling: (
+            collect(&|(_, r)| r.undersampling.map(|u| f64::from(u.median_octaves))),
+            collect(&|(_, r)| r.undersampling.map(|u| f64::from(u.p95_octaves))),
+        ),
         speed_up: None,
         passes: median_passes(reports),
     }
@@ -353,7 +360,7 @@ fn format_passes(rows: &[BenchRow]) -> String {
     aligned(&lines, 1)
 }
 
-const COLUMNS: [&str; 13] = [
+const COLUMNS: [&str; 15] = [
     "setting",
     "method",
     "frames",
@@ -366,10 +373,12 @@ const COLUMNS: [&str; 13] = [
     "tightness",
     "shadow triangles",
     "error px (max)",
+    "under p50",
+    "under p95",
     "speed-up",
 ];
 
-fn row_cells(r: &BenchRow) -> [String; 13] {
+fn row_cells(r: &BenchRow) -> [String; 15] {
     let opt =
         |v: Option<f64>, digits: usize| v.map_or_else(|| "n/a".into(), |v| format!("{v:.digits$}"));
     [
@@ -386,6 +395,8 @@ fn row_cells(r: &BenchRow) -> [String; 13] {
         opt(r.tightness, 2),
         format!("{:.0}", r.shadow_triangles),
         r.error_px_max.to_string(),
+        opt(r.undersampling.0, 2),
+        opt(r.undersampling.1, 2),
         opt(r.speed_up, 2),
     ]
 }
@@ -394,7 +405,7 @@ fn row_cells(r: &BenchRow) -> [String; 13] {
 fn format_table(rows: &[BenchRow], baseline: &str) -> String {
     let skip = usize::from(rows.iter().all(|r| r.setting.is_empty()));
     let mut header = COLUMNS.map(str::to_owned);
-    header[12] = format!("speed-up vs {baseline}");
+    header[14] = format!("speed-up vs {baseline}");
     let lines: Vec<Vec<String>> = std::iter::once(header.to_vec())
         .chain(rows.iter().map(|r| row_cells(r).to_vec()))
         .map(|l| l[skip..].to_vec())
@@ -436,13 +447,13 @@ fn aligned(lines: &[Vec<String>], left: usize) -> String {
 
 fn format_csv(rows: &[BenchRow]) -> String {
     let mut out = String::from(
-        "setting,method,frames,frame_ms,gpu_frame_ms,shadow_pass_ms,casters_drawn,casters_oracle,tightness,shadow_triangles,error_px_max,casters_total,speed_up,culling_ms\n",
+        "setting,method,frames,frame_ms,gpu_frame_ms,shadow_pass_ms,casters_drawn,casters_oracle,tightness,shadow_triangles,error_px_max,casters_total,speed_up,culling_ms,undersampling_p50,undersampling_p95\n",
     );
     let opt = |v: Option<f64>| v.map_or_else(String::new, |v| format!("{v:.4}"));
     for r in rows {
         let _ = writeln!(
             out,
-            "{},{},{},{:.4},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{:.4},{},{},{},{},{},{},{},{},{},{},{},{}",
             r.setting,
             r.method,
             r.frames,
@@ -456,7 +467,9 @@ fn format_csv(rows: &[BenchRow]) -> String {
             r.error_px_max,
             r.casters_total,
             opt(r.speed_up),
-            opt(r.culling_ms)
+            opt(r.culling_ms),
+            opt(r.undersampling.0),
+            opt(r.undersampling.1)
         );
     }
     out

@@ -260,6 +260,7 @@ pub fn stats_json(
         },
         "tightness": report.tightness(),
         "error": report.error,
+        "undersampling": report.undersampling,
         "stages": report.stages,
         "technique": report.technique,
         "views": report.views,

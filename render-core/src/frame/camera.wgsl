@@ -52,6 +52,9 @@ fn fs_shade(in: VsOut) -> ShadeOut {
         light = light_reaching(in.world_pos, geometric, measuring);
         if (measuring) {
             count_error(light.method, light.reference);
+            if (light.shaded) {
+                count_undersampling(light.view, in.world_pos, geometric);
+            }
         }
     }
     let visibility = light.method;

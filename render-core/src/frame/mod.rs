@@ -67,6 +67,8 @@ pub struct FrameInput<'a> {
 struct FrameSetup {
     settings: FrameSettings,
     aspect: f32,
+    /// The view's height in pixels.
+    height: u32,
     clip_from_world: glam::Mat4,
     started: Instant,
     camera_culling_ms: f64,
@@ -238,6 +240,7 @@ impl FrameRenderer {
         self.scratch.sort_unstable();
         self.camera_list.upload(ctx, scene_gpu, &self.scratch);
         FrameSetup {
+            height,
             settings,
             aspect,
             clip_from_world,
@@ -284,7 +287,10 @@ impl FrameRenderer {
         let uniforms = FrameUniforms {
             clip_from_world: setup.clip_from_world.to_cols_array_2d(),
             eye_world: camera.eye.extend(1.0).to_array(),
-            camera_forward: camera.forward.extend(0.0).to_array(),
+            camera_forward: camera
+                .forward
+                .extend(2.0 * (camera.fov_y_rad * 0.5).tan() / setup.height as f32)
+                .to_array(),
             direction_to_sun: settings.sun.direction_to_sun.extend(1.0).to_array(),
             shadow: [
                 shadow.depth_bias_m,

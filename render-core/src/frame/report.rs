@@ -62,6 +62,8 @@ pub struct FrameReport {
     pub light: LightFacts,
     /// Shadow error against the reference map (when measuring), of frame `measured_frame_index`.
     pub error: Option<ShadowError>,
+    /// Undersampling over every view (when measuring), of frame `measured_frame_index`.
+    pub undersampling: Option<crate::metrics::Undersampling>,
     pub measured_frame_index: Option<u64>,
     /// For the GPU culling methods: the frame whose counts and stages these are.
     pub culled_frame_index: Option<u64>,
@@ -99,6 +101,10 @@ impl FrameReport {
         for (view, oracle) in self.views.iter_mut().zip(&measured.oracle_per_view) {
             view.casters_oracle = Some(*oracle);
         }
+        for (view, histogram) in self.views.iter_mut().zip(&measured.undersampling_per_view) {
+            view.undersampling = crate::metrics::Undersampling::from_histogram(histogram);
+        }
+        self.undersampling = measured.undersampling();
     }
 
     /// GPU time of the passes called `label` (summed where a frame has several, like the

@@ -3,14 +3,18 @@
 // Written only when frame.params.z != 0 (measuring); the outcomes are read when tinting.
 #import view/common.wgsl
 
-// Keep in sync with metrics/mod.rs (`take_latest`).
+// Keep in sync with metrics/mod.rs (`take_latest`, `UNDERSAMPLING_BINS`).
 struct Measured {
     visible_px: atomic<u32>,
     missing_px: atomic<u32>,
     extra_px: atomic<u32>,
-    // Per view: casters in its oracle set.
-    oracle_casters: array<atomic<u32>>,
+    // Per view (this frame's `frame.views.x`): casters in its oracle set; then per view its
+    // undersampling histogram.
+    per_view: array<atomic<u32>>,
 }
+
+// Undersampling bins: exactly 0 octaves, then quarter octaves up to 8, the last open.
+const UNDERSAMPLING_BINS: u32 = 33u;
 
 @group(2) @binding(0) var<storage, read_write> oracle: array<atomic<u32>>;
 @group(2) @binding(1) var<storage, read_write> measured: Measured;
@@ -20,7 +24,7 @@ struct Measured {
 // Caster `id` (instance index + 1) wins a shadowed tap of view `v`: it is in the view's oracle.
 fn mark_oracle(v: u32, id: u32) {
     if (id != 0u && atomicOr(&oracle[v * frame.views.y + id - 1u], 1u) == 0u) {
-        atomicAdd(&measured.oracle_casters[v], 1u);
+        atomicAdd(&measured.per_view[v], 1u);
     }
 }
 
@@ -32,4 +36,24 @@ fn count_error(visibility: f32, reference: f32) {
     } else if (reference > visibility) {
         atomicAdd(&measured.extra_px, 1u);
     }
+}
+
+// Counts how many octaves view `v` undersamples the visible point at `world_pos` with
+// geometric normal `n`: max(0, log2 of a texel's footprint over a pixel's), both as areas on
+// the surface (Lauritzen's SDSM reports texels per pixel the same way).
+fn count_undersampling(v: u32, world_pos: vec3<f32>, n: vec3<f32>) {
+    let view = shadow_views[v];
+    let to_eye = frame.eye_world.xyz - world_pos;
+    let distance = length(to_eye);
+    let pixel_m = distance * frame.camera_forward.w;
+    let cos_view = max(abs(dot(n, to_eye / max(distance, 1e-6))), 0.02);
+    let cos_light = max(abs(dot(n, view.light_dir.xyz)), 0.02);
+    let texel_area = view.light_right.w * view.light_up.w / cos_light;
+    let pixel_area = pixel_m * pixel_m / cos_view;
+    let octaves = 0.5 * log2(max(texel_area, 1e-30) / max(pixel_area, 1e-30));
+    var bin = 0u;
+    if (octaves > 0.0) {
+        bin = 1u + min(u32(octaves * 4.0), UNDERSAMPLING_BINS - 2u);
+    }
+    atomicAdd(&measured.per_view[frame.views.x + v * UNDERSAMPLING_BINS + bin], 1u);
 }

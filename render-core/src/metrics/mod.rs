@@ -20,9 +20,40 @@ use crate::gpu::{
     GpuContext, GpuCounters, GpuError, bind_group_layout, buffer_entry, read_buffer, storage,
 };
 use crate::scene_gpu::SceneGpu;
+pub use crate::technique::Undersampling;
 
 /// Counter words before the per-view oracle counts (`Measured` in measure.wgsl).
 const ERROR_WORDS: usize = 3;
+/// Bins of a view's undersampling histogram (`UNDERSAMPLING_BINS` in measure.wgsl): exactly
+/// 0 octaves, then quarter octaves, the last open above 7.75.
+pub const UNDERSAMPLING_BINS: usize = 33;
+
+impl Undersampling {
+    /// From a histogram of [`UNDERSAMPLING_BINS`] bins; `None` when it is empty. A
+    /// percentile is the middle of its bin (0 for the first).
+    pub fn from_histogram(bins: &[u32]) -> Option<Self> {
+        let pixels: u64 = bins.iter().map(|&b| u64::from(b)).sum();
+        if pixels == 0 {
+            return None;
+        }
+        let percentile = |q: f64| {
+            let wanted = (q * pixels as f64).ceil().max(1.0) as u64;
+            let mut seen = 0;
+            for (b, &count) in bins.iter().enumerate() {
+                seen += u64::from(count);
+                if seen >= wanted {
+                    return if b == 0 { 0.0 } else { (b as f32 - 0.5) / 4.0 };
+                }
+            }
+            (bins.len() as f32 - 1.5) / 4.0
+        };
+        Some(Self {
+            median_octaves: percentile(0.5),
+            p95_octaves: percentile(0.95),
+            pixels: u32::try_from(pixels).unwrap_or(u32::MAX),
+        })
+    }
+}
 
 /// Shadow error of one frame, in pixels.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
@@ -44,6 +75,21 @@ pub struct Measured {
     pub casters_oracle: u32,
     /// Per view, casters in its oracle set.
     pub oracle_per_view: Vec<u32>,
+    /// Per view, its undersampling histogram ([`UNDERSAMPLING_BINS`] bins).
+    pub undersampling_per_view: Vec<Vec<u32>>,
+}
+
+impl Measured {
+    /// Undersampling over every view's pixels.
+    pub fn undersampling(&self) -> Option<Undersampling> {
+        let mut total = vec![0; UNDERSAMPLING_BINS];
+        for histogram in &self.undersampling_per_view {
+            for (t, h) in total.iter_mut().zip(histogram) {
+                *t += h;
+            }
+        }
+        Undersampling::from_histogram(&total)
+    }
 }
 
 /// Oracle flags, counters and the shading pass's group 2 (`metrics/measure.wgsl`).
@@ -93,8 +139,10 @@ impl MeasureResources {
             );
             self.oracle_flags = create_flags(&ctx.device, self.capacity.0 * self.capacity.1);
         }
-        self.counters
-            .ensure_words(&ctx.device, ERROR_WORDS + self.capacity.1 as usize);
+        self.counters.ensure_words(
+            &ctx.device,
+            ERROR_WORDS + self.capacity.1 as usize * (1 + UNDERSAMPLING_BINS),
+        );
         encoder.clear_buffer(&self.oracle_flags, 0, None);
         self.counters.clear(encoder);
         ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -135,7 +183,16 @@ impl MeasureResources {
             .iter()
             .find(|(f, _)| *f == frame_index)
             .map_or(1, |(_, v)| *v as usize);
-        let oracle_per_view: Vec<u32> = w.iter().skip(ERROR_WORDS).take(views).copied().collect();
+        let per_view = w.get(ERROR_WORDS..).unwrap_or_default();
+        let oracle_per_view: Vec<u32> = per_view.iter().take(views).copied().collect();
+        let undersampling_per_view = (0..views)
+            .map(|v| {
+                let first = views + v * UNDERSAMPLING_BINS;
+                per_view
+                    .get(first..first + UNDERSAMPLING_BINS)
+                    .map_or_else(|| vec![0; UNDERSAMPLING_BINS], <[u32]>::to_vec)
+            })
+            .collect();
         Some(Measured {
             frame_index,
             error: ShadowError {
@@ -145,6 +202,7 @@ impl MeasureResources {
             },
             casters_oracle: oracle_per_view.iter().sum(),
             oracle_per_view,
+            undersampling_per_view,
         })
     }
 
@@ -178,4 +236,26 @@ fn create_flags(device: &wgpu::Device, count: u32) -> wgpu::Buffer {
             | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn percentiles_come_from_the_histogram() {
+        let mut bins = vec![0; UNDERSAMPLING_BINS];
+        assert_eq!(Undersampling::from_histogram(&bins), None);
+        // 60 pixels exact, 30 in [1, 1.25), 10 in [3, 3.25).
+        bins[0] = 60;
+        bins[5] = 30;
+        bins[13] = 10;
+        let u = Undersampling::from_histogram(&bins).expect("pixels");
+        assert_eq!(u.pixels, 100);
+        assert!(u.median_octaves == 0.0, "{u:?}");
+        assert!((u.p95_octaves - 3.125).abs() < 1e-6, "{u:?}");
+        bins[0] = 0;
+        let u = Undersampling::from_histogram(&bins).expect("pixels");
+        assert!((u.median_octaves - 1.125).abs() < 1e-6, "{u:?}");
+    }
 }

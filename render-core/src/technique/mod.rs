@@ -86,6 +86,18 @@ pub struct ViewReport {
     pub covers_whole_scene: bool,
     /// The camera view depths it shades, metres (`null` in JSON for an open end).
     pub shades_depth_m: [Option<f32>; 2],
+    /// How much it undersamples the pixels it shades (when measuring).
+    pub undersampling: Option<Undersampling>,
+}
+
+/// How many octaves the shadow map undersamples the visible pixels: max(0, log2 of a texel's
+/// footprint over a pixel's, as areas on the surface), to a quarter octave.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct Undersampling {
+    pub median_octaves: f32,
+    pub p95_octaves: f32,
+    /// Pixels counted.
+    pub pixels: u32,
 }
 
 /// A technique's part of the report, the newest it has.

@@ -7,7 +7,7 @@ struct FrameUniforms {
     clip_from_world: mat4x4<f32>,
     // xyz: camera position; w: unused.
     eye_world: vec4<f32>,
-    // xyz: unit view direction; w: unused.
+    // xyz: unit view direction; w: a pixel's width one metre from the eye, metres.
     camera_forward: vec4<f32>,
     // xyz: unit vector towards the sun; w: sun illuminance scale.
     direction_to_sun: vec4<f32>,

@@ -15,7 +15,8 @@ pub struct FrameUniforms {
     pub clip_from_world: [[f32; 4]; 4],
     /// xyz: camera position; w: unused.
     pub eye_world: [f32; 4],
-    /// xyz: unit view direction; w: unused.
+    /// xyz: unit view direction; w: a pixel's width one metre from the eye, in metres
+    /// (`2 tan(fov / 2) / height`), for the undersampling measure.
     pub camera_forward: [f32; 4],
     /// xyz: unit vector towards the sun; w: sun illuminance scale.
     pub direction_to_sun: [f32; 4],

@@ -66,6 +66,13 @@ fn counts(ui: &mut egui::Ui, report: &FrameReport) {
             grid::row(ui, "Extra shadow px", thousands(e.extra_shadow_px.into()));
             grid::row(ui, "Receiver px compared", thousands(e.visible_px.into()));
         }
+        if let Some(u) = report.undersampling {
+            grid::row(
+                ui,
+                "Undersampling p50 / p95",
+                format!("{:.2} / {:.2} octaves", u.median_octaves, u.p95_octaves),
+            );
+        }
         grid::row(ui, "Receivers visible", optional_count(c.receivers_visible));
         grid::row(
             ui,
@@ -97,11 +104,11 @@ fn views(ui: &mut egui::Ui, report: &FrameReport) {
     }
     ui.add_space(theme::SECTION_GAP);
     egui::Grid::new("frame_views")
-        .num_columns(4)
+        .num_columns(5)
         .striped(true)
         .spacing(theme::GRID_SPACING)
         .show(ui, |ui| {
-            for heading in ["view", "casters", "oracle", "texel"] {
+            for heading in ["view", "casters", "oracle", "texel", "under p95"] {
                 ui.label(egui::RichText::new(heading).color(theme::MUTED));
             }
             ui.end_row();
@@ -110,6 +117,10 @@ fn views(ui: &mut egui::Ui, report: &FrameReport) {
                 ui.label(thousands(view.casters_rendered.into()));
                 ui.label(optional_count(view.casters_oracle));
                 ui.label(format!("{} m", crate::format::length(view.texel_size_m[0])));
+                ui.label(
+                    view.undersampling
+                        .map_or_else(|| PENDING.to_owned(), |u| format!("{:.2}", u.p95_octaves)),
+                );
                 ui.end_row();
             }
         });

@@ -676,6 +676,11 @@ fn window_on(tab: PanelTab, setup: impl FnOnce(&mut Lab)) -> Harness<'static, La
         casters_oracle: Some(15 + 7 * i as u32),
         texel_size_m: [texel, texel],
         shades_depth_m: [near, Some(far)],
+        undersampling: Some(render_core::metrics::Undersampling {
+            median_octaves: 0.0,
+            p95_octaves: 0.25 * i as f32,
+            pixels: 1000,
+        }),
         ..ViewReport::default()
     })
     .collect();
