@@ -253,6 +253,7 @@ fn run_path(
         )?;
         report.counts.casters_oracle = measured.counts.casters_oracle;
         report.error = measured.error;
+        report.undersampling = measured.undersampling;
         if frame >= args.warmup {
             reports.push((wall_ms, report));
         }

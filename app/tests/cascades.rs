@@ -116,6 +116,8 @@ fn bench_sweeps_cascade_counts_after_the_single_map() {
         .collect();
     assert_eq!(rows.len(), 3, "single, 2 and 4 cascades:\n{out}");
     assert!(rows[0].starts_with("single"), "{out}");
+    // Every column has a number: timings, error and undersampling from the measured frames.
+    assert!(rows.iter().all(|r| !r.contains("n/a")), "{out}");
     assert!(
         rows[1].starts_with("2 cascades") && rows[2].starts_with("4 cascades"),
         "{out}"
