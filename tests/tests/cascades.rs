@@ -252,3 +252,73 @@ fn the_cascade_tint_colours_each_point_by_the_cascade_whose_depths_hold_it() {
         "ground pixels per cascade: {seen:?}"
     );
 }
+
+#[test]
+fn cascades_stay_sound_looking_into_the_sun_away_from_it_and_100_km_out() {
+    let sun = Sun::from_azimuth_elevation_deg(0.0, 15.0);
+    let near_scene = box_on_plane(150.0, Vec3::new(4.0, 12.0, 4.0), 0.0, sun);
+    let offset = Vec3::new(100_000.0, 0.0, -100_000.0);
+    let far_scene = shadowlab_tests::translated(&near_scene, offset);
+    // The sun lies towards +X and the box's shadow falls towards -X: looking at the shadow
+    // into the sun, away from it (from beside the box), and the same 100 km out.
+    let cases = [
+        (
+            "into the sun",
+            &near_scene,
+            Vec3::new(-60.0, 3.0, 5.0),
+            Vec3::new(-20.0, 0.0, 0.0),
+        ),
+        (
+            "away from the sun",
+            &near_scene,
+            Vec3::new(20.0, 4.0, 14.0),
+            Vec3::new(-25.0, 0.0, 0.0),
+        ),
+        (
+            "100 km out",
+            &far_scene,
+            offset + Vec3::new(20.0, 4.0, 14.0),
+            offset + Vec3::new(-25.0, 0.0, 0.0),
+        ),
+    ];
+    for (name, scene, eye, target) in cases {
+        let camera = Camera::look_at(eye, target, 60f32.to_radians(), 0.01, 10_000.0);
+        let settings = FrameSettings {
+            sun,
+            method: Method::Frag,
+            measure: true,
+            ..cascades(4)
+        };
+        let (report, capture) = render(scene, &camera, &settings, 192, 128);
+        assert_eq!(report.views.len(), 4, "{name}");
+        for view in &report.views {
+            assert!(
+                view.texel_size_m.iter().all(|t| t.is_finite() && *t > 0.0),
+                "{name}: {} has texels {:?}",
+                view.name,
+                view.texel_size_m
+            );
+        }
+        let error = report.error.expect("measured");
+        assert_eq!(
+            (error.missing_shadow_px, error.extra_shadow_px),
+            (0, 0),
+            "{name}"
+        );
+        assert!(
+            error.visible_px > 1000,
+            "{name}: {} receiver pixels",
+            error.visible_px
+        );
+        // The box's shadow falls on the ground in view: some ground is dark, most is lit.
+        let (mut dark, mut ground) = (0, 0);
+        for (i, _) in pixels_of(&capture, &camera, GROUND) {
+            ground += 1;
+            dark += usize::from(capture.shadow[i] == 0);
+        }
+        assert!(
+            dark > 20 && dark < ground / 2,
+            "{name}: {dark} of {ground} ground pixels dark"
+        );
+    }
+}
