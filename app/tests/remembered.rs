@@ -3,16 +3,11 @@
 
 mod common;
 
-use common::{out_dir, run, shadowlab, text};
+use common::{has_display, out_dir, run, screenshot_stats, shadowlab, text};
 
 #[test]
 fn the_window_reopens_with_the_last_scene_method_and_overlays() {
-    if std::env::var_os("DISPLAY").is_none() && std::env::var_os("WAYLAND_DISPLAY").is_none() {
-        assert!(
-            std::env::var("CI").is_err(),
-            "CI must run the window tests under a display (xvfb-run)"
-        );
-        eprintln!("skipped: no display; `scripts/test.sh` gets one from xvfb-run");
+    if !has_display() {
         return;
     }
     let dir = out_dir("remembered");
@@ -48,14 +43,7 @@ fn the_window_reopens_with_the_last_scene_method_and_overlays() {
         .args(["--exit-after-frames", "3", "--screenshot-dir"])
         .arg(&shots));
     assert!(second.status.success(), "{}", text(&second));
-    let json = std::fs::read_dir(&shots)
-        .expect("screenshot folder")
-        .flatten()
-        .map(|e| e.path())
-        .find(|p| p.extension().is_some_and(|e| e == "json"))
-        .expect("the window saved a screenshot and its stats");
-    let stats: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(json).expect("stats")).expect("JSON");
+    let stats = screenshot_stats(&shots);
     assert_eq!(stats["scene"], "builtin:city-small");
     assert_eq!(stats["method"], "frag");
     let again: serde_json::Value = serde_json::from_str(

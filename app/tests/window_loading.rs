@@ -6,7 +6,7 @@ mod common;
 
 use std::path::Path;
 
-use common::{out_dir, run, shadowlab, text};
+use common::{has_display, out_dir, run, screenshot_stats, shadowlab, text};
 use serde_json::{Value, json};
 
 /// The boxes packed as `gltfpack` packs them: a `.gltf` whose first buffer is `bin_uri`.
@@ -21,14 +21,27 @@ fn write_gltf(dir: &Path, stem: &str, edit: impl FnOnce(&mut Value)) -> String {
     path.display().to_string()
 }
 
+/// The window on city-small opening `file` after its first frame, closing once that has
+/// loaded or failed: its output and the stats of its last screenshot (into `shots`).
+fn open_in_the_window(file: &str, shots: &Path) -> (std::process::Output, Value) {
+    let output = run(shadowlab()
+        .args([
+            "builtin:city-small",
+            "--then-open",
+            file,
+            "--exit-after-frames",
+            "3",
+            "--screenshot-dir",
+        ])
+        .arg(shots));
+    assert!(output.status.success(), "{file}: {}", text(&output));
+    let stats = screenshot_stats(shots);
+    (output, stats)
+}
+
 #[test]
 fn a_bad_file_opened_in_the_window_is_named_and_the_scene_stays() {
-    if std::env::var_os("DISPLAY").is_none() && std::env::var_os("WAYLAND_DISPLAY").is_none() {
-        assert!(
-            std::env::var("CI").is_err(),
-            "CI must run the window tests under a display (xvfb-run)"
-        );
-        eprintln!("skipped: no display; `scripts/test.sh` gets one from xvfb-run");
+    if !has_display() {
         return;
     }
     let root = out_dir("window_loading");
@@ -85,16 +98,7 @@ fn a_bad_file_opened_in_the_window_is_named_and_the_scene_stays() {
                 .unwrap_or("x")
         ));
         let _ = std::fs::remove_dir_all(&shots);
-        let output = run(shadowlab()
-            .args([
-                "builtin:city-small",
-                "--then-open",
-                &file,
-                "--exit-after-frames",
-                "3",
-                "--screenshot-dir",
-            ])
-            .arg(&shots));
+        let (output, stats) = open_in_the_window(&file, &shots);
         let said = text(&output);
         assert!(output.status.success(), "{file}: {said}");
         assert!(
@@ -109,14 +113,6 @@ fn a_bad_file_opened_in_the_window_is_named_and_the_scene_stays() {
         }
         assert!(said.contains("The current scene stays open"), "{said}");
         // The screenshot after the failed load is still of the city.
-        let json = std::fs::read_dir(&shots)
-            .expect("screenshot folder")
-            .flatten()
-            .map(|e| e.path())
-            .find(|p| p.extension().is_some_and(|e| e == "json"))
-            .expect("a screenshot after the load");
-        let stats: Value =
-            serde_json::from_str(&std::fs::read_to_string(json).expect("stats")).expect("JSON");
         assert_eq!(stats["scene"], "builtin:city-small", "{file}");
     }
 
@@ -124,24 +120,7 @@ fn a_bad_file_opened_in_the_window_is_named_and_the_scene_stays() {
     let good = write_gltf(&dir, "good", |_| {});
     let shots = root.join("shots-good");
     let _ = std::fs::remove_dir_all(&shots);
-    let output = run(shadowlab()
-        .args([
-            "builtin:city-small",
-            "--then-open",
-            &good,
-            "--exit-after-frames",
-            "3",
-            "--screenshot-dir",
-        ])
-        .arg(&shots));
+    let (output, stats) = open_in_the_window(&good, &shots);
     assert!(output.status.success(), "{}", text(&output));
-    let json = std::fs::read_dir(&shots)
-        .expect("screenshot folder")
-        .flatten()
-        .map(|e| e.path())
-        .find(|p| p.extension().is_some_and(|e| e == "json"))
-        .expect("a screenshot after the load");
-    let stats: Value =
-        serde_json::from_str(&std::fs::read_to_string(json).expect("stats")).expect("JSON");
     assert_eq!(stats["scene"], json!(good));
 }

@@ -7,7 +7,7 @@ use render_core::cascades::{CascadeSettings, SplitScheme, Splits};
 use render_core::frame::SceneGpu;
 use render_core::frame::{FrameInput, FrameRenderer, FrameSettings, Method, ShadowSetup};
 use render_core::geom::Camera;
-use render_core::scene::{Sun, load_builtin};
+use render_core::scene::{Scene, Sun, load_builtin};
 use shadowlab_tests::{
     box_on_plane, city_small_street_camera, expected_shadow, gpu, pixels_of, render,
 };
@@ -25,12 +25,11 @@ fn cascades(count: u32) -> FrameSettings {
     }
 }
 
-#[test]
-fn each_cascade_shadows_the_ground_exactly_where_the_box_does() {
+/// A 2 x 3 x 2 m box 0.5 m above a 120 m ground, and a camera low over the ground, so the view
+/// holds near and far ground and the box's shadow in the near cascades.
+fn box_seen_low() -> (Sun, Scene, Camera) {
     let sun = Sun::from_azimuth_elevation_deg(30.0, 50.0);
     let scene = box_on_plane(60.0, Vec3::new(2.0, 3.0, 2.0), 0.5, sun);
-    // Low over the ground, so the view holds near and far ground, and the box's shadow in the
-    // near cascades.
     let camera = Camera::look_at(
         Vec3::new(-6.0, 2.0, 9.0),
         Vec3::new(20.0, 0.0, -25.0),
@@ -38,6 +37,12 @@ fn each_cascade_shadows_the_ground_exactly_where_the_box_does() {
         0.05,
         200.0,
     );
+    (sun, scene, camera)
+}
+
+#[test]
+fn each_cascade_shadows_the_ground_exactly_where_the_box_does() {
+    let (sun, scene, camera) = box_seen_low();
     let settings = FrameSettings { sun, ..cascades(4) };
     let (report, capture) = render(&scene, &camera, &settings, 320, 200);
     assert_eq!(report.technique, "cascades");
@@ -207,15 +212,7 @@ fn linear(byte: u8) -> f32 {
 
 #[test]
 fn the_cascade_tint_colours_each_point_by_the_cascade_whose_depths_hold_it() {
-    let sun = Sun::from_azimuth_elevation_deg(30.0, 50.0);
-    let scene = box_on_plane(60.0, Vec3::new(2.0, 3.0, 2.0), 0.5, sun);
-    let camera = Camera::look_at(
-        Vec3::new(-6.0, 2.0, 9.0),
-        Vec3::new(20.0, 0.0, -25.0),
-        60f32.to_radians(),
-        0.05,
-        200.0,
-    );
+    let (sun, scene, camera) = box_seen_low();
     let plain = FrameSettings { sun, ..cascades(4) };
     let mut tinted = plain;
     tinted.overlays.cascades = true;

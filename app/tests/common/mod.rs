@@ -1,4 +1,7 @@
-//! What the binary's tests share: the binary, a folder per test, and its output as text.
+//! What the binary's tests share: the binary, a folder per test, its output as text, and for
+//! the window tests whether there is a display and the stats of the screenshot it saved.
+//! Each test file uses some of it.
+#![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -34,4 +37,30 @@ pub fn text(output: &Output) -> String {
         String::from_utf8_lossy(&output.stdout),
         String::from_utf8_lossy(&output.stderr)
     )
+}
+
+/// Whether the window tests can open a window. Without a display they are skipped, but not
+/// in CI, which must run them under one (`xvfb-run`).
+pub fn has_display() -> bool {
+    let has =
+        std::env::var_os("DISPLAY").is_some() || std::env::var_os("WAYLAND_DISPLAY").is_some();
+    if !has {
+        assert!(
+            std::env::var("CI").is_err(),
+            "CI must run the window tests under a display (xvfb-run)"
+        );
+        eprintln!("window test skipped: no display; `scripts/test.sh` gets one from xvfb-run");
+    }
+    has
+}
+
+/// The stats JSON of the screenshot the window saved into `folder` (`--screenshot-dir`).
+pub fn screenshot_stats(folder: &Path) -> serde_json::Value {
+    let json = std::fs::read_dir(folder)
+        .expect("screenshot folder")
+        .flatten()
+        .map(|e| e.path())
+        .find(|p| p.extension().is_some_and(|e| e == "json"))
+        .expect("the window saved a screenshot and its stats");
+    serde_json::from_str(&std::fs::read_to_string(json).expect("stats")).expect("JSON")
 }

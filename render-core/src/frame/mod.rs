@@ -41,7 +41,7 @@ pub(crate) use camera::shader_source as camera_shader_source;
 use camera::{CameraPasses, ShadingGroups};
 use results::Latest;
 
-use crate::cascades::Cascades;
+use crate::cascades::{CascadeSettings, Cascades};
 use crate::geom::{Camera, Frustum};
 use crate::gpu::{FrameTimer, GpuContext};
 use crate::metrics::{HeatMapOverlay, MeasureResources};
@@ -84,6 +84,8 @@ pub struct FrameRenderer {
     maps: MapTechnique,
     /// Copies of the single map's view (1 but in tests of the per-view path).
     repeated_views: u32,
+    /// What the technique's view layout was made from; a new one only when it changes.
+    layout_key: Option<(ShadowSetup, CascadeSettings, u32)>,
     visibility: VisibilityPass,
     /// Objects in the view frustum (camera passes), refilled per frame.
     camera_list: DrawList,
@@ -130,6 +132,7 @@ impl FrameRenderer {
             camera,
             maps,
             repeated_views: 1,
+            layout_key: None,
             visibility: VisibilityPass::new(ctx),
             camera_list: DrawList::new(ctx, "Frame::camera_draws"),
             scratch: Vec::new(),
@@ -159,12 +162,18 @@ impl FrameRenderer {
     ) -> FrameReport {
         let setup = self.begin_frame(ctx, scene, scene_gpu, input);
         let technique_input = self.technique_input(&setup, scene, scene_gpu, input.camera);
-        self.maps.set_layout(match setup.settings.setup {
-            ShadowSetup::Single => Box::new(SunView {
-                copies: self.repeated_views,
-            }),
-            ShadowSetup::Cascades => Box::new(Cascades::new(setup.settings.cascades)),
-        });
+        let key = (
+            setup.settings.setup,
+            setup.settings.cascades,
+            self.repeated_views,
+        );
+        if self.layout_key != Some(key) {
+            self.layout_key = Some(key);
+            self.maps.set_layout(match key.0 {
+                ShadowSetup::Single => Box::new(SunView { copies: key.2 }),
+                ShadowSetup::Cascades => Box::new(Cascades::new(key.1)),
+            });
+        }
         let views = self.maps.prepare(ctx, &technique_input);
         let frame_group = self.write_frame(ctx, &setup, input.camera, scene_gpu, &views);
         let mut encoder = ctx
