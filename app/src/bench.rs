@@ -34,6 +34,9 @@ struct BenchRow {
     tightness: Option<f64>,
     /// Worst frame's missing + extra shadow pixels.
     error_px_max: u32,
+    /// Against the exact shadow: the median over frames of missing + extra pixels, and of
+    /// their share of the counted pixels in percent.
+    exact_error: (Option<f64>, Option<f64>),
     /// Undersampling in octaves: the median over frames of each frame's median and 95th
     /// percentile.
     undersampling: (Option<f64>, Option<f64>),
@@ -215,8 +218,8 @@ fn baseline(name: &str, methods: &[Method]) -> anyhow::Result<Method> {
 }
 
 /// The path with one method: warm-up frames, then measured ones. Each view is rendered twice,
-/// timed without measurement passes and then measured for error and oracle, so measuring never
-/// shows in the times. A fresh renderer per run: no method inherits another's state.
+/// timed without measurement passes and then measured for error and oracle (and, after the
+/// warm-up, against the exact shadow), so measuring never shows in the times. A fresh renderer per run: no method inherits another's state.
 fn run_path(
     session: &mut Session,
     path: &CameraPath,
@@ -254,6 +257,9 @@ fn run_path(
         report.counts.casters_oracle = measured.counts.casters_oracle;
         report.error = measured.error;
         report.undersampling = measured.undersampling;
+        if frame >= args.warmup && !args.no_truth {
+            report.exact_error = Some(session.exact_error(&camera, &settings)?);
+        }
         if frame >= args.warmup {
             reports.push((wall_ms, report));
         }
@@ -299,6 +305,18 @@ fn summarise(setting: &str, method: &str, reports: &[(f64, FrameReport)]) -> Ben
         undersampling: (
             collect(&|(_, r)| r.undersampling.map(|u| f64::from(u.median_octaves))),
             collect(&|(_, r)| r.undersampling.map(|u| f64::from(u.p95_octaves))),
+        ),
+        exact_error: (
+            collect(&|(_, r)| {
+                r.exact_error
+                    .map(|e| f64::from(e.missing_shadow_px + e.extra_shadow_px))
+            }),
+            collect(&|(_, r)| {
+                r.exact_error.map(|e| {
+                    100.0 * f64::from(e.missing_shadow_px + e.extra_shadow_px)
+                        / f64::from(e.visible_px.max(1))
+                })
+            }),
         ),
         speed_up: None,
         passes: median_passes(reports),
@@ -361,7 +379,7 @@ fn format_passes(rows: &[BenchRow]) -> String {
     aligned(&lines, 1)
 }
 
-const COLUMNS: [&str; 15] = [
+const COLUMNS: [&str; 17] = [
     "setting",
     "method",
     "frames",
@@ -374,12 +392,14 @@ const COLUMNS: [&str; 15] = [
     "tightness",
     "shadow triangles",
     "error px (max)",
+    "exact err px",
+    "exact err %",
     "under p50",
     "under p95",
     "speed-up",
 ];
 
-fn row_cells(r: &BenchRow) -> [String; 15] {
+fn row_cells(r: &BenchRow) -> [String; 17] {
     let opt =
         |v: Option<f64>, digits: usize| v.map_or_else(|| "n/a".into(), |v| format!("{v:.digits$}"));
     [
@@ -396,6 +416,8 @@ fn row_cells(r: &BenchRow) -> [String; 15] {
         opt(r.tightness, 2),
         format!("{:.0}", r.shadow_triangles),
         r.error_px_max.to_string(),
+        opt(r.exact_error.0, 0),
+        opt(r.exact_error.1, 2),
         opt(r.undersampling.0, 2),
         opt(r.undersampling.1, 2),
         opt(r.speed_up, 2),
@@ -406,7 +428,7 @@ fn row_cells(r: &BenchRow) -> [String; 15] {
 fn format_table(rows: &[BenchRow], baseline: &str) -> String {
     let skip = usize::from(rows.iter().all(|r| r.setting.is_empty()));
     let mut header = COLUMNS.map(str::to_owned);
-    header[14] = format!("speed-up vs {baseline}");
+    header[16] = format!("speed-up vs {baseline}");
     let lines: Vec<Vec<String>> = std::iter::once(header.to_vec())
         .chain(rows.iter().map(|r| row_cells(r).to_vec()))
         .map(|l| l[skip..].to_vec())
@@ -448,13 +470,13 @@ fn aligned(lines: &[Vec<String>], left: usize) -> String {
 
 fn format_csv(rows: &[BenchRow]) -> String {
     let mut out = String::from(
-        "setting,method,frames,frame_ms,gpu_frame_ms,shadow_pass_ms,casters_drawn,casters_oracle,tightness,shadow_triangles,error_px_max,casters_total,speed_up,culling_ms,undersampling_p50,undersampling_p95\n",
+        "setting,method,frames,frame_ms,gpu_frame_ms,shadow_pass_ms,casters_drawn,casters_oracle,tightness,shadow_triangles,error_px_max,casters_total,speed_up,culling_ms,undersampling_p50,undersampling_p95,exact_error_px,exact_error_percent\n",
     );
     let opt = |v: Option<f64>| v.map_or_else(String::new, |v| format!("{v:.4}"));
     for r in rows {
         let _ = writeln!(
             out,
-            "{},{},{},{:.4},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{:.4},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             r.setting,
             r.method,
             r.frames,
@@ -470,7 +492,9 @@ fn format_csv(rows: &[BenchRow]) -> String {
             opt(r.speed_up),
             opt(r.culling_ms),
             opt(r.undersampling.0),
-            opt(r.undersampling.1)
+            opt(r.undersampling.1),
+            opt(r.exact_error.0),
+            opt(r.exact_error.1)
         );
     }
     out

@@ -482,6 +482,10 @@ pub struct ShotArgs {
     /// whenever an overlay is on, as in the window).
     #[arg(long)]
     pub no_legend: bool,
+    /// Skip the exact shadow (a ray per pixel on the CPU, then one towards the sun) and the
+    /// `exact_error` it gives in the stats.
+    #[arg(long)]
+    pub no_truth: bool,
 }
 
 /// `shadowlab bench`.
@@ -497,6 +501,10 @@ pub struct BenchArgs {
     /// Frames rendered before measuring (pipelines compile, caches warm).
     #[arg(long, default_value_t = 5, value_name = "N")]
     pub warmup: u32,
+    /// Skip the exact shadow (a ray per pixel on the CPU for each measured view; cached, so
+    /// every method shares it) and the `exact err` columns.
+    #[arg(long)]
+    pub no_truth: bool,
     /// Camera path CSV (`eye_x,eye_y,eye_z,target_x,target_y,target_z` per line); default: the
     /// scene's street path or an orbit.
     #[arg(long, value_name = "P")]

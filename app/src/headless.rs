@@ -11,7 +11,9 @@ use render_core::frame::{
 };
 use render_core::geom::Camera;
 use render_core::gpu::GpuContext;
+use render_core::metrics::ShadowError;
 use render_core::scene::{BUILTIN_SCENES, Scene, SceneFacts};
+use render_core::truth::TruthCache;
 use serde_json::json;
 
 use crate::cli::{SceneArgs, ShotArgs, ViewArgs};
@@ -33,6 +35,8 @@ pub(crate) struct Session {
     pub height: u32,
     /// What the user should know about the scene (a unit that looks wrong), printed on open.
     pub scene_notes: Vec<String>,
+    /// The exact shadow of the views measured so far.
+    pub truth: TruthCache,
 }
 
 impl Session {
@@ -63,6 +67,7 @@ impl Session {
             width,
             height,
             scene_notes,
+            truth: TruthCache::default(),
         })
     }
 
@@ -96,6 +101,21 @@ impl Session {
         Ok((started.elapsed().as_secs_f64() * 1000.0, report))
     }
 
+    /// The last frame's shadow against the exact shadow of its view (cast now, or cached).
+    pub fn exact_error(
+        &mut self,
+        camera: &Camera,
+        settings: &FrameSettings,
+    ) -> anyhow::Result<ShadowError> {
+        let exact = self.truth.exact(
+            &self.scene,
+            camera,
+            (self.width, self.height),
+            settings.sun.direction_to_sun,
+        );
+        Ok(self.renderer.exact_error(&self.ctx, exact)?)
+    }
+
     /// Renders the view until a method that relies on last frame's visibility in the light's
     /// view has settled: until the drawn count repeats (six frames at most). Reports then
     /// describe the steady state. Other methods need no settling.
@@ -124,7 +144,10 @@ pub fn shot(args: &ShotArgs) -> anyhow::Result<()> {
         ..args.view.settings(&session.scene)?
     };
     session.settle(&camera, &settings)?;
-    let (wall_ms, report) = session.frame(&camera, &settings)?;
+    let (wall_ms, mut report) = session.frame(&camera, &settings)?;
+    if !args.no_truth {
+        report.exact_error = Some(session.exact_error(&camera, &settings)?);
+    }
     let (scene, ctx, width, height) = (&session.scene, &session.ctx, session.width, session.height);
     let capture = FrameCapture::read(
         ctx,
@@ -260,6 +283,7 @@ pub fn stats_json(
         },
         "tightness": report.tightness(),
         "error": report.error,
+        "exact_error": report.exact_error,
         "undersampling": report.undersampling,
         "stages": report.stages,
         "technique": report.technique,

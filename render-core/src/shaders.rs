@@ -63,6 +63,7 @@ const FILES: &[(&str, &str)] = &[
         "overlays/light_inset.wgsl",
         include_str!("overlays/light_inset.wgsl"),
     ),
+    ("truth/at_points.wgsl", include_str!("truth/at_points.wgsl")),
     ("frame/camera.wgsl", include_str!("frame/camera.wgsl")),
 ];
 

@@ -2,14 +2,11 @@
 //! light term (`frame/camera.wgsl`). Long-lived pipelines, built for one technique's light
 //! term and layout.
 
-use crate::culling::codes;
 use crate::gpu::{
     FrameTimer, color_attachment, depth_attachment, pass_label, pipeline_layout, shader_module,
 };
-use crate::palette;
 use crate::scene_gpu::{DrawList, SceneGpu};
-use crate::shaders::compose;
-use crate::technique::LIGHT_WGSL_PATH;
+use crate::technique::compose_with_light_term;
 use crate::view::camera_pipeline;
 use crate::view::targets::{
     COLOR_FORMAT, ID_FORMAT, SHADOW_FACTOR_FORMAT, SURFACE_FORMAT, ViewTargets,
@@ -27,17 +24,7 @@ const SKY: wgpu::Color = wgpu::Color {
 /// forced early depth tests the shading pass cannot measure, so the attribute is dropped there
 /// (and measurement is switched off).
 pub(crate) fn shader_source(light_wgsl: &str, early_depth_test: bool) -> String {
-    let codes = codes::wgsl();
-    let palette = palette::wgsl();
-    let light = format!("#import {light_wgsl}\n");
-    let source = compose(
-        "frame/camera.wgsl",
-        &[
-            (codes::WGSL_PATH, codes.as_str()),
-            (palette::WGSL_PATH, palette.as_str()),
-            (LIGHT_WGSL_PATH, light.as_str()),
-        ],
-    );
+    let source = compose_with_light_term("frame/camera.wgsl", light_wgsl);
     if early_depth_test {
         source
     } else {

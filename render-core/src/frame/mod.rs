@@ -44,13 +44,14 @@ use results::Latest;
 use crate::cascades::{CascadeSettings, Cascades};
 use crate::geom::{Camera, Frustum};
 use crate::gpu::{FrameTimer, GpuContext};
-use crate::metrics::{HeatMapOverlay, MeasureResources};
+use crate::metrics::{HeatMapOverlay, MeasureResources, ShadowError};
 use crate::overlays::LightInset;
 use crate::scene::Scene;
 use crate::scene_gpu::DrawList;
 use crate::shadow_map::{MapTechnique, SunView};
 use crate::shadow_view::{ShadowView, ViewBuffer};
 use crate::technique::{DrawInput, ShadowPasses, ShadowTechnique, TechniqueInput};
+use crate::truth::{ExactShadow, FrameGroups, LightAtPoints, SurfacePoint};
 use crate::view::gpu_data::{FrameUniforms, OVERLAY_CASTERS, OVERLAY_VIEWS};
 use crate::view::{FrameBindings, VisibilityPass};
 
@@ -93,6 +94,9 @@ pub struct FrameRenderer {
     measure: MeasureResources,
     heat_map: HeatMapOverlay,
     light_inset: LightInset,
+    /// The technique's light at the truth's points, with the last frame's groups.
+    light_at_points: LightAtPoints,
+    last_groups: Option<[wgpu::BindGroup; 3]>,
     timer: FrameTimer,
     /// Whether the device can measure error and oracle exactly (see `camera.wgsl`).
     measurement_available: bool,
@@ -126,6 +130,11 @@ impl FrameRenderer {
             [&bindings.layout, light_layout, &measure.layout],
             measurement_available,
         );
+        let light_at_points = LightAtPoints::new(
+            device,
+            light_wgsl,
+            [&bindings.layout, light_layout, &measure.layout],
+        );
         Self {
             bindings,
             views,
@@ -139,6 +148,8 @@ impl FrameRenderer {
             measure,
             heat_map: HeatMapOverlay::new(device),
             light_inset: LightInset::new(device),
+            light_at_points,
+            last_groups: None,
             timer: FrameTimer::new(ctx),
             measurement_available,
             indirect_first_instance: ctx
@@ -349,6 +360,11 @@ impl FrameRenderer {
                 measure: &measure_group,
             },
         );
+        self.last_groups = Some([
+            frame_group.clone(),
+            shadows.light_group.clone(),
+            measure_group,
+        ]);
     }
 
     /// The light's view inset is always rendered (the panel shows it); the `light-view`
@@ -413,6 +429,38 @@ impl FrameRenderer {
         report.cpu.encode_submit_ms =
             setup.started.elapsed().as_secs_f64() * 1000.0 - report.cpu.culling_ms;
         report
+    }
+
+    /// The fraction of light the last frame's technique lets reach each point, read with the
+    /// frame's own views and maps at points it need not have rasterised (the truth's). Blocks:
+    /// for measuring, never the window loop's every frame.
+    pub fn light_at(
+        &self,
+        ctx: &GpuContext,
+        points: &[SurfacePoint],
+    ) -> Result<Vec<f32>, crate::gpu::GpuError> {
+        let Some([frame, light, measure]) = &self.last_groups else {
+            return Ok(vec![1.0; points.len()]);
+        };
+        self.light_at_points.evaluate(
+            ctx,
+            &FrameGroups {
+                frame,
+                light,
+                measure,
+            },
+            points,
+        )
+    }
+
+    /// The last frame's shadow against the exact shadow of its view: counted pixels whose
+    /// shadow differs, missing or extra. Blocks.
+    pub fn exact_error(
+        &self,
+        ctx: &GpuContext,
+        exact: &ExactShadow,
+    ) -> Result<ShadowError, crate::gpu::GpuError> {
+        Ok(exact.error_of(&self.light_at(ctx, &exact.points)?))
     }
 
     /// The camera targets of the last frame (colour, ids, depth, shadow factor).

@@ -62,6 +62,9 @@ pub struct FrameReport {
     pub light: LightFacts,
     /// Shadow error against the reference map (when measuring), of frame `measured_frame_index`.
     pub error: Option<ShadowError>,
+    /// Shadow error against the exact shadow (a ray cast per pixel, `truth/`), when the caller
+    /// measured it ([`super::FrameRenderer::exact_error`]).
+    pub exact_error: Option<ShadowError>,
     /// Undersampling over every view (when measuring), of frame `measured_frame_index`.
     pub undersampling: Option<crate::metrics::Undersampling>,
     pub measured_frame_index: Option<u64>,

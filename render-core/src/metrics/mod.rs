@@ -109,7 +109,7 @@ impl MeasureResources {
         let layout = bind_group_layout(
             device,
             "Measure::layout",
-            wgpu::ShaderStages::FRAGMENT,
+            wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE,
             &[storage(false), storage(false), storage(true)],
         );
         Self {

@@ -129,7 +129,7 @@ impl MapArrays {
         let light_layout = bind_group_layout(
             device,
             "ShadowMap::light_layout",
-            wgpu::ShaderStages::FRAGMENT,
+            wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE,
             &[
                 texture(wgpu::TextureSampleType::Depth, array),
                 texture(wgpu::TextureSampleType::Depth, array),

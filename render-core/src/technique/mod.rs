@@ -29,6 +29,24 @@ use crate::view::ViewTargets;
 /// The virtual file a technique's light term is composed as.
 pub const LIGHT_WGSL_PATH: &str = "technique/light.wgsl";
 
+/// The shader `root` (a file that imports [`LIGHT_WGSL_PATH`]) composed with the technique's
+/// light term, the file `light_wgsl`, and the generated files every light term may read
+/// (culling's codes, the palette). The shading pass and the truth's shadow-at-points pass
+/// compose through this, so both read the same light.
+pub(crate) fn compose_with_light_term(root: &str, light_wgsl: &str) -> String {
+    let codes = crate::culling::codes::wgsl();
+    let palette = crate::palette::wgsl();
+    let light = format!("#import {light_wgsl}\n");
+    crate::shaders::compose(
+        root,
+        &[
+            (crate::culling::codes::WGSL_PATH, codes.as_str()),
+            (crate::palette::WGSL_PATH, palette.as_str()),
+            (LIGHT_WGSL_PATH, light.as_str()),
+        ],
+    )
+}
+
 /// What a technique knows of the frame when it prepares its views.
 pub struct TechniqueInput<'a> {
     pub scene: &'a Scene,

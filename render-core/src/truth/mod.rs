@@ -1,0 +1,262 @@
+//! The exact shadow: the truth every shadow technique is measured against.
+//!
+//! For each pixel, a ray from the camera through the pixel's centre finds the surface the
+//! pixel shows (the first front face, as the rasteriser culls back faces), and a ray from
+//! that point towards the sun says whether any caster blocks it. Both run on the CPU through
+//! a BVH of the scene's triangles (`rays.rs`, `obvhs`), never from the depth buffer. The
+//! technique's light is then read at the same points on the GPU (`at_points.rs`) and compared:
+//! a pixel is shadowed where less than half the light reaches it.
+//!
+//! Counted pixels are visible receivers that face the sun; a pixel that faces away is dark
+//! whatever the shadow says. A view's truth is cached by its camera, size, sun and the
+//! instances' poses, and computed only when measuring.
+
+mod at_points;
+mod rays;
+
+use std::collections::VecDeque;
+
+use glam::Vec3;
+use serde::Serialize;
+
+#[cfg(test)]
+pub(crate) use at_points::shader_source;
+pub use at_points::{FrameGroups, LightAtPoints, SurfacePoint};
+pub use rays::{SceneRays, SurfaceHit, offset_from_surface};
+
+use crate::geom::Camera;
+use crate::metrics::ShadowError;
+use crate::scene::Scene;
+
+/// Below this fraction of light a point is shadowed.
+pub const SHADOWED_BELOW: f32 = 0.5;
+
+/// What the truth says of one pixel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum PixelTruth {
+    /// No surface within the camera's near and far planes.
+    Sky,
+    /// An object that does not receive shadows.
+    NotReceiver,
+    /// The surface faces away from the sun (or grazes it): not counted.
+    FacesAway,
+    Lit,
+    Shadowed,
+}
+
+/// Everything that decides a view's truth.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ViewKey {
+    pub camera: Camera,
+    pub width: u32,
+    pub height: u32,
+    pub direction_to_sun: Vec3,
+    /// [`SceneRays::version`]: the instances' poses.
+    pub poses: u64,
+}
+
+/// One view's truth.
+#[derive(Clone, Debug)]
+pub struct ExactShadow {
+    pub key: ViewKey,
+    /// Per pixel, row by row from the top.
+    pub pixels: Vec<PixelTruth>,
+    /// The counted pixels' surface points, in pixel order.
+    pub points: Vec<SurfacePoint>,
+    /// Each counted point's pixel index.
+    pub point_pixels: Vec<u32>,
+}
+
+impl ExactShadow {
+    /// Casts a ray through every pixel centre of `key`'s view and one towards the sun from
+    /// each surface it finds, on every core.
+    pub fn cast(rays: &SceneRays, key: ViewKey) -> Self {
+        let (width, height) = (key.width.max(1), key.height.max(1));
+        let camera = &key.camera;
+        let (right, up) = camera.basis();
+        let forward = camera.forward.normalize_or(Vec3::NEG_Z);
+        let tan_half = (camera.fov_y_rad * 0.5).tan();
+        let aspect = width as f32 / height as f32;
+        let sun = key.direction_to_sun.normalize_or(Vec3::Y);
+        let pixel = |x: u32, y: u32| -> (PixelTruth, Option<SurfacePoint>) {
+            let ndc_x = 2.0 * (x as f32 + 0.5) / width as f32 - 1.0;
+            let ndc_y = 1.0 - 2.0 * (y as f32 + 0.5) / height as f32;
+            // With `forward` of unit length, `t` along this direction is the view depth.
+            let direction = forward + right * (ndc_x * tan_half * aspect) + up * (ndc_y * tan_half);
+            let Some(hit) = rays.first_hit(camera.eye, direction, camera.near_m, camera.far_m)
+            else {
+                return (PixelTruth::Sky, None);
+            };
+            if !hit.receives_shadow {
+                return (PixelTruth::NotReceiver, None);
+            }
+            if hit.normal.dot(sun) <= 0.0 {
+                return (PixelTruth::FacesAway, None);
+            }
+            let origin = offset_from_surface(hit.position, hit.normal);
+            let truth = if rays.blocked(origin, sun, 0.0) {
+                PixelTruth::Shadowed
+            } else {
+                PixelTruth::Lit
+            };
+            let point = SurfacePoint {
+                position: hit.position.extend(1.0).to_array(),
+                normal: hit.normal.extend(0.0).to_array(),
+            };
+            (truth, Some(point))
+        };
+        let rows = rows_in_parallel(height, |y| {
+            (0..width).map(|x| pixel(x, y)).collect::<Vec<_>>()
+        });
+        let mut out = Self {
+            key,
+            pixels: Vec::with_capacity((width * height) as usize),
+            points: Vec::new(),
+            point_pixels: Vec::new(),
+        };
+        for (i, (truth, point)) in (0..).zip(rows.into_iter().flatten()) {
+            out.pixels.push(truth);
+            if let Some(p) = point {
+                out.points.push(p);
+                out.point_pixels.push(i);
+            }
+        }
+        out
+    }
+
+    /// Memory it holds.
+    pub fn bytes(&self) -> usize {
+        self.pixels.len() * std::mem::size_of::<PixelTruth>()
+            + self.points.len() * (std::mem::size_of::<SurfacePoint>() + 4)
+    }
+
+    /// Whether counted point `i` is shadowed in truth.
+    pub fn shadowed(&self, i: usize) -> bool {
+        self.pixels[self.point_pixels[i] as usize] == PixelTruth::Shadowed
+    }
+
+    /// Counted pixels whose shadow in `light` (the light at each point, as
+    /// [`LightAtPoints::evaluate`] returns it) differs from the truth.
+    pub fn error_of(&self, light: &[f32]) -> ShadowError {
+        let mut error = ShadowError {
+            visible_px: self.points.len() as u32,
+            ..ShadowError::default()
+        };
+        for (i, &l) in light.iter().enumerate().take(self.points.len()) {
+            match (self.shadowed(i), l < SHADOWED_BELOW) {
+                (true, false) => error.missing_shadow_px += 1,
+                (false, true) => error.extra_shadow_px += 1,
+                _ => {}
+            }
+        }
+        error
+    }
+}
+
+/// Rows `0..height` computed on every core; returned in order.
+fn rows_in_parallel<T: Send>(height: u32, row: impl Fn(u32) -> T + Sync) -> Vec<T> {
+    let threads = std::thread::available_parallelism().map_or(1, std::num::NonZero::get);
+    let next = std::sync::atomic::AtomicU32::new(0);
+    let mut done: Vec<(u32, T)> = std::thread::scope(|s| {
+        let workers: Vec<_> = (0..threads)
+            .map(|_| {
+                s.spawn(|| {
+                    let mut mine = Vec::new();
+                    loop {
+                        let y = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                        if y >= height {
+                            break mine;
+                        }
+                        mine.push((y, row(y)));
+                    }
+                })
+            })
+            .collect();
+        workers
+            .into_iter()
+            .flat_map(|w| w.join().expect("a ray-casting thread panicked"))
+            .collect()
+    });
+    done.sort_unstable_by_key(|(y, _)| *y);
+    done.into_iter().map(|(_, r)| r).collect()
+}
+
+/// The truth of the views a scene was measured from: its trees, built on first use, and the
+/// most recent views' truths (a bench measures the same path with every method), up to a
+/// memory budget.
+pub struct TruthCache {
+    rays: Option<SceneRays>,
+    views: VecDeque<ExactShadow>,
+    budget_bytes: usize,
+    /// Views cast so far (not found in the cache).
+    cast: u64,
+}
+
+impl Default for TruthCache {
+    /// 512 MiB of views: 16 at 1280x720.
+    fn default() -> Self {
+        Self::new(512 << 20)
+    }
+}
+
+impl TruthCache {
+    /// A cache for one scene holding views up to `budget_bytes` (at least one view).
+    pub fn new(budget_bytes: usize) -> Self {
+        Self {
+            rays: None,
+            views: VecDeque::new(),
+            budget_bytes,
+            cast: 0,
+        }
+    }
+
+    fn bytes(&self) -> usize {
+        self.views.iter().map(ExactShadow::bytes).sum()
+    }
+
+    /// How many views were cast rather than found.
+    pub fn views_cast(&self) -> u64 {
+        self.cast
+    }
+
+    /// The scene's trees, following instances that moved.
+    pub fn rays(&mut self, scene: &Scene) -> &SceneRays {
+        match &mut self.rays {
+            Some(rays) => rays.sync(scene),
+            None => self.rays = Some(SceneRays::new(scene)),
+        }
+        self.rays.as_ref().expect("built above")
+    }
+
+    /// The truth of this view of `scene`, cast now or cached.
+    pub fn exact(
+        &mut self,
+        scene: &Scene,
+        camera: &Camera,
+        (width, height): (u32, u32),
+        direction_to_sun: Vec3,
+    ) -> &ExactShadow {
+        let poses = self.rays(scene).version;
+        let key = ViewKey {
+            camera: *camera,
+            width,
+            height,
+            direction_to_sun,
+            poses,
+        };
+        if let Some(at) = self.views.iter().position(|v| v.key == key) {
+            let view = self.views.remove(at).expect("found above");
+            self.views.push_back(view);
+        } else {
+            let rays = self.rays.as_ref().expect("built above");
+            let view = ExactShadow::cast(rays, key);
+            self.cast += 1;
+            while !self.views.is_empty() && self.bytes() + view.bytes() > self.budget_bytes {
+                self.views.pop_front();
+            }
+            self.views.push_back(view);
+        }
+        self.views.back().expect("pushed above")
+    }
+}

@@ -1,0 +1,217 @@
+//! The exact shadow (a ray per pixel through a BVH of the scene, then one towards the sun):
+//! against the analytic shadow of a box, in hard cases, and as the measure of a shadow map's
+//! error.
+
+use glam::Vec3;
+use render_core::frame::{FrameInput, FrameRenderer, FrameSettings, PcfKernel, SceneGpu};
+use render_core::geom::Camera;
+use render_core::scene::{Scene, Sun};
+use render_core::truth::{ExactShadow, PixelTruth, SurfacePoint, TruthCache};
+use shadowlab_tests::{box_on_plane, expected_shadow, gpu, translated};
+
+const BOX: Vec3 = Vec3::new(2.0, 3.0, 1.5);
+
+fn sun() -> Sun {
+    Sun::from_azimuth_elevation_deg(20.0, 40.0)
+}
+
+/// Looking down at the box and its shadow from the south-west.
+fn camera_at(offset: Vec3) -> Camera {
+    Camera::look_at(
+        offset + Vec3::new(-6.0, 9.0, 8.0),
+        offset + Vec3::new(-1.0, 0.0, 0.0),
+        60f32.to_radians(),
+        0.1,
+        200.0,
+    )
+}
+
+fn box_bounds(scene: &Scene) -> (Vec3, Vec3) {
+    let b = scene.instances[1].aabb_in_world;
+    (b.min, b.max)
+}
+
+/// Every counted pixel of the view against the box's analytic shadow: ground points in the
+/// box's shadow volume, box faces lit (nothing stands between them and the sun). Pixels
+/// within `margin_m` of the shadow's edge are left out. Returns (shadowed, lit) pixels.
+fn check_against_analytic(scene: &Scene, exact: &ExactShadow, margin_m: f32) -> (u32, u32) {
+    let (min, max) = box_bounds(scene);
+    let sun = exact.key.direction_to_sun;
+    let ground_y = scene.instances[0].aabb_in_world.max.y;
+    let (mut shadowed, mut lit) = (0, 0);
+    for (i, point) in exact.points.iter().enumerate() {
+        let p = Vec3::from_slice(&point.position[..3]);
+        let n = Vec3::from_slice(&point.normal[..3]);
+        assert!(p.is_finite() && n.is_finite(), "point {i}: {p} {n}");
+        assert!((n.length() - 1.0).abs() < 1e-4, "unit normal: {n}");
+        let truth = exact.shadowed(i);
+        let on_ground = (p.y - ground_y).abs() < margin_m.max(1e-3) && n.y > 0.99;
+        let expected = if on_ground {
+            expected_shadow(p, sun, min, max, margin_m)
+        } else {
+            Some(false)
+        };
+        if let Some(expected) = expected {
+            assert_eq!(
+                truth, expected,
+                "pixel {} at {p} (normal {n}): exact {truth}, analytic {expected}",
+                exact.point_pixels[i]
+            );
+        }
+        if truth {
+            shadowed += 1;
+        } else {
+            lit += 1;
+        }
+    }
+    (shadowed, lit)
+}
+
+#[test]
+fn the_exact_shadow_of_a_box_is_its_analytic_shadow() {
+    let scene = box_on_plane(20.0, BOX, 0.0, sun());
+    let mut truth = TruthCache::default();
+    let exact = truth
+        .exact(
+            &scene,
+            &camera_at(Vec3::ZERO),
+            (320, 240),
+            sun().direction_to_sun,
+        )
+        .clone();
+    let (shadowed, lit) = check_against_analytic(&scene, &exact, 1e-3);
+    assert!(
+        shadowed > 1000 && lit > 10_000,
+        "the view shows the shadow and lit ground: {shadowed} shadowed, {lit} lit"
+    );
+    // Faces turned from the sun are not counted, nor is anything off the ground.
+    let away = exact
+        .pixels
+        .iter()
+        .filter(|p| **p == PixelTruth::FacesAway)
+        .count();
+    assert!(away > 100, "the box's shaded sides face away: {away}");
+    assert_eq!(
+        exact.points.len() + away,
+        exact
+            .pixels
+            .iter()
+            .filter(|p| **p != PixelTruth::Sky)
+            .count(),
+        "every pixel on a surface is counted or faces away"
+    );
+}
+
+#[test]
+fn the_exact_shadow_holds_far_from_the_origin_and_for_a_lifted_box() {
+    // 100 km out, a box floating 1 m up: its shadow leaves the ground under it lit near the
+    // box's foot.
+    let offset = Vec3::new(100_000.0, 0.0, -100_000.0);
+    let scene = translated(&box_on_plane(20.0, BOX, 1.0, sun()), offset);
+    let mut truth = TruthCache::default();
+    let exact = truth
+        .exact(
+            &scene,
+            &camera_at(offset),
+            (256, 192),
+            sun().direction_to_sun,
+        )
+        .clone();
+    // f32 positions 100 km out are good to 8 mm.
+    let (shadowed, lit) = check_against_analytic(&scene, &exact, 0.03);
+    assert!(
+        shadowed > 500 && lit > 5000,
+        "{shadowed} shadowed, {lit} lit"
+    );
+}
+
+#[test]
+fn a_view_of_sky_has_no_counted_pixels_and_the_truth_is_cached() {
+    let scene = box_on_plane(20.0, BOX, 0.0, sun());
+    let up = Camera::look_at(
+        Vec3::new(0.0, 5.0, 0.0),
+        Vec3::new(0.0, 50.0, 1.0),
+        60f32.to_radians(),
+        0.1,
+        200.0,
+    );
+    let mut truth = TruthCache::default();
+    let exact = truth.exact(&scene, &up, (64, 48), sun().direction_to_sun);
+    assert!(exact.pixels.iter().all(|p| *p == PixelTruth::Sky));
+    assert!(exact.points.is_empty());
+    truth.exact(&scene, &up, (64, 48), sun().direction_to_sun);
+    assert_eq!(truth.views_cast(), 1, "the same view is not cast twice");
+    truth.exact(&scene, &up, (64, 48), Vec3::Y);
+    assert_eq!(truth.views_cast(), 2, "another sun is another view");
+}
+
+/// One frame of `settings` and its renderer, for reading the light at points.
+fn rendered(scene: &Scene, camera: &Camera, settings: &FrameSettings) -> FrameRenderer {
+    let ctx = gpu();
+    let scene_gpu = SceneGpu::new(ctx, scene);
+    let mut renderer = FrameRenderer::new(ctx);
+    let input = FrameInput {
+        camera,
+        width: 320,
+        height: 240,
+        settings,
+    };
+    renderer
+        .render_and_wait(ctx, scene, &scene_gpu, &input)
+        .expect("frame renders");
+    renderer
+}
+
+#[test]
+fn the_map_is_read_at_the_truths_points_and_its_error_counted() {
+    let scene = box_on_plane(20.0, BOX, 0.0, sun());
+    let camera = camera_at(Vec3::ZERO);
+    let mut truth = TruthCache::default();
+    let exact = truth
+        .exact(&scene, &camera, (320, 240), sun().direction_to_sun)
+        .clone();
+    let truth_shadowed = (0..exact.points.len())
+        .filter(|&i| exact.shadowed(i))
+        .count() as u32;
+    let mut settings = FrameSettings {
+        sun: sun(),
+        ..FrameSettings::default()
+    };
+    settings.shadow.resolution = 4096;
+    settings.shadow.pcf = PcfKernel::Off;
+
+    // A point in the middle of the box's shadow and one far from it.
+    let renderer = rendered(&scene, &camera, &settings);
+    let to_sun = sun().direction_to_sun;
+    let behind = -Vec3::new(to_sun.x, 0.0, to_sun.z).normalize() * 3.0;
+    let at = |p: Vec3| SurfacePoint {
+        position: p.extend(1.0).to_array(),
+        normal: [0.0, 1.0, 0.0, 0.0],
+    };
+    let light = renderer
+        .light_at(gpu(), &[at(behind), at(Vec3::new(-8.0, 0.0, 6.0))])
+        .expect("read back");
+    assert_eq!(
+        light,
+        vec![0.0, 1.0],
+        "shadowed behind the box, lit far away"
+    );
+
+    // A fine map misses the exact shadow only along its edges.
+    let error = renderer.exact_error(gpu(), &exact).expect("read back");
+    assert_eq!(error.visible_px, exact.points.len() as u32);
+    let wrong = error.missing_shadow_px + error.extra_shadow_px;
+    assert!(
+        wrong * 50 < truth_shadowed,
+        "at 4096 the map differs from the exact shadow in {wrong} of {truth_shadowed} shadowed pixels"
+    );
+
+    // Without shadows, every exactly shadowed pixel is missing, and nothing is extra.
+    settings.shadow.shadows_enabled = false;
+    let renderer = rendered(&scene, &camera, &settings);
+    let error = renderer.exact_error(gpu(), &exact).expect("read back");
+    assert_eq!(
+        (error.missing_shadow_px, error.extra_shadow_px),
+        (truth_shadowed, 0)
+    );
+}
