@@ -486,6 +486,10 @@ pub struct ShotArgs {
     /// `exact_error` it gives in the stats.
     #[arg(long)]
     pub no_truth: bool,
+    /// Also measure flicker: render the view moved 1 cm and turned 0.1 degrees and count the
+    /// pixels whose shadow changes at the first view's surface points (`flicker` in the stats).
+    #[arg(long)]
+    pub flicker: bool,
 }
 
 /// `shadowlab bench`.

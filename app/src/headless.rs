@@ -171,6 +171,29 @@ pub fn shot(args: &ShotArgs) -> anyhow::Result<()> {
     if args.detail {
         stats["objects_detail"] = objects_detail(&session, &report)?;
     }
+    if args.flicker {
+        let input = FrameInput {
+            camera: &camera,
+            width,
+            height,
+            settings: &settings,
+        };
+        let flicker = session.renderer.flicker(
+            ctx,
+            (scene, &session.scene_gpu),
+            &mut session.truth,
+            &input,
+        )?;
+        stats["flicker"] = json!(flicker);
+        println!(
+            "flicker: {} pixels after moving {} m, {} after turning {}°, of {} counted",
+            flicker.moved_px,
+            render_core::frame::FLICKER_MOVE_M,
+            flicker.turned_px,
+            render_core::frame::FLICKER_TURN_DEG,
+            flicker.counted_px
+        );
+    }
     std::fs::write(&stats_path, serde_json::to_string_pretty(&stats)?)
         .with_context(|| format!("writing {}", stats_path.display()))?;
     let drawn = match report.views.len() {
@@ -284,6 +307,7 @@ pub fn stats_json(
         "tightness": report.tightness(),
         "error": report.error,
         "exact_error": report.exact_error,
+        "flicker": report.flicker,
         "undersampling": report.undersampling,
         "stages": report.stages,
         "technique": report.technique,

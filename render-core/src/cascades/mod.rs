@@ -9,7 +9,7 @@ pub mod splits;
 use serde::{Deserialize, Serialize};
 
 use crate::culling::Method;
-use crate::geom::{SliceFit, fit_view_slice, view_depth_range};
+use crate::geom::{SliceFit, fit_view_slice, stable_depth_range, view_depth_range};
 use crate::shadow_map::ViewLayout;
 use crate::shadow_view::{ShadowView, ViewTarget};
 use crate::technique::TechniqueInput;
@@ -88,9 +88,16 @@ impl Cascades {
     /// The view depths that bound this frame's cascades (`count + 1`, increasing) and the far
     /// end of the scene's depths, or `None` when the view frustum does not meet the scene.
     pub fn split_distances(&self, input: &TechniqueInput<'_>) -> Option<(Vec<f64>, f64)> {
-        let (near, far) = view_depth_range(input.camera, &input.scene.bounds())?;
+        let bounds = input.scene.bounds();
+        let (near, scene_far) = view_depth_range(input.camera, &bounds)?;
+        // Stabilised cascades split a range that does not follow the camera's turns, so each
+        // slice, and its sphere, keeps its size.
+        let (near, far) = match self.settings.fit {
+            CascadeFit::Tight => (near, scene_far),
+            CascadeFit::Sphere => stable_depth_range(input.camera, &bounds)?,
+        };
         let count = self.settings.count.clamp(1, MAX_CASCADES);
-        Some((self.settings.splits.distances(count, near, far), far))
+        Some((self.settings.splits.distances(count, near, far), scene_far))
     }
 }
 

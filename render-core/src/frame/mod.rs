@@ -17,6 +17,7 @@
 mod camera;
 mod capture;
 pub mod compare;
+mod flicker;
 mod legend;
 mod report;
 mod results;
@@ -25,6 +26,7 @@ mod settings;
 use std::time::Instant;
 
 pub use capture::FrameCapture;
+pub use flicker::{FLICKER_MOVE_M, FLICKER_TURN_DEG, Flicker, moved, turned};
 pub use legend::{LegendEntry, LegendGroup, legend};
 pub use report::{CpuTimings, FrameCounts, FrameReport, LightFacts};
 pub use settings::{FrameSettings, Overlays, ShadowSetup};

@@ -65,6 +65,9 @@ pub struct FrameReport {
     /// Shadow error against the exact shadow (a ray cast per pixel, `truth/`), when the caller
     /// measured it ([`super::FrameRenderer::exact_error`]).
     pub exact_error: Option<ShadowError>,
+    /// Pixels whose shadow changes when only the camera moves 1 cm or turns 0.1 degrees, when
+    /// the caller measured it ([`super::FrameRenderer::flicker`]).
+    pub flicker: Option<super::Flicker>,
     /// Undersampling over every view (when measuring), of frame `measured_frame_index`.
     pub undersampling: Option<crate::metrics::Undersampling>,
     pub measured_frame_index: Option<u64>,

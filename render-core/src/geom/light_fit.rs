@@ -228,6 +228,27 @@ pub fn view_depth_range(camera: &Camera, scene: &Aabb) -> Option<(f64, f64)> {
     (far.is_finite() && far > near).then_some((near, far))
 }
 
+/// The camera's near plane to the furthest the scene can be from the eye in any direction,
+/// rounded up to a sixteenth of its octave: unlike [`view_depth_range`] it does not change
+/// when the camera turns, and rarely when it moves a little, so splits over it stay put (the
+/// stabilised cascades' range). `None` when the scene is out of the camera's reach.
+pub fn stable_depth_range(camera: &Camera, scene: &Aabb) -> Option<(f64, f64)> {
+    let eye = camera.eye.as_dvec3();
+    let reach = scene
+        .corners()
+        .map(|c| c.as_dvec3().distance(eye))
+        .into_iter()
+        .fold(0.0, f64::max);
+    if !(reach.is_finite() && reach > 0.0) {
+        return None;
+    }
+    let step = 2f64.powi(reach.log2().floor() as i32 - 4);
+    let reach = (reach / step).ceil() * step;
+    let near = f64::from(camera.near_m).max(1e-6);
+    let far = f64::from(camera.far_m).min(reach);
+    (far > near).then_some((near, far))
+}
+
 /// The world corners of the view frustum between the depths where it can meet the scene,
 /// further cut to `depths` when given; `None` when nothing of it is left.
 pub(super) fn view_corners(
@@ -274,6 +295,27 @@ pub(super) fn pad_and_snap((min, max): Extent, resolution: u32) -> Extent {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_stable_depth_range_ignores_turns_and_small_moves() {
+        let scene = Aabb::new(Vec3::new(-500.0, 0.0, -500.0), Vec3::new(500.0, 80.0, 500.0));
+        let camera = |eye: Vec3, forward: Vec3| Camera {
+            eye,
+            forward: forward.normalize(),
+            ..Camera::default()
+        };
+        let eye = Vec3::new(-40.0, 3.5, 2.0);
+        let (near, far) = stable_depth_range(&camera(eye, Vec3::X), &scene).expect("in reach");
+        assert_eq!(near, f64::from(Camera::default().near_m).max(1e-6));
+        // The furthest corner is sqrt(540^2 + 76.5^2 + 502^2) = 741.2 m, rounded up to a
+        // sixteenth of its octave (512 m / 16 = 32 m).
+        assert_eq!(far, 768.0);
+        for forward in [Vec3::NEG_X, Vec3::Z, Vec3::new(0.3, -0.9, 0.2)] {
+            assert_eq!(stable_depth_range(&camera(eye, forward), &scene), Some((near, far)));
+        }
+        let nudged = camera(eye + Vec3::new(0.01, 0.0, 0.0), Vec3::X);
+        assert_eq!(stable_depth_range(&nudged, &scene), Some((near, far)));
+    }
 
     /// `SplitMix64`: a small deterministic generator for test inputs.
     struct Rng(u64);

@@ -10,6 +10,7 @@ pub use aabb::Aabb;
 pub use camera::{Camera, basis_for_direction};
 pub use frustum::{Containment, Frustum, Plane};
 pub use light_fit::{
-    LightFrustum, fit_directional_light, fit_focused_light, fit_whole_scene, view_depth_range,
+    LightFrustum, fit_directional_light, fit_focused_light, fit_whole_scene, stable_depth_range,
+    view_depth_range,
 };
 pub use slice_fit::{SliceFit, fit_view_slice};

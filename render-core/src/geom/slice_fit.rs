@@ -32,9 +32,15 @@ pub fn fit_view_slice(
     let resolution = resolution.max(16);
     let space = LightSpace::new(direction_to_sun, scene_bounds);
     let scene = space.scene_extent;
-    let Some(corners) = view_corners(camera, aspect, &space.scene, Some(depths)) else {
+    let Some(mut corners) = view_corners(camera, aspect, &space.scene, Some(depths)) else {
         return space.frustum(pad_and_snap(scene, resolution), resolution, true);
     };
+    if fit == SliceFit::Sphere {
+        // A sphere's slice is the one asked for, not cut to the scene, so it keeps its shape
+        // as the camera turns.
+        let aspect = if aspect.is_finite() && aspect > 0.0 { aspect } else { 1.0 };
+        corners = camera.frustum_corners_world(f64::from(aspect), depths[0], depths[1]);
+    }
     let corners = corners.map(|p| space.to_light(p));
     let extent = match fit {
         SliceFit::Tight => tight(&corners, scene),
