@@ -37,6 +37,9 @@ struct BenchRow {
     /// Against the exact shadow: the median over frames of missing + extra pixels, and of
     /// their share of the counted pixels in percent.
     exact_error: (Option<f64>, Option<f64>),
+    /// Worst frame's flicker (pixels whose shadow changed) after a 1 cm move and a 0.1 degree
+    /// turn, with `--flicker`.
+    flicker: Option<(u32, u32)>,
     /// Undersampling in octaves: the median over frames of each frame's median and 95th
     /// percentile.
     undersampling: (Option<f64>, Option<f64>),
@@ -260,6 +263,9 @@ fn run_path(
         if frame >= args.warmup && !args.no_truth {
             report.exact_error = Some(session.exact_error(&camera, &settings)?);
         }
+        if frame >= args.warmup && args.flicker {
+            report.flicker = Some(session.flicker(&camera, &settings)?);
+        }
         if frame >= args.warmup {
             reports.push((wall_ms, report));
         }
@@ -318,6 +324,10 @@ fn summarise(setting: &str, method: &str, reports: &[(f64, FrameReport)]) -> Ben
                 })
             }),
         ),
+        flicker: reports
+            .iter()
+            .filter_map(|(_, r)| r.flicker.map(|f| (f.moved_px, f.turned_px)))
+            .reduce(|a, b| (a.0.max(b.0), a.1.max(b.1))),
         speed_up: None,
         passes: median_passes(reports),
     }
@@ -379,7 +389,7 @@ fn format_passes(rows: &[BenchRow]) -> String {
     aligned(&lines, 1)
 }
 
-const COLUMNS: [&str; 17] = [
+const COLUMNS: [&str; 18] = [
     "setting",
     "method",
     "frames",
@@ -394,12 +404,13 @@ const COLUMNS: [&str; 17] = [
     "error px (max)",
     "exact err px",
     "exact err %",
+    "flicker move/turn",
     "under p50",
     "under p95",
     "speed-up",
 ];
 
-fn row_cells(r: &BenchRow) -> [String; 17] {
+fn row_cells(r: &BenchRow) -> [String; 18] {
     let opt =
         |v: Option<f64>, digits: usize| v.map_or_else(|| "n/a".into(), |v| format!("{v:.digits$}"));
     [
@@ -418,6 +429,8 @@ fn row_cells(r: &BenchRow) -> [String; 17] {
         r.error_px_max.to_string(),
         opt(r.exact_error.0, 0),
         opt(r.exact_error.1, 2),
+        r.flicker
+            .map_or_else(|| "-".into(), |(m, t)| format!("{m}/{t}")),
         opt(r.undersampling.0, 2),
         opt(r.undersampling.1, 2),
         opt(r.speed_up, 2),
@@ -428,7 +441,7 @@ fn row_cells(r: &BenchRow) -> [String; 17] {
 fn format_table(rows: &[BenchRow], baseline: &str) -> String {
     let skip = usize::from(rows.iter().all(|r| r.setting.is_empty()));
     let mut header = COLUMNS.map(str::to_owned);
-    header[16] = format!("speed-up vs {baseline}");
+    header[17] = format!("speed-up vs {baseline}");
     let lines: Vec<Vec<String>> = std::iter::once(header.to_vec())
         .chain(rows.iter().map(|r| row_cells(r).to_vec()))
         .map(|l| l[skip..].to_vec())
@@ -470,13 +483,13 @@ fn aligned(lines: &[Vec<String>], left: usize) -> String {
 
 fn format_csv(rows: &[BenchRow]) -> String {
     let mut out = String::from(
-        "setting,method,frames,frame_ms,gpu_frame_ms,shadow_pass_ms,casters_drawn,casters_oracle,tightness,shadow_triangles,error_px_max,casters_total,speed_up,culling_ms,undersampling_p50,undersampling_p95,exact_error_px,exact_error_percent\n",
+        "setting,method,frames,frame_ms,gpu_frame_ms,shadow_pass_ms,casters_drawn,casters_oracle,tightness,shadow_triangles,error_px_max,casters_total,speed_up,culling_ms,undersampling_p50,undersampling_p95,exact_error_px,exact_error_percent,flicker_moved_px,flicker_turned_px\n",
     );
     let opt = |v: Option<f64>| v.map_or_else(String::new, |v| format!("{v:.4}"));
     for r in rows {
         let _ = writeln!(
             out,
-            "{},{},{},{:.4},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{:.4},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             r.setting,
             r.method,
             r.frames,
@@ -494,7 +507,9 @@ fn format_csv(rows: &[BenchRow]) -> String {
             opt(r.undersampling.0),
             opt(r.undersampling.1),
             opt(r.exact_error.0),
-            opt(r.exact_error.1)
+            opt(r.exact_error.1),
+            r.flicker.map_or_else(String::new, |f| f.0.to_string()),
+            r.flicker.map_or_else(String::new, |f| f.1.to_string())
         );
     }
     out

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use anyhow::{Context as _, bail};
 use clap::{Args, Parser, Subcommand};
 use glam::Vec3;
-use render_core::cascades::{CascadeFit, MAX_CASCADES, SplitScheme};
+use render_core::cascades::{CascadeFit, CascadeSelection, MAX_CASCADES, SplitScheme};
 use render_core::frame::{FrameSettings, Method, PcfKernel, ShadowSettings, ShadowSetup};
 use render_core::geom::Camera;
 use render_core::scene::{ChunkSettings, Scene, Sun, Units};
@@ -178,6 +178,10 @@ pub struct ViewArgs {
     /// How each cascade is fitted: tight (the slice's light-space box) or sphere (stabilised).
     #[arg(long, value_parser = parse_cascade_fit, value_name = "FIT")]
     pub cascade_fit: Option<CascadeFit>,
+    /// Which cascade shades a point: depth (the slice holding its view depth) or map (the
+    /// first cascade whose map holds it).
+    #[arg(long, value_parser = parse_cascade_selection, value_name = "BY")]
+    pub cascade_select: Option<CascadeSelection>,
     /// Pose dynamic objects (the city's cars) as they are this many seconds into their motion.
     #[arg(long, value_name = "SECONDS", allow_hyphen_values = true)]
     pub time: Option<f64>,
@@ -299,6 +303,9 @@ impl ViewArgs {
         if let Some(fit) = self.cascade_fit {
             cascades.fit = fit;
         }
+        if let Some(selection) = self.cascade_select {
+            cascades.selection = selection;
+        }
         Ok(())
     }
 
@@ -392,6 +399,10 @@ fn parse_split(s: &str) -> Result<SplitScheme, String> {
 }
 
 fn parse_cascade_fit(s: &str) -> Result<CascadeFit, String> {
+    s.parse()
+}
+
+fn parse_cascade_selection(s: &str) -> Result<CascadeSelection, String> {
     s.parse()
 }
 
@@ -509,6 +520,10 @@ pub struct BenchArgs {
     /// every method shares it) and the `exact err` columns.
     #[arg(long)]
     pub no_truth: bool,
+    /// Also measure flicker on each measured frame (three more frames: the view, moved 1 cm,
+    /// turned 0.1 degrees), the worst frame in the `flicker move/turn` column.
+    #[arg(long)]
+    pub flicker: bool,
     /// Camera path CSV (`eye_x,eye_y,eye_z,target_x,target_y,target_z` per line); default: the
     /// scene's street path or an orbit.
     #[arg(long, value_name = "P")]

@@ -7,7 +7,7 @@ use std::time::Instant;
 use anyhow::Context as _;
 use render_core::frame::compare::settled;
 use render_core::frame::{
-    FrameCapture, FrameInput, FrameRenderer, FrameReport, FrameSettings, SceneGpu,
+    Flicker, FrameCapture, FrameInput, FrameRenderer, FrameReport, FrameSettings, SceneGpu,
 };
 use render_core::geom::Camera;
 use render_core::gpu::GpuContext;
@@ -116,6 +116,27 @@ impl Session {
         Ok(self.renderer.exact_error(&self.ctx, exact)?)
     }
 
+    /// Flicker of this view: it, moved 1 cm and turned 0.1 degrees, rendered (three frames)
+    /// and compared at its exact surface points.
+    pub fn flicker(
+        &mut self,
+        camera: &Camera,
+        settings: &FrameSettings,
+    ) -> anyhow::Result<Flicker> {
+        let input = FrameInput {
+            camera,
+            width: self.width,
+            height: self.height,
+            settings,
+        };
+        Ok(self.renderer.flicker(
+            &self.ctx,
+            (&self.scene, &self.scene_gpu),
+            &mut self.truth,
+            &input,
+        )?)
+    }
+
     /// Renders the view until a method that relies on last frame's visibility in the light's
     /// view has settled: until the drawn count repeats (six frames at most). Reports then
     /// describe the steady state. Other methods need no settling.
@@ -172,18 +193,7 @@ pub fn shot(args: &ShotArgs) -> anyhow::Result<()> {
         stats["objects_detail"] = objects_detail(&session, &report)?;
     }
     if args.flicker {
-        let input = FrameInput {
-            camera: &camera,
-            width,
-            height,
-            settings: &settings,
-        };
-        let flicker = session.renderer.flicker(
-            ctx,
-            (scene, &session.scene_gpu),
-            &mut session.truth,
-            &input,
-        )?;
+        let flicker = session.flicker(&camera, &settings)?;
         stats["flicker"] = json!(flicker);
         println!(
             "flicker: {} pixels after moving {} m, {} after turning {}°, of {} counted",

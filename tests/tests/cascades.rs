@@ -3,7 +3,7 @@
 //! (everything within 20 m, sky only).
 
 use glam::Vec3;
-use render_core::cascades::{CascadeSettings, SplitScheme, Splits};
+use render_core::cascades::{CascadeSelection, CascadeSettings, SplitScheme, Splits};
 use render_core::frame::SceneGpu;
 use render_core::frame::{FrameInput, FrameRenderer, FrameSettings, Method, ShadowSetup};
 use render_core::geom::Camera;
@@ -88,20 +88,28 @@ fn every_method_culls_each_cascade_on_its_own_without_error() {
     let scene = load_builtin("city-small", 0).expect("city-small");
     let scene_gpu = SceneGpu::new(ctx, &scene);
     let camera = city_small_street_camera();
-    for method in [
+    let methods = [
         Method::Ref,
         Method::Bvol,
         Method::Geom,
         Method::Frag,
         Method::DrConservative,
-    ] {
+    ];
+    // Selecting each point's cascade by its map: FRAG's masks follow the same choice.
+    let by_map = [Method::Frag, Method::Ref].map(|m| (m, CascadeSelection::Map));
+    for (method, selection) in methods
+        .map(|m| (m, CascadeSelection::Depth))
+        .into_iter()
+        .chain(by_map)
+    {
         let mut renderer = FrameRenderer::new(ctx);
-        let settings = FrameSettings {
+        let mut settings = FrameSettings {
             sun: scene.sun,
             method,
             measure: true,
             ..cascades(3)
         };
+        settings.cascades.selection = selection;
         let input = FrameInput {
             camera: &camera,
             width: 256,
@@ -122,7 +130,7 @@ fn every_method_culls_each_cascade_on_its_own_without_error() {
         assert_eq!(
             (error.missing_shadow_px, error.extra_shadow_px),
             (0, 0),
-            "{method:?} against the reference of the same cascades"
+            "{method:?} by {selection:?} against the reference of the same cascades"
         );
         for view in &report.views {
             let oracle = view.casters_oracle.expect("oracle per cascade");

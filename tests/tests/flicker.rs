@@ -3,16 +3,15 @@
 //! sphere per slice, over splits that do not follow the camera's turns) give none; the tight
 //! fit follows the camera and does.
 
-use render_core::cascades::{CascadeFit, CascadeSettings};
+use render_core::cascades::{CascadeFit, CascadeSelection, CascadeSettings};
 use render_core::frame::{
-    Flicker, FrameInput, FrameRenderer, FrameSettings, Method, SceneGpu, ShadowSetup, moved,
-    turned,
+    Flicker, FrameInput, FrameRenderer, FrameSettings, Method, SceneGpu, ShadowSetup, moved, turned,
 };
 use render_core::scene::load_builtin;
 use render_core::truth::TruthCache;
 use shadowlab_tests::{city_small_street_camera, gpu};
 
-fn flicker_of(fit: CascadeFit) -> Flicker {
+fn flicker_of(fit: CascadeFit, selection: CascadeSelection) -> Flicker {
     let scene = load_builtin("city-small", 0).expect("city-small");
     let ctx = gpu();
     let scene_gpu = SceneGpu::new(ctx, &scene);
@@ -24,6 +23,7 @@ fn flicker_of(fit: CascadeFit) -> Flicker {
         cascades: CascadeSettings {
             count: 4,
             fit,
+            selection,
             ..CascadeSettings::default()
         },
         ..FrameSettings::default()
@@ -43,12 +43,22 @@ fn flicker_of(fit: CascadeFit) -> Flicker {
 
 #[test]
 fn stabilised_cascades_do_not_flicker_and_tight_ones_do_when_the_camera_turns() {
-    let stable = flicker_of(CascadeFit::Sphere);
-    assert!(stable.counted_px > 10_000, "{stable:?}");
-    assert_eq!((stable.moved_px, stable.turned_px), (0, 0), "{stable:?}");
-    let tight = flicker_of(CascadeFit::Tight);
+    for selection in CascadeSelection::ALL {
+        let stable = flicker_of(CascadeFit::Sphere, selection);
+        assert!(stable.counted_px > 10_000, "{stable:?}");
+        assert_eq!(
+            (stable.moved_px, stable.turned_px),
+            (0, 0),
+            "by {selection:?}: {stable:?}"
+        );
+    }
+    let stable = flicker_of(CascadeFit::Sphere, CascadeSelection::Depth);
+    let tight = flicker_of(CascadeFit::Tight, CascadeSelection::Depth);
     assert_eq!(tight.counted_px, stable.counted_px, "the same points");
-    assert!(tight.turned_px > 0, "a tight fit follows the turn: {tight:?}");
+    assert!(
+        tight.turned_px > 0,
+        "a tight fit follows the turn: {tight:?}"
+    );
 }
 
 #[test]
@@ -62,6 +72,8 @@ fn the_flicker_cameras_move_one_centimetre_and_turn_a_tenth_of_a_degree() {
     // A yaw about the world's up: the pitch stays, the heading turns 0.1 degrees.
     assert!((t.forward.y - camera.forward.y).abs() < 1e-6);
     let flat = |v: glam::Vec3| glam::Vec3::new(v.x, 0.0, v.z);
-    let angle = flat(t.forward).angle_between(flat(camera.forward)).to_degrees();
+    let angle = flat(t.forward)
+        .angle_between(flat(camera.forward))
+        .to_degrees();
     assert!((angle - 0.1).abs() < 1e-3, "{angle}");
 }

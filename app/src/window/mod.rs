@@ -3,9 +3,11 @@
 //!
 //! This file opens the window and runs the frame loop; `input` handles the mouse and keyboard
 //! (picking included), `view` runs the egui pass and draws the 3D view, `screenshot` saves one,
-//! `remembered` keeps the scene, camera and settings between runs.
+//! `remembered` keeps the scene, camera and settings between runs, `exact` casts the exact
+//! shadow of a still view on a worker thread while measuring.
 
 mod camera_control;
+mod exact;
 mod input;
 mod loading;
 mod remembered;
@@ -120,6 +122,8 @@ struct Running {
     /// The 3D view's rectangle in egui points, from the last egui pass.
     view_rect: egui::Rect,
     last_report: Option<FrameReport>,
+    /// The exact shadow of the view, while measuring.
+    exact: exact::ExactInWindow,
     /// The "compare all" table's renderer while it is on.
     compare: Option<CompareAll>,
     last_frame_ms: f64,
@@ -259,6 +263,7 @@ impl Running {
             light_view_texture,
             view_rect: egui::Rect::NOTHING,
             last_report: None,
+            exact: exact::ExactInWindow::new(),
             compare: None,
             last_frame_ms: 0.0,
             message: (!messages.is_empty()).then(|| messages.join(". ")),
@@ -325,6 +330,7 @@ impl Running {
                 self.facts = SceneFacts::from(&scene);
                 self.settings.sun = scene.sun;
                 self.scene = scene;
+                self.exact = exact::ExactInWindow::new();
                 self.selected = None;
                 spec.clone_into(&mut self.scene_spec);
                 self.window

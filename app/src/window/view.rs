@@ -7,6 +7,7 @@ use render_core::frame::FrameInput;
 use render_core::frame::compare::CompareAll;
 
 use super::Running;
+use super::exact::ViewOf;
 use super::surface::EguiFrame;
 
 impl Running {
@@ -93,10 +94,25 @@ impl Running {
             height: height as u32,
             settings: &self.settings,
         };
-        let report = self
+        let mut report = self
             .renderer
             .render(&self.ctx, &self.scene, &self.scene_gpu, &input);
         self.last_frame_ms = started.elapsed().as_secs_f64() * 1000.0;
+        let view = ViewOf {
+            camera: self.controller.camera,
+            size: (input.width, input.height),
+            sun: self.settings.sun.direction_to_sun,
+        };
+        if let Some(exact) = self.exact.after_frame(&self.scene, view, &self.settings) {
+            match self.renderer.exact_error(&self.ctx, exact) {
+                Ok(error) => self.exact.compared(&self.settings, error),
+                Err(e) => {
+                    log::error!("exact shadow: {e}");
+                    self.message = Some(format!("Could not compare with the exact shadow: {e}"));
+                }
+            }
+        }
+        report.exact_error = self.exact.error_of(view, &self.settings);
         if self.settings.compare_all {
             let compare = self
                 .compare

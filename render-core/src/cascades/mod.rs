@@ -2,7 +2,8 @@
 //! along its depth into slices ([`splits`]), each slice a view of the sun fitted to it in its
 //! own layer of the map array. The map technique (`shadow_map/`) renders, culls and shades
 //! them as it does any views: every method runs per cascade, masks included, and the light
-//! term takes each point from the cascade whose depths hold it (`view_shades`).
+//! term takes each point from the cascade whose depths hold it, or from the first whose map
+//! does ([`CascadeSelection`], `view_selected`).
 
 pub mod splits;
 
@@ -54,6 +55,51 @@ impl std::str::FromStr for CascadeFit {
     }
 }
 
+/// Which cascade shades a point.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum CascadeSelection {
+    /// The cascade whose slice holds the point's view depth: the boundary is a plane that
+    /// turns with the camera.
+    #[default]
+    Depth,
+    /// The first cascade whose map holds every PCF tap of the point: boundaries are map
+    /// edges, which stabilised cascades move only in whole texels, and each point gets the
+    /// finest map that has it.
+    Map,
+}
+
+impl CascadeSelection {
+    pub const ALL: [Self; 2] = [Self::Depth, Self::Map];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Depth => "depth",
+            Self::Map => "map",
+        }
+    }
+
+    /// The code the light term reads (`frame.views.z`, `view_selected` in
+    /// `shadow_view/lookup.wgsl`).
+    pub fn code(self) -> u32 {
+        match self {
+            Self::Depth => 0,
+            Self::Map => 1,
+        }
+    }
+}
+
+impl std::str::FromStr for CascadeSelection {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        Self::ALL
+            .into_iter()
+            .find(|selection| selection.name() == s)
+            .ok_or_else(|| format!("unknown cascade selection '{s}' (available: depth, map)"))
+    }
+}
+
 /// The cascades a user sets.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
@@ -62,6 +108,7 @@ pub struct CascadeSettings {
     pub count: u32,
     pub splits: Splits,
     pub fit: CascadeFit,
+    pub selection: CascadeSelection,
 }
 
 impl Default for CascadeSettings {
@@ -70,6 +117,7 @@ impl Default for CascadeSettings {
             count: 4,
             splits: Splits::default(),
             fit: CascadeFit::default(),
+            selection: CascadeSelection::default(),
         }
     }
 }

@@ -1,7 +1,7 @@
 // Receiver passes in the camera's view, before the shadow maps are drawn. They run with the
 // camera's depth test EQUAL, so exactly the visible fragments arrive, and they compute every
 // PCF tap exactly as shading will (shadow_view/lookup.wgsl), in every view that shades the
-// fragment (`view_shades`, as shading chooses).
+// fragment (`view_selected`, as shading chooses).
 // - FRAG's mask (Bittner 4.4): each visible receiver fragment marks the texels its taps read
 //   with the depth a caster must be nearer than to shadow it. This is the reverse shadow test
 //   turned around: the camera's fragments mark the light's texels, so the mask is exact and
@@ -33,7 +33,7 @@ const MASK_MARGIN: f32 = 1e-5;
 fn receiver_lookup(in: VsOut, geometric: vec3<f32>, v: u32) -> ShadowLookup {
     var l = shadow_lookup(in.world_pos, geometric, v);
     let receives = (instances[in.instance].flags.x & FLAG_RECEIVER) != 0u;
-    l.inside = l.inside && receives && frame.params.y != 0u && view_shades(v, in.world_pos);
+    l.inside = l.inside && receives && frame.params.y != 0u && view_selected(v, in.world_pos, geometric);
     return l;
 }
 
@@ -89,7 +89,7 @@ fn cs_fragment_mask(@builtin(global_invocation_id) id: vec3<u32>) {
     let world_pos = textureLoad(surface_positions, id.xy, 0).xyz;
     let geometric = textureLoad(surface_normals, id.xy, 0).xyz;
     for (var v = 0u; v < frame.views.x; v++) {
-        if (view_shades(v, world_pos)) {
+        if (view_selected(v, world_pos, geometric)) {
             let l = shadow_lookup(world_pos, geometric, v);
             if (l.inside) {
                 mark_fragment_mask(l);

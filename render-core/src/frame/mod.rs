@@ -327,7 +327,16 @@ impl FrameRenderer {
                 (u32::from(settings.overlays.casters) * OVERLAY_CASTERS)
                     | (u32::from(settings.overlays.cascades) * OVERLAY_VIEWS),
             ],
-            views: [views.len() as u32, scene_gpu.instance_count, 0, 0],
+            views: [
+                views.len() as u32,
+                scene_gpu.instance_count,
+                if settings.setup == ShadowSetup::Cascades {
+                    settings.cascades.selection.code()
+                } else {
+                    0
+                },
+                0,
+            ],
         };
         self.bindings
             .prepare(ctx, &uniforms, scene_gpu, &self.views)

@@ -297,8 +297,12 @@ mod tests {
     use super::*;
 
     #[test]
+    #[allow(clippy::float_cmp, reason = "the range must not change in any bit")]
     fn the_stable_depth_range_ignores_turns_and_small_moves() {
-        let scene = Aabb::new(Vec3::new(-500.0, 0.0, -500.0), Vec3::new(500.0, 80.0, 500.0));
+        let scene = Aabb::new(
+            Vec3::new(-500.0, 0.0, -500.0),
+            Vec3::new(500.0, 80.0, 500.0),
+        );
         let camera = |eye: Vec3, forward: Vec3| Camera {
             eye,
             forward: forward.normalize(),
@@ -311,7 +315,10 @@ mod tests {
         // sixteenth of its octave (512 m / 16 = 32 m).
         assert_eq!(far, 768.0);
         for forward in [Vec3::NEG_X, Vec3::Z, Vec3::new(0.3, -0.9, 0.2)] {
-            assert_eq!(stable_depth_range(&camera(eye, forward), &scene), Some((near, far)));
+            assert_eq!(
+                stable_depth_range(&camera(eye, forward), &scene),
+                Some((near, far))
+            );
         }
         let nudged = camera(eye + Vec3::new(0.01, 0.0, 0.0), Vec3::X);
         assert_eq!(stable_depth_range(&nudged, &scene), Some((near, far)));

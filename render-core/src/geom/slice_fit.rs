@@ -38,7 +38,11 @@ pub fn fit_view_slice(
     if fit == SliceFit::Sphere {
         // A sphere's slice is the one asked for, not cut to the scene, so it keeps its shape
         // as the camera turns.
-        let aspect = if aspect.is_finite() && aspect > 0.0 { aspect } else { 1.0 };
+        let aspect = if aspect.is_finite() && aspect > 0.0 {
+            aspect
+        } else {
+            1.0
+        };
         corners = camera.frustum_corners_world(f64::from(aspect), depths[0], depths[1]);
     }
     let corners = corners.map(|p| space.to_light(p));

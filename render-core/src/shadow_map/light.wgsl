@@ -1,5 +1,5 @@
 // The shadow-map technique's "light reaching this point": the fraction of PCF taps that see
-// the light in each view that shades the point (`view_shades`), the least of them, from the
+// the light in each view that shades the point (`view_selected`), the least of them, from the
 // method's maps and, when measuring, from the reference maps (marking the oracle). Bound as
 // group 1 of the shading pass (shadow_map/mod.rs).
 #import shadow_view/lookup.wgsl
@@ -55,7 +55,7 @@ fn light_reaching(world_pos: vec3<f32>, geometric: vec3<f32>, measuring: bool) -
     var out = LightReaching(1.0, 1.0, 0u, false);
     var first = true;
     for (var v = 0u; v < frame.views.x; v++) {
-        if (!view_shades(v, world_pos)) {
+        if (!view_selected(v, world_pos, geometric)) {
             continue;
         }
         if (first) {

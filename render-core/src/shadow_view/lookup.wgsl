@@ -70,3 +70,26 @@ fn tap_threshold(l: ShadowLookup, t: vec2<i32>) -> f32 {
     let receiver = l.depth + dot(l.ddepth_per_texel, delta);
     return receiver - l.bias;
 }
+
+// Whether every tap of `l` lies in its view's map.
+fn lookup_contained(l: ShadowLookup) -> bool {
+    return l.inside && all(l.first >= vec2<i32>(0)) && all(l.first + vec2<i32>(l.kernel - 1) <= vec2<i32>(l.size - 1));
+}
+
+// Whether view `v` shades the point: by view depth (`view_shades`), or, when the frame selects
+// by map (frame.views.z == 1, cascades/mod.rs `CascadeSelection`), when `v` is the first view
+// whose map holds every tap. Shading and the receiver passes both choose through this.
+fn view_selected(v: u32, world_pos: vec3<f32>, geometric: vec3<f32>) -> bool {
+    if (frame.views.z == 0u) {
+        return view_shades(v, world_pos);
+    }
+    if (!lookup_contained(shadow_lookup(world_pos, geometric, v))) {
+        return false;
+    }
+    for (var u = 0u; u < v; u++) {
+        if (lookup_contained(shadow_lookup(world_pos, geometric, u))) {
+            return false;
+        }
+    }
+    return true;
+}

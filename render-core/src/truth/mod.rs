@@ -223,7 +223,7 @@ impl TruthCache {
     /// The scene's trees, following instances that moved.
     pub fn rays(&mut self, scene: &Scene) -> &SceneRays {
         match &mut self.rays {
-            Some(rays) => rays.sync(scene),
+            Some(rays) => rays.sync(&scene.instances),
             None => self.rays = Some(SceneRays::new(scene)),
         }
         self.rays.as_ref().expect("built above")

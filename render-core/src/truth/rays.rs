@@ -11,7 +11,7 @@ use obvhs::cwbvh::builder::{build_cwbvh, build_cwbvh_from_tris};
 use obvhs::ray::{Ray, RayHit};
 use obvhs::triangle::Triangle;
 
-use crate::scene::Scene;
+use crate::scene::{Instance, Scene};
 
 /// A mesh's triangles in its own space and their tree.
 struct MeshTree {
@@ -89,27 +89,28 @@ impl SceneRays {
             transforms: Vec::new(),
             version: 0,
         };
-        rays.rebuild_instances(scene);
+        rays.rebuild_instances(&scene.instances);
         rays
     }
 
-    /// Follows instances that moved since the trees were built.
-    pub fn sync(&mut self, scene: &Scene) {
-        let moved = self.transforms.len() != scene.instances.len()
+    /// Follows instances that moved since the trees were built (the scene's instances, with
+    /// the same meshes).
+    pub fn sync(&mut self, instances: &[Instance]) {
+        let moved = self.transforms.len() != instances.len()
             || self
                 .transforms
                 .iter()
-                .zip(&scene.instances)
+                .zip(instances)
                 .any(|(t, i)| *t != i.world_from_local);
         if moved {
-            self.rebuild_instances(scene);
+            self.rebuild_instances(instances);
         }
     }
 
-    fn rebuild_instances(&mut self, scene: &Scene) {
-        self.transforms = scene.instances.iter().map(|i| i.world_from_local).collect();
+    fn rebuild_instances(&mut self, instances: &[Instance]) {
+        self.transforms = instances.iter().map(|i| i.world_from_local).collect();
         self.placed = (0..)
-            .zip(&scene.instances)
+            .zip(instances)
             .filter(|(_, i)| {
                 self.meshes
                     .get(i.mesh as usize)
@@ -133,7 +134,7 @@ impl SceneRays {
             .placed
             .iter()
             .map(|p| {
-                let b = scene.instances[p.instance as usize].aabb_in_world;
+                let b = instances[p.instance as usize].aabb_in_world;
                 BvhAabb::new(b.min.into(), b.max.into())
             })
             .collect();

@@ -26,7 +26,8 @@ pub struct FrameUniforms {
     /// frame measures error and oracle against the reference; w: overlay bits
     /// ([`OVERLAY_CASTERS`]).
     pub params: [u32; 4],
-    /// x: shadow views this frame; y: instances (the stride of per-view blocks); z, w: unused.
+    /// x: shadow views this frame; y: instances (the stride of per-view blocks); z: how a point's
+    /// view is chosen (0 by view depth, 1 by the first map that holds it); w: unused.
     pub views: [u32; 4],
 }
 const _: () = assert!(size_of::<FrameUniforms>() == 160);

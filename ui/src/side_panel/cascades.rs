@@ -2,7 +2,7 @@
 //! split distances and each cascade's texel size plotted against view depth.
 
 use egui_plot::{Line, Plot, PlotPoints};
-use render_core::cascades::{CascadeFit, MAX_CASCADES, SplitScheme};
+use render_core::cascades::{CascadeFit, CascadeSelection, MAX_CASCADES, SplitScheme};
 use render_core::frame::{FrameReport, FrameSettings, ShadowSetup};
 
 use super::grid;
@@ -22,6 +22,9 @@ const MANUAL_HELP: &str = "The distances between cascades in metres, increasing:
 const FIT_HELP: &str = "tight: the slice's box in light space, the most texels but edges crawl \
     as the camera turns. sphere: a square around the slice's bounding sphere moved in whole \
     texels, so shadows stand still (stabilised)";
+const SELECT_HELP: &str = "depth: each point from the cascade whose slice holds its view depth. \
+    map: from the first cascade whose map holds all its PCF taps (the finest that has it; with \
+    the sphere fit its boundaries stand still as the camera turns)";
 
 pub fn ui(ui: &mut egui::Ui, settings: &mut FrameSettings, report: Option<&FrameReport>) {
     let cascades = &mut settings.cascades;
@@ -84,6 +87,16 @@ pub fn ui(ui: &mut egui::Ui, settings: &mut FrameSettings, report: Option<&Frame
                 .show_ui(ui, |ui| {
                     for fit in CascadeFit::ALL {
                         ui.selectable_value(&mut cascades.fit, fit, fit.name());
+                    }
+                })
+                .response
+        });
+        grid::labelled(ui, "Select by", SELECT_HELP, |ui| {
+            egui::ComboBox::from_id_salt("cascade_select")
+                .selected_text(cascades.selection.name())
+                .show_ui(ui, |ui| {
+                    for selection in CascadeSelection::ALL {
+                        ui.selectable_value(&mut cascades.selection, selection, selection.name());
                     }
                 })
                 .response

@@ -66,6 +66,21 @@ fn counts(ui: &mut egui::Ui, report: &FrameReport) {
             grid::row(ui, "Extra shadow px", thousands(e.extra_shadow_px.into()));
             grid::row(ui, "Receiver px compared", thousands(e.visible_px.into()));
         }
+        if c.casters_oracle.is_some() {
+            // Sun-facing receiver pixels whose shadow differs from a ray cast towards the
+            // sun: from a worker thread once the view is still (not while animating).
+            let exact = report.exact_error.map_or_else(
+                || PENDING.to_owned(),
+                |e| {
+                    format!(
+                        "{} / {}",
+                        thousands(e.missing_shadow_px.into()),
+                        thousands(e.extra_shadow_px.into())
+                    )
+                },
+            );
+            grid::row(ui, "Vs exact: missing / extra", exact);
+        }
         if let Some(u) = report.undersampling {
             grid::row(
                 ui,

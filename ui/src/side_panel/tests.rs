@@ -101,6 +101,11 @@ fn report(frame_index: u64) -> FrameReport {
             extra_shadow_px: 3,
             visible_px: 65_432,
         }),
+        exact_error: Some(ShadowError {
+            missing_shadow_px: 1_712,
+            extra_shadow_px: 408,
+            visible_px: 61_020,
+        }),
         measured_frame_index: frame_index.checked_sub(1),
         ..FrameReport::default()
     }
