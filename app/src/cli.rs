@@ -5,7 +5,9 @@ use std::path::PathBuf;
 use anyhow::{Context as _, bail};
 use clap::{Args, Parser, Subcommand};
 use glam::Vec3;
-use render_core::cascades::{CascadeFit, CascadeSelection, MAX_CASCADES, SplitScheme};
+use render_core::cascades::{
+    CascadeDepths, CascadeFit, CascadeSelection, MAX_CASCADES, SplitScheme,
+};
 use render_core::frame::{FrameSettings, Method, PcfKernel, ShadowSettings, ShadowSetup};
 use render_core::geom::Camera;
 use render_core::scene::{ChunkSettings, Scene, Sun, Units};
@@ -182,6 +184,10 @@ pub struct ViewArgs {
     /// first cascade whose map holds it).
     #[arg(long, value_parser = parse_cascade_selection, value_name = "BY")]
     pub cascade_select: Option<CascadeSelection>,
+    /// Which view depths the cascades split: scene (where the view meets the scene) or
+    /// visible (the nearest to the furthest visible receiver pixel, as SDSM).
+    #[arg(long, value_parser = parse_cascade_depths, value_name = "D")]
+    pub cascade_depths: Option<CascadeDepths>,
     /// Pose dynamic objects (the city's cars) as they are this many seconds into their motion.
     #[arg(long, value_name = "SECONDS", allow_hyphen_values = true)]
     pub time: Option<f64>,
@@ -306,6 +312,9 @@ impl ViewArgs {
         if let Some(selection) = self.cascade_select {
             cascades.selection = selection;
         }
+        if let Some(depths) = self.cascade_depths {
+            cascades.depths = depths;
+        }
         Ok(())
     }
 
@@ -403,6 +412,10 @@ fn parse_cascade_fit(s: &str) -> Result<CascadeFit, String> {
 }
 
 fn parse_cascade_selection(s: &str) -> Result<CascadeSelection, String> {
+    s.parse()
+}
+
+fn parse_cascade_depths(s: &str) -> Result<CascadeDepths, String> {
     s.parse()
 }
 

@@ -3,7 +3,9 @@
 //! (everything within 20 m, sky only).
 
 use glam::Vec3;
-use render_core::cascades::{CascadeSelection, CascadeSettings, SplitScheme, Splits};
+use render_core::cascades::{
+    CascadeDepths, CascadeSelection, CascadeSettings, SplitScheme, Splits,
+};
 use render_core::frame::SceneGpu;
 use render_core::frame::{FrameInput, FrameRenderer, FrameSettings, Method, ShadowSetup};
 use render_core::geom::Camera;
@@ -325,5 +327,123 @@ fn cascades_stay_sound_looking_into_the_sun_away_from_it_and_100_km_out() {
             dark > 20 && dark < ground / 2,
             "{name}: {dark} of {ground} ground pixels dark"
         );
+    }
+}
+
+/// A 20 m ground with a box, and a tower 500 m off to the side, out of view but within the
+/// view's depths: the scene reaches about 400 m deep, the visible receivers 20 m.
+fn ground_and_far_tower(sun: Sun) -> (Scene, Camera) {
+    let base = box_on_plane(10.0, Vec3::splat(1.0), 0.0, sun);
+    let tower = shadowlab_tests::box_mesh("tower", Vec3::new(5.0, 40.0, 5.0));
+    let mut meshes = base.meshes.clone();
+    let mut instances = base.instances.clone();
+    instances.push(render_core::scene::Instance::new(
+        "tower",
+        meshes.len() as u32,
+        &tower,
+        glam::Mat4::from_translation(Vec3::new(450.0, 40.0, -400.0)),
+    ));
+    meshes.push(tower);
+    let scene = Scene::new("test:far-tower", meshes, instances, sun);
+    let camera = Camera::look_at(
+        Vec3::new(0.0, 4.0, 8.0),
+        Vec3::new(0.0, 0.0, -4.0),
+        60f32.to_radians(),
+        0.1,
+        1000.0,
+    );
+    (scene, camera)
+}
+
+/// The view depths, metres, of the nearest and furthest pixel that shows something.
+fn visible_depths(capture: &render_core::frame::FrameCapture, camera: &Camera) -> [f64; 2] {
+    let (near, far) = (f64::from(camera.near_m), f64::from(camera.far_m));
+    let depths: Vec<f64> = capture
+        .depth
+        .iter()
+        .filter(|d| **d > 0.0)
+        .map(|d| far * near / (near + f64::from(*d) * (far - near)))
+        .collect();
+    [
+        depths.iter().copied().fold(f64::INFINITY, f64::min),
+        depths.iter().copied().fold(0.0, f64::max),
+    ]
+}
+
+#[test]
+fn cascades_skip_slices_without_visible_receivers_and_can_split_only_visible_depths() {
+    let sun = Sun::from_azimuth_elevation_deg(60.0, 40.0);
+    let (scene, camera) = ground_and_far_tower(sun);
+    let ctx = gpu();
+    let scene_gpu = SceneGpu::new(ctx, &scene);
+    let (near, scene_far) =
+        render_core::geom::view_depth_range(&camera, &scene.bounds()).expect("in view");
+    assert!(
+        scene_far > 300.0,
+        "the tower makes the scene deep: {scene_far}"
+    );
+    for depths in CascadeDepths::ALL {
+        let mut settings = FrameSettings { sun, ..cascades(4) };
+        settings.cascades.fit = render_core::cascades::CascadeFit::Tight;
+        settings.cascades.depths = depths;
+        let mut renderer = FrameRenderer::new(ctx);
+        let input = FrameInput {
+            camera: &camera,
+            width: 160,
+            height: 120,
+            settings: &settings,
+        };
+        // The first frame knows no visible depths yet: four slices of the scene's depths.
+        let first = renderer
+            .render_and_wait(ctx, &scene, &scene_gpu, &input)
+            .expect("frame");
+        assert_eq!(first.views.len(), 4, "{depths:?}");
+        let capture = render_core::frame::FrameCapture::read(ctx, renderer.targets().unwrap())
+            .expect("readback");
+        let [lo, hi] = visible_depths(&capture, &camera);
+        assert!(hi < 25.0, "only the ground is visible: {lo}..{hi}");
+        let report = renderer
+            .render_and_wait(ctx, &scene, &scene_gpu, &input)
+            .expect("frame");
+        // What the renderer was told, with its 2 % margin for a moving camera.
+        let (lo_m, hi_m) = (lo * 0.98, hi * 1.02);
+        let splits = &settings.cascades.splits;
+        let ends: Vec<[f64; 2]> = match depths {
+            CascadeDepths::Scene => splits
+                .distances(4, near, scene_far)
+                .windows(2)
+                .map(|w| [w[0], w[1]])
+                .filter(|[a, b]| *a <= hi_m && *b >= lo_m)
+                .collect(),
+            CascadeDepths::Visible => splits
+                .distances(4, near.max(lo_m), scene_far.min(hi_m))
+                .windows(2)
+                .map(|w| [w[0], w[1]])
+                .collect(),
+        };
+        assert_eq!(
+            report.views.len(),
+            ends.len(),
+            "{depths:?}: {:?}",
+            report.views
+        );
+        assert!(
+            depths == CascadeDepths::Visible || ends.len() < 4,
+            "the slices beyond the ground are skipped"
+        );
+        for (view, [a, b]) in report.views.iter().zip(&ends) {
+            let [from, to] = view.shades_depth_m;
+            if let Some(from) = from {
+                assert!(
+                    (f64::from(from) - a).abs() < 1e-3 * a.max(1.0),
+                    "{depths:?} {view:?} vs {a}"
+                );
+            }
+            let to = f64::from(to.expect("a far end"));
+            assert!(
+                (to - b).abs() < 2e-3 * b.max(1.0),
+                "{depths:?} {view:?} vs {b}"
+            );
+        }
     }
 }

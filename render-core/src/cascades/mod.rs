@@ -100,6 +100,46 @@ impl std::str::FromStr for CascadeSelection {
     }
 }
 
+/// Which view depths the splits cover.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum CascadeDepths {
+    /// Where the view frustum meets the scene's box; cascades whose slice holds no visible
+    /// receiver (by the newest visible depths) are skipped.
+    #[default]
+    Scene,
+    /// From the nearest to the furthest visible receiver pixel (Lauritzen's sample
+    /// distribution shadow maps: a min/max reduction of the camera's depth, one frame late in
+    /// the window), so every cascade shades depths that exist.
+    Visible,
+}
+
+impl CascadeDepths {
+    pub const ALL: [Self; 2] = [Self::Scene, Self::Visible];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Scene => "scene",
+            Self::Visible => "visible",
+        }
+    }
+}
+
+impl std::str::FromStr for CascadeDepths {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        Self::ALL
+            .into_iter()
+            .find(|d| d.name() == s)
+            .ok_or_else(|| format!("unknown cascade depths '{s}' (available: scene, visible)"))
+    }
+}
+
+/// How far beyond the newest visible depths a cascade still counts them, as a share: the
+/// depths are a frame old in the window.
+const VISIBLE_MARGIN: f64 = 0.02;
+
 /// The cascades a user sets.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
@@ -109,6 +149,7 @@ pub struct CascadeSettings {
     pub splits: Splits,
     pub fit: CascadeFit,
     pub selection: CascadeSelection,
+    pub depths: CascadeDepths,
 }
 
 impl Default for CascadeSettings {
@@ -118,6 +159,7 @@ impl Default for CascadeSettings {
             splits: Splits::default(),
             fit: CascadeFit::default(),
             selection: CascadeSelection::default(),
+            depths: CascadeDepths::default(),
         }
     }
 }
@@ -143,6 +185,21 @@ impl Cascades {
         let (near, far) = match self.settings.fit {
             CascadeFit::Tight => (near, scene_far),
             CascadeFit::Sphere => stable_depth_range(input.camera, &bounds)?,
+        };
+        let visible = input
+            .visible_depths_m
+            .map(|[lo, hi]| {
+                [
+                    f64::from(lo) * (1.0 - VISIBLE_MARGIN),
+                    f64::from(hi) * (1.0 + VISIBLE_MARGIN),
+                ]
+            })
+            .filter(|[lo, hi]| lo.is_finite() && hi.is_finite() && lo < hi);
+        let (near, far) = match (self.settings.depths, visible) {
+            (CascadeDepths::Visible, Some([lo, hi])) if lo.max(near) < hi.min(far) => {
+                (lo.max(near), hi.min(far))
+            }
+            _ => (near, far),
         };
         let count = self.settings.count.clamp(1, MAX_CASCADES);
         Some((self.settings.splits.distances(count, near, far), scene_far))
@@ -183,7 +240,13 @@ impl ViewLayout for Cascades {
         let mut views = Vec::new();
         for (i, pair) in distances.windows(2).enumerate() {
             let [near, far] = [pair[0], pair[1]];
-            if far <= near {
+            // A slice of no depth, or (by the newest visible depths) of no visible receiver,
+            // is not rendered (Engel: a culling system can tell how many maps are needed).
+            let receives = input.visible_depths_m.is_none_or(|[lo, hi]| {
+                near <= f64::from(hi) * (1.0 + VISIBLE_MARGIN)
+                    && far >= f64::from(lo) * (1.0 - VISIBLE_MARGIN)
+            });
+            if far <= near || !receives {
                 continue;
             }
             let light = fit_view_slice(

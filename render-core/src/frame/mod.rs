@@ -291,6 +291,10 @@ impl FrameRenderer {
             measure: settings.measure,
             frame_index: self.frame_index,
             visible_receivers: self.latest.visibility.map(|v| v.receiver_bounds),
+            visible_depths_m: self
+                .latest
+                .visibility
+                .and_then(|v| v.receiver_depths_m(camera.near_m, camera.far_m)),
         }
     }
 

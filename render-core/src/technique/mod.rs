@@ -62,6 +62,9 @@ pub struct TechniqueInput<'a> {
     pub frame_index: u64,
     /// The newest visible receivers' world bounds that have come back (for FOCUS).
     pub visible_receivers: Option<Aabb>,
+    /// The newest view depths, metres, of the nearest and furthest visible receiver pixel
+    /// (`None` before any came back, or when no receiver is visible).
+    pub visible_depths_m: Option<[f32; 2]>,
 }
 
 /// What a technique draws with: the frame's bindings, the camera's passes so far, and this

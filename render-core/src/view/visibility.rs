@@ -15,7 +15,7 @@ pub(crate) fn shader_source() -> String {
 
 /// Counter words: objects, receivers, the receivers' box as 3 + 3 keys (`Counters` in
 /// visibility.wgsl).
-const COUNTER_WORDS: usize = 8;
+const COUNTER_WORDS: usize = 10;
 
 /// Counts of one frame's visible objects.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -25,6 +25,18 @@ pub struct VisibilityCounts {
     pub receivers_visible: u32,
     /// The visible receivers' world-space bounds (empty when none is visible).
     pub receiver_bounds: crate::geom::Aabb,
+    /// The reversed depths (1 near, 0 far) of the receiver pixels: nearest and furthest.
+    pub receiver_depths: Option<[f32; 2]>,
+}
+
+impl VisibilityCounts {
+    /// The view depths, metres, of the receiver pixels of a camera with these planes
+    /// (`Camera::clip_from_view` inverted: depth = far near / (near + d (far - near))).
+    pub fn receiver_depths_m(&self, near_m: f32, far_m: f32) -> Option<[f32; 2]> {
+        let [d_near, d_far] = self.receiver_depths?;
+        let view_depth = |d: f32| far_m * near_m / (near_m + d * (far_m - near_m));
+        Some([view_depth(d_near), view_depth(d_far)])
+    }
 }
 
 /// Long-lived compute pipeline; per-scene flag buffer.
@@ -56,6 +68,7 @@ impl VisibilityPass {
                 storage(false),
                 storage(false),
                 storage(true),
+                crate::gpu::depth_texture(),
             ],
         );
         let pipeline_layout = pipeline_layout(device, "Visibility::pipeline_layout", &[&layout]);
@@ -100,6 +113,7 @@ impl VisibilityPass {
                 buffer_entry(2, &self.visible_flags),
                 buffer_entry(3, self.counters.buffer()),
                 buffer_entry(4, &scene_gpu.bounds_buffer),
+                view_entry(5, &targets.depth_view),
             ],
         });
         let query = timer.begin_pass(pass_label::VISIBILITY, encoder);
@@ -137,6 +151,8 @@ impl VisibilityPass {
             } else {
                 crate::geom::Aabb::new(min, max)
             },
+            receiver_depths: (words[8] != 0)
+                .then(|| [f32::from_bits(words[8]), f32::from_bits(!words[9])]),
         })
     }
 }

@@ -2,7 +2,9 @@
 //! split distances and each cascade's texel size plotted against view depth.
 
 use egui_plot::{Line, Plot, PlotPoints};
-use render_core::cascades::{CascadeFit, CascadeSelection, MAX_CASCADES, SplitScheme};
+use render_core::cascades::{
+    CascadeDepths, CascadeFit, CascadeSelection, MAX_CASCADES, SplitScheme,
+};
 use render_core::frame::{FrameReport, FrameSettings, ShadowSetup};
 
 use super::grid;
@@ -22,6 +24,9 @@ const MANUAL_HELP: &str = "The distances between cascades in metres, increasing:
 const FIT_HELP: &str = "tight: the slice's box in light space, the most texels but edges crawl \
     as the camera turns. sphere: a square around the slice's bounding sphere moved in whole \
     texels, so shadows stand still (stabilised)";
+const DEPTHS_HELP: &str = "scene: split where the view meets the scene, skipping cascades with \
+    no visible receiver. visible: split from the nearest to the furthest visible receiver pixel \
+    (sample distribution shadow maps; a frame late while the camera moves)";
 const SELECT_HELP: &str = "depth: each point from the cascade whose slice holds its view depth. \
     map: from the first cascade whose map holds all its PCF taps (the finest that has it; with \
     the sphere fit its boundaries stand still as the camera turns)";
@@ -91,6 +96,16 @@ pub fn ui(ui: &mut egui::Ui, settings: &mut FrameSettings, report: Option<&Frame
                 })
                 .response
         });
+        grid::labelled(ui, "Depths", DEPTHS_HELP, |ui| {
+            egui::ComboBox::from_id_salt("cascade_depths")
+                .selected_text(cascades.depths.name())
+                .show_ui(ui, |ui| {
+                    for depths in CascadeDepths::ALL {
+                        ui.selectable_value(&mut cascades.depths, depths, depths.name());
+                    }
+                })
+                .response
+        });
         grid::labelled(ui, "Select by", SELECT_HELP, |ui| {
             egui::ComboBox::from_id_salt("cascade_select")
                 .selected_text(cascades.selection.name())
@@ -105,7 +120,7 @@ pub fn ui(ui: &mut egui::Ui, settings: &mut FrameSettings, report: Option<&Frame
     if settings.setup == ShadowSetup::Cascades
         && let Some(report) = report
     {
-        texel_plot(ui, report);
+        texel_plot(ui, report, settings.cascades.count);
     }
 }
 
@@ -139,7 +154,7 @@ fn manual_distances(ui: &mut egui::Ui, manual_m: &mut [f32; 7]) -> egui::Respons
 
 /// Each cascade's texel size over the depths it shades: a step per cascade, the splits where
 /// the steps change.
-fn texel_plot(ui: &mut egui::Ui, report: &FrameReport) {
+fn texel_plot(ui: &mut egui::Ui, report: &FrameReport, asked: u32) {
     let steps: Vec<(f64, f64, f64)> = report
         .views
         .iter()
@@ -156,8 +171,15 @@ fn texel_plot(ui: &mut egui::Ui, report: &FrameReport) {
         .chain(steps.iter().map(|s| s.1))
         .map(|d| length(d as f32))
         .collect();
+    // Cascades whose slice holds no visible receiver are skipped (Engel).
+    let drawn = report.views.len();
+    let skipped = if drawn < asked as usize {
+        format!(" ({drawn} of {asked} drawn)")
+    } else {
+        String::new()
+    };
     ui.label(
-        egui::RichText::new(format!("splits: {} m", ends.join(" · ")))
+        egui::RichText::new(format!("splits: {} m{skipped}", ends.join(" · ")))
             .small()
             .color(theme::MUTED),
     );
