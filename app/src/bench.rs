@@ -132,7 +132,12 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
                 setup: ShadowSetup::Single,
                 ..base
             };
-            std::iter::once(("single".to_owned(), single))
+            let lispsm = FrameSettings {
+                setup: ShadowSetup::Lispsm,
+                ..base
+            };
+            [("single".to_owned(), single), ("lispsm".to_owned(), lispsm)]
+                .into_iter()
                 .chain(args.cascade_counts.iter().map(|&count| {
                     let mut s = FrameSettings {
                         setup: ShadowSetup::Cascades,

@@ -155,7 +155,7 @@ pub struct ViewArgs {
     /// Normal offset, in shadow texels.
     #[arg(long, value_name = "TEXELS")]
     pub normal_offset: Option<f32>,
-    /// Shadow setup: single (one map) or cascades.
+    /// Shadow setup: single (one map), lispsm (one map warped in light space) or cascades.
     #[arg(long, value_parser = parse_setup, value_name = "SETUP")]
     pub shadow: Option<ShadowSetup>,
     /// Number of cascades, 1 to 8 (with --shadow cascades).
@@ -177,6 +177,10 @@ pub struct ViewArgs {
     /// The manual split's distances between cascades, metres, increasing: d1,d2,...
     #[arg(long, value_name = "D1,D2,...")]
     pub splits: Option<String>,
+    /// `--shadow lispsm`: multiplies the warp's optimal n (Wimmer et al. 2004); below 1 warps
+    /// harder, above 1 tends to a uniform map.
+    #[arg(long, value_name = "SCALE")]
+    pub lispsm_n: Option<f32>,
     /// How each cascade is fitted: tight (the slice's light-space box) or sphere (stabilised).
     #[arg(long, value_parser = parse_cascade_fit, value_name = "FIT")]
     pub cascade_fit: Option<CascadeFit>,
@@ -314,6 +318,13 @@ impl ViewArgs {
         }
         if let Some(depths) = self.cascade_depths {
             cascades.depths = depths;
+        }
+        if let Some(scale) = self.lispsm_n {
+            anyhow::ensure!(
+                scale.is_finite() && (0.01..=100.0).contains(&scale),
+                "--lispsm-n {scale}: the scale of n must be between 0.01 and 100"
+            );
+            settings.lispsm.n_scale = scale;
         }
         Ok(())
     }
@@ -604,7 +615,7 @@ pub enum Sweep {
     Resolution,
     /// Sun elevation, as in Bittner's Figure 7.
     Elevation,
-    /// The single map, then cascades of each of `--cascade-counts`.
+    /// The single map, the LiSPSM map, then cascades of each of `--cascade-counts`.
     Cascades,
     /// Every split scheme but manual, with the cascades of the other flags.
     Splits,

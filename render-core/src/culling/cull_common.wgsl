@@ -60,6 +60,13 @@ fn light_box(b: InstanceBounds, light_clip_from_world: mat4x4<f32>) -> LightBox 
             select(b.min.z, b.max.z, (k & 4u) != 0u),
         );
         let clip = light_clip_from_world * vec4<f32>(corner, 1.0);
+        if (clip.w <= 0.0) {
+            // Behind a warped view's centre (LiSPSM): the box may reach anywhere in the map,
+            // from the light's near plane on.
+            out.lo = min(out.lo, vec3<f32>(-1.0, -1.0, 0.0));
+            out.hi = max(out.hi, vec3<f32>(1.0));
+            continue;
+        }
         let ndc = clip.xyz / clip.w;
         out.lo = min(out.lo, ndc);
         out.hi = max(out.hi, ndc);

@@ -78,7 +78,7 @@ pub fn legend(settings: &FrameSettings) -> Vec<LegendGroup> {
     }
     if overlays.cascades {
         let count = match settings.setup {
-            super::ShadowSetup::Single => 1,
+            super::ShadowSetup::Single | super::ShadowSetup::Lispsm => 1,
             super::ShadowSetup::Cascades => settings.cascades.count.clamp(1, VIEWS.len() as u32),
         };
         groups.push(LegendGroup {

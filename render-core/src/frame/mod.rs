@@ -29,7 +29,7 @@ pub use capture::FrameCapture;
 pub use flicker::{FLICKER_MOVE_M, FLICKER_TURN_DEG, Flicker, moved, turned};
 pub use legend::{LegendEntry, LegendGroup, legend};
 pub use report::{CpuTimings, FrameCounts, FrameReport, LightFacts};
-pub use settings::{FrameSettings, Overlays, ShadowSetup};
+pub use settings::{FrameSettings, LispsmSettings, Overlays, ShadowSetup};
 
 pub use crate::culling::{CasterOutcome, Method, Stage};
 pub use crate::gpu::pass_label;
@@ -50,7 +50,7 @@ use crate::metrics::{HeatMapOverlay, MeasureResources, ShadowError};
 use crate::overlays::LightInset;
 use crate::scene::Scene;
 use crate::scene_gpu::DrawList;
-use crate::shadow_map::{MapTechnique, SunView};
+use crate::shadow_map::{MapTechnique, SunView, WarpedSunView};
 use crate::shadow_view::{ShadowView, ViewBuffer};
 use crate::technique::{DrawInput, ShadowPasses, ShadowTechnique, TechniqueInput};
 use crate::truth::{ExactShadow, FrameGroups, LightAtPoints, SurfacePoint};
@@ -88,7 +88,7 @@ pub struct FrameRenderer {
     /// Copies of the single map's view (1 but in tests of the per-view path).
     repeated_views: u32,
     /// What the technique's view layout was made from; a new one only when it changes.
-    layout_key: Option<(ShadowSetup, CascadeSettings, u32)>,
+    layout_key: Option<(ShadowSetup, CascadeSettings, LispsmSettings, u32)>,
     visibility: VisibilityPass,
     /// Objects in the view frustum (camera passes), refilled per frame.
     camera_list: DrawList,
@@ -178,12 +178,16 @@ impl FrameRenderer {
         let key = (
             setup.settings.setup,
             setup.settings.cascades,
+            setup.settings.lispsm,
             self.repeated_views,
         );
         if self.layout_key != Some(key) {
             self.layout_key = Some(key);
             self.maps.set_layout(match key.0 {
-                ShadowSetup::Single => Box::new(SunView { copies: key.2 }),
+                ShadowSetup::Single => Box::new(SunView { copies: key.3 }),
+                ShadowSetup::Lispsm => Box::new(WarpedSunView {
+                    n_scale: key.2.n_scale,
+                }),
                 ShadowSetup::Cascades => Box::new(Cascades::new(key.1)),
             });
         }

@@ -54,18 +54,36 @@ pub enum ShadowSetup {
     /// One map fitted to the view (or the whole scene for `incr`).
     #[default]
     Single,
+    /// One map warped by a perspective in light space (LiSPSM, [`FrameSettings::lispsm`]).
+    Lispsm,
     /// One map per slice of the view frustum ([`FrameSettings::cascades`]).
     Cascades,
 }
 
 impl ShadowSetup {
-    pub const ALL: [Self; 2] = [Self::Single, Self::Cascades];
+    pub const ALL: [Self; 3] = [Self::Single, Self::Lispsm, Self::Cascades];
 
     pub fn name(self) -> &'static str {
         match self {
             Self::Single => "single",
+            Self::Lispsm => "lispsm",
             Self::Cascades => "cascades",
         }
+    }
+}
+
+/// The LiSPSM warp a user sets.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct LispsmSettings {
+    /// Multiplies the paper's optimal `n` (Wimmer et al. 2004): below 1 warps harder (finer
+    /// near, coarser far), above 1 tends to a uniform map.
+    pub n_scale: f32,
+}
+
+impl Default for LispsmSettings {
+    fn default() -> Self {
+        Self { n_scale: 1.0 }
     }
 }
 
@@ -76,7 +94,9 @@ impl std::str::FromStr for ShadowSetup {
         Self::ALL
             .into_iter()
             .find(|setup| setup.name() == s)
-            .ok_or_else(|| format!("unknown shadow setup '{s}' (available: single, cascades)"))
+            .ok_or_else(|| {
+                format!("unknown shadow setup '{s}' (available: single, lispsm, cascades)")
+            })
     }
 }
 
@@ -88,6 +108,7 @@ pub struct FrameSettings {
     /// One map or cascades, and the cascades' count, splits and fit.
     pub setup: ShadowSetup,
     pub cascades: CascadeSettings,
+    pub lispsm: LispsmSettings,
     #[serde(skip)]
     pub sun: Sun,
     pub method: Method,

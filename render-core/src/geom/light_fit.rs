@@ -24,6 +24,10 @@ pub struct LightFrustum {
     pub depth_range_m: f32,
     /// True when the view frustum does not meet the scene, so the map covers the whole scene.
     pub covers_whole_scene: bool,
+    /// For a warped (LiSPSM) frustum, where texel size and depth range vary over the map
+    /// (`geom::lispsm`); `None` for an orthographic one. `texel_size_m` and `depth_range_m`
+    /// are then the coarsest, at the far end.
+    pub warp: Option<super::Warp>,
 }
 
 /// Light-space extent as `(min, max)` with x, y across the light and z along its direction.
@@ -144,6 +148,7 @@ impl LightSpace {
             ],
             depth_range_m: (max.z - min.z) as f32,
             covers_whole_scene,
+            warp: None,
         }
     }
 }

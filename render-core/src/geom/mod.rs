@@ -4,6 +4,7 @@ mod aabb;
 mod camera;
 mod frustum;
 mod light_fit;
+mod lispsm;
 mod slice_fit;
 
 pub use aabb::Aabb;
@@ -13,4 +14,5 @@ pub use light_fit::{
     LightFrustum, fit_directional_light, fit_focused_light, fit_whole_scene, stable_depth_range,
     view_depth_range,
 };
+pub use lispsm::{MIN_SIN_GAMMA, Warp, fit_lispsm};
 pub use slice_fit::{SliceFit, fit_view_slice};

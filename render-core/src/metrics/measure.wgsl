@@ -48,7 +48,9 @@ fn count_undersampling(v: u32, world_pos: vec3<f32>, n: vec3<f32>) {
     let pixel_m = distance * frame.camera_forward.w;
     let cos_view = max(abs(dot(n, to_eye / max(distance, 1e-6))), 0.02);
     let cos_light = max(abs(dot(n, view.light_dir.xyz)), 0.02);
-    let texel_area = view.light_right.w * view.light_up.w / cos_light;
+    // Texels of a warped view grow with w across and w squared along (shadow_view/lookup.wgsl).
+    let w = (view.light_clip_from_world * vec4<f32>(world_pos, 1.0)).w;
+    let texel_area = view.light_right.w * view.light_up.w * w * w * w / cos_light;
     let pixel_area = pixel_m * pixel_m / cos_view;
     let octaves = 0.5 * log2(max(texel_area, 1e-30) / max(pixel_area, 1e-30));
     var bin = 0u;

@@ -1,10 +1,11 @@
 //! Which views of the sun the map technique renders each frame: one fitted to the view (the
-//! single map, [`SunView`]) or one per cascade (`cascades/`). The layout chooses the views;
+//! single map, [`SunView`]), one warped by LiSPSM ([`WarpedSunView`]) or one per cascade
+//! (`cascades/`). The layout chooses the views;
 //! everything after (maps, culling per view, reference, report, light term) is the
 //! technique's and the same for every layout.
 
 use crate::culling::Method;
-use crate::geom::{fit_focused_light, fit_whole_scene};
+use crate::geom::{fit_focused_light, fit_lispsm, fit_whole_scene};
 use crate::shadow_view::{ShadowView, ViewTarget};
 use crate::technique::TechniqueInput;
 
@@ -76,5 +77,54 @@ impl ViewLayout for SunView {
                 ShadowView::covering_all_depths(&name, light, ViewTarget::layer(layer, resolution))
             })
             .collect()
+    }
+}
+
+/// One view of the sun warped by a perspective in light space (LiSPSM, `geom::fit_lispsm`):
+/// finer texels near the viewer. Methods with a static light keep the whole scene's uniform
+/// map, and a view along the light falls back to the uniform focused map (dueling frusta).
+#[derive(Clone, Copy, Debug)]
+pub struct WarpedSunView {
+    /// Multiplies the paper's optimal `n` (1: the optimum; larger is more uniform).
+    pub n_scale: f32,
+}
+
+impl ViewLayout for WarpedSunView {
+    fn name(&self) -> &'static str {
+        "lispsm"
+    }
+
+    fn layers(&self) -> u32 {
+        1
+    }
+
+    fn views(
+        &self,
+        input: &TechniqueInput<'_>,
+        method: Method,
+        resolution: u32,
+    ) -> Vec<ShadowView> {
+        let bounds = input.scene.bounds();
+        let light = if method.static_light() {
+            fit_whole_scene(input.direction_to_sun, &bounds, resolution)
+        } else {
+            fit_lispsm(
+                (input.camera, input.aspect),
+                input.direction_to_sun,
+                &bounds,
+                resolution,
+                self.n_scale,
+            )
+        };
+        let name = if light.warp.is_some() {
+            "sun (lispsm)"
+        } else {
+            "sun (uniform)"
+        };
+        vec![ShadowView::covering_all_depths(
+            name,
+            light,
+            ViewTarget::layer(0, resolution),
+        )]
     }
 }

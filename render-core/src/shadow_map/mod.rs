@@ -15,7 +15,7 @@ pub(crate) mod maps;
 use std::time::Instant;
 
 use cpu_casters::CpuCasters;
-pub use layout::{SunView, ViewLayout};
+pub use layout::{SunView, ViewLayout, WarpedSunView};
 pub use maps::{CASTER_ID_FORMAT, MapKind};
 use maps::{MapArrays, ViewPass};
 
@@ -245,6 +245,7 @@ impl MapTechnique {
             shades_depth_m: view
                 .shades_depth_m
                 .map(|d| (d.is_finite() && d.abs() < f32::MAX).then_some(d)),
+            lispsm_n_m: light.warp.map(|w| w.n_m as f32),
             ..ViewReport::default()
         };
         if !self.last.gpu_culled {
@@ -406,11 +407,20 @@ impl ShadowTechnique for MapTechnique {
             .latest()
             .filter(|c| self.last.gpu_culled && c.method == self.method)
             .map(|c| c.frame_index);
+        let mut notes = self.culling.device_notes(self.method);
+        if self.layout.name() == "lispsm"
+            && !self.method.static_light()
+            && self.last.views.iter().any(|v| v.light.warp.is_none())
+        {
+            notes.push(
+                "LiSPSM: the view looks (almost) along the light, so the map is uniform".to_owned(),
+            );
+        }
         ShadowReport {
             casters_total: self.cpu.casters_total(),
             views,
             culled_frame_index,
-            notes: self.culling.device_notes(self.method),
+            notes,
             failure: self.last.failure.clone(),
             cpu_culling_ms: self.last.cpu_culling_ms,
         }

@@ -11,11 +11,12 @@ use super::ShadowView;
 pub struct ShadowViewGpu {
     pub light_clip_from_world: [[f32; 4]; 4],
     pub world_from_light_clip: [[f32; 4]; 4],
-    /// xyz: light-space x axis in world; w: texel size along x in metres.
+    /// xyz: light-space x axis in world; w: texel size along x in metres (per clip w for a
+    /// warped view).
     pub light_right: [f32; 4],
-    /// xyz: light-space y axis in world; w: texel size along y in metres.
+    /// xyz: light-space y axis in world; w: texel size along y in metres (per w squared).
     pub light_up: [f32; 4],
-    /// xyz: direction the light travels; w: depth range in metres.
+    /// xyz: direction the light travels; w: depth range in metres (per w).
     pub light_dir: [f32; 4],
     /// Layer, first texel x and y, side in texels (`square` in WGSL).
     pub square: [u32; 4],
@@ -36,12 +37,18 @@ impl ShadowViewGpu {
         let rows = light.light_from_world.transpose();
         let (right, up) = (rows.x_axis.truncate(), rows.y_axis.truncate());
         let t = view.target;
+        // A warped view's texels and depth scale with the point's clip w (1 for orthographic).
+        let (texel, range) = light
+            .warp
+            .map_or((light.texel_size_m, light.depth_range_m), |w| {
+                (w.texel_per_w, w.range_per_w)
+            });
         Self {
             light_clip_from_world: light.light_clip_from_world.to_cols_array_2d(),
             world_from_light_clip: light.light_clip_from_world.inverse().to_cols_array_2d(),
-            light_right: right.extend(light.texel_size_m[0]).to_array(),
-            light_up: up.extend(light.texel_size_m[1]).to_array(),
-            light_dir: light.light_direction.extend(light.depth_range_m).to_array(),
+            light_right: right.extend(texel[0]).to_array(),
+            light_up: up.extend(texel[1]).to_array(),
+            light_dir: light.light_direction.extend(range).to_array(),
             square: [t.layer, t.origin[0], t.origin[1], t.size],
             shades_depth_m: [view.shades_depth_m[0], view.shades_depth_m[1], 0.0, 0.0],
             index: [index, 0, 0, 0],

@@ -27,8 +27,11 @@ struct ShadowLookup {
 fn shadow_lookup(world_pos: vec3<f32>, geometric: vec3<f32>, v: u32) -> ShadowLookup {
     var l: ShadowLookup;
     let view = shadow_views[v];
-    let texel_m = vec2<f32>(view.light_right.w, view.light_up.w);
-    let range_m = max(view.light_dir.w, 1e-6);
+    // A warped (LiSPSM) view's texel grows with the point's clip w across the map and with
+    // w squared along it, and its depth range with w; w is 1 in an orthographic view.
+    let w = (view.light_clip_from_world * vec4<f32>(world_pos, 1.0)).w;
+    let texel_m = vec2<f32>(view.light_right.w * w, view.light_up.w * w * w);
+    let range_m = max(view.light_dir.w * w, 1e-6);
     let size = f32(view.square.w);
     let offset_pos = world_pos + geometric * (frame.shadow.z * max(texel_m.x, texel_m.y));
     let clip = view.light_clip_from_world * vec4<f32>(offset_pos, 1.0);

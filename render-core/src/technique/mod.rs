@@ -109,6 +109,8 @@ pub struct ViewReport {
     pub shades_depth_m: [Option<f32>; 2],
     /// How much it undersamples the pixels it shades (when measuring).
     pub undersampling: Option<Undersampling>,
+    /// For a LiSPSM view, the warp's `n` in metres (`None` when the map is uniform).
+    pub lispsm_n_m: Option<f32>,
 }
 
 /// How many octaves the shadow map undersamples the visible pixels: max(0, log2 of a texel's

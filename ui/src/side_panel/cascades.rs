@@ -11,8 +11,9 @@ use super::grid;
 use crate::format::length;
 use crate::theme;
 
-const SETUP_HELP: &str = "single: one map fitted to the view. cascades: the view frustum cut \
-    along its depth, one map per slice (Engel), so near shadows get fine texels";
+const SETUP_HELP: &str = "single: one map fitted to the view. lispsm: one map warped by a \
+    perspective in light space (Wimmer et al.), finer near the camera. cascades: the view \
+    frustum cut along its depth, one map per slice (Engel), so near shadows get fine texels";
 const COUNT_HELP: &str = "How many slices, each with its own map of the chosen resolution";
 const SPLIT_HELP: &str = "Where the slices end: uniform, logarithmic, practical (Zhang's blend \
     of the two), geometric (Engel: each far distance a ratio times the last), manual";
@@ -24,6 +25,9 @@ const MANUAL_HELP: &str = "The distances between cascades in metres, increasing:
 const FIT_HELP: &str = "tight: the slice's box in light space, the most texels but edges crawl \
     as the camera turns. sphere: a square around the slice's bounding sphere moved in whole \
     texels, so shadows stand still (stabilised)";
+const N_HELP: &str = "Scales the warp's n from the paper's optimum (Wimmer et al. 2004, \
+    (near + sqrt(near far)) / sin of the view-light angle): smaller warps harder (finer texels \
+    near the camera, coarser far), larger tends to a uniform map";
 const DEPTHS_HELP: &str = "scene: split where the view meets the scene, skipping cascades with \
     no visible receiver. visible: split from the nearest to the furthest visible receiver pixel \
     (sample distribution shadow maps; a frame late while the camera moves)";
@@ -44,6 +48,13 @@ pub fn ui(ui: &mut egui::Ui, settings: &mut FrameSettings, report: Option<&Frame
                 })
                 .response
         });
+        if settings.setup == ShadowSetup::Lispsm {
+            grid::labelled(ui, "LiSPSM n ×", N_HELP, |ui| {
+                ui.add(
+                    egui::Slider::new(&mut settings.lispsm.n_scale, 0.1..=10.0).logarithmic(true),
+                )
+            });
+        }
         if settings.setup != ShadowSetup::Cascades {
             return;
         }

@@ -235,7 +235,7 @@ impl Panes<'_, '_> {
                 shadows::ui(ui, self.settings);
                 heading(ui, "Setup");
                 cascades::ui(ui, self.settings, input.report);
-                heading(ui, "Remembered");
+                ui.add_space(theme::SECTION_GAP);
                 shadows::remembered_ui(ui, input.settings_file, self.actions);
             }
             PanelTab::Compare => compare::ui(

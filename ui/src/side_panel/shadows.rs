@@ -104,34 +104,35 @@ pub fn ui(ui: &mut egui::Ui, settings: &mut FrameSettings) {
     });
 }
 
-/// Where the settings are remembered, and the button that resets them.
+/// Where the settings are remembered, and the button that resets them, on one line.
 pub fn remembered_ui(ui: &mut egui::Ui, settings_file: Option<&str>, actions: &mut Vec<UiAction>) {
-    match settings_file {
-        Some(path) => {
-            ui.label(
-                egui::RichText::new(format!(
-                    "Scene, camera and settings are saved to {path} when the window closes"
-                ))
-                .small()
-                .color(theme::MUTED),
-            );
+    ui.horizontal_wrapped(|ui| {
+        if ui
+            .button("Reset settings")
+            .on_hover_text(
+                "Method, shadow parameters, overlays, sun, camera and screenshot options back \
+                 to their defaults; the scene stays open",
+            )
+            .clicked()
+        {
+            actions.push(UiAction::ResetSettings);
         }
-        None => {
-            ui.label(
-                egui::RichText::new("This system names no config folder: nothing is remembered")
-                    .small()
-                    .color(theme::WARNING),
-            );
+        match settings_file {
+            Some(path) => {
+                ui.label(
+                    egui::RichText::new(format!("settings are saved to {path} on close"))
+                        .small()
+                        .color(theme::MUTED),
+                )
+                .on_hover_text("Scene, camera and settings, when the window closes");
+            }
+            None => {
+                ui.label(
+                    egui::RichText::new("no config folder: nothing is remembered")
+                        .small()
+                        .color(theme::WARNING),
+                );
+            }
         }
-    }
-    if ui
-        .button("Reset settings")
-        .on_hover_text(
-            "Method, shadow parameters, overlays, sun, camera and screenshot options back to \
-             their defaults; the scene stays open",
-        )
-        .clicked()
-    {
-        actions.push(UiAction::ResetSettings);
-    }
+    });
 }
