@@ -517,6 +517,13 @@ pub struct ShotArgs {
     /// whenever an overlay is on, as in the window).
     #[arg(long)]
     pub no_legend: bool,
+    /// Observer camera: render the view (and its stats), then picture it from this point,
+    /// x,y,z, with its frustum, cascade ends and light boxes drawn as lines.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub observe_from: Option<Vec3>,
+    /// Where the observer looks (default: 40 m ahead of the view's eye).
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true, value_name = "X,Y,Z", requires = "observe_from")]
+    pub observe_target: Option<Vec3>,
     /// Skip the exact shadow (a ray per pixel on the CPU, then one towards the sun) and the
     /// `exact_error` it gives in the stats.
     #[arg(long)]

@@ -169,6 +169,24 @@ pub fn shot(args: &ShotArgs) -> anyhow::Result<()> {
     if !args.no_truth {
         report.exact_error = Some(session.exact_error(&camera, &settings)?);
     }
+    if let Some(from) = args.observe_from {
+        let target = args
+            .observe_target
+            .unwrap_or(camera.eye + camera.forward * 40.0);
+        let observer = Camera::look_at(
+            from,
+            target,
+            camera.fov_y_rad,
+            camera.near_m,
+            camera.far_m.max(from.distance(target) * 4.0),
+        )
+        .with_up(camera.world_up);
+        let observed = FrameSettings {
+            observer: Some(observer),
+            ..settings
+        };
+        session.frame(&camera, &observed)?;
+    }
     let (scene, ctx, width, height) = (&session.scene, &session.ctx, session.width, session.height);
     let capture = FrameCapture::read(
         ctx,

@@ -36,6 +36,10 @@ fn composed_shaders() -> Vec<(String, String)> {
             crate::overlays::light_inset::shader_source(),
         ),
         (
+            "ObserverLines".to_owned(),
+            crate::overlays::observer::shader_source(),
+        ),
+        (
             "Truth::light_at_points".to_owned(),
             crate::truth::shader_source(light_wgsl),
         ),

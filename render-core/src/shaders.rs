@@ -63,6 +63,10 @@ const FILES: &[(&str, &str)] = &[
         "overlays/light_inset.wgsl",
         include_str!("overlays/light_inset.wgsl"),
     ),
+    (
+        "overlays/observer_lines.wgsl",
+        include_str!("overlays/observer_lines.wgsl"),
+    ),
     ("truth/at_points.wgsl", include_str!("truth/at_points.wgsl")),
     ("frame/camera.wgsl", include_str!("frame/camera.wgsl")),
 ];

@@ -68,6 +68,8 @@ pub enum UiAction {
     /// Method, shadow parameters, overlays, sun, camera and screenshot options back to their
     /// defaults.
     ResetSettings,
+    /// Freeze the view and fly an observer camera outside it, or go back to the view.
+    ToggleObserver,
 }
 
 /// Read-only facts the panel shows this frame.

@@ -31,7 +31,7 @@ const fn key(key: Key) -> KeyboardShortcut {
 
 /// Every shortcut the panel handles but the tabs', with its line in the help. A shortcut with
 /// Shift comes before the same key without, which would also match it.
-const SHORTCUTS: [(KeyboardShortcut, Command, &str); 15] = [
+const SHORTCUTS: [(KeyboardShortcut, Command, &str); 16] = [
     (
         KeyboardShortcut::new(Modifiers::SHIFT, Key::M),
         Command::PreviousMethod,
@@ -54,6 +54,11 @@ const SHORTCUTS: [(KeyboardShortcut, Command, &str); 15] = [
         key(Key::F),
         Command::Action(UiAction::FrameScene),
         "frame the scene",
+    ),
+    (
+        key(Key::X),
+        Command::Action(UiAction::ToggleObserver),
+        "observer camera: freeze the view, fly outside it",
     ),
     (
         key(Key::F12),

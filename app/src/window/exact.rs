@@ -79,7 +79,7 @@ impl ExactInWindow {
         view: ViewOf,
         settings: &FrameSettings,
     ) -> Option<&ExactShadow> {
-        let wanted = settings.measure && !settings.animate;
+        let wanted = settings.measure && !settings.animate && settings.observer.is_none();
         if wanted && self.last_view == Some(view) && self.requested != Some(view) {
             if !self.scene_sent {
                 self.scene_sent = self

@@ -124,6 +124,8 @@ struct Running {
     last_report: Option<FrameReport>,
     /// The exact shadow of the view, while measuring.
     exact: exact::ExactInWindow,
+    /// Observing: the view whose shadows stay frozen while the camera flies outside it.
+    frozen_view: Option<render_core::geom::Camera>,
     /// The "compare all" table's renderer while it is on.
     compare: Option<CompareAll>,
     last_frame_ms: f64,
@@ -264,6 +266,7 @@ impl Running {
             view_rect: egui::Rect::NOTHING,
             last_report: None,
             exact: exact::ExactInWindow::new(),
+            frozen_view: None,
             compare: None,
             last_frame_ms: 0.0,
             message: (!messages.is_empty()).then(|| messages.join(". ")),
@@ -331,6 +334,7 @@ impl Running {
                 self.settings.sun = scene.sun;
                 self.scene = scene;
                 self.exact = exact::ExactInWindow::new();
+                self.frozen_view = None;
                 self.selected = None;
                 spec.clone_into(&mut self.scene_spec);
                 self.window

@@ -91,7 +91,7 @@ impl super::Running {
         let remembered = Remembered {
             scene: Some(self.scene_spec.clone()),
             units: self.load_options.units,
-            camera: Some(self.controller.camera),
+            camera: Some(self.frozen_view.unwrap_or(self.controller.camera)),
             fly_speed_m_per_s: Some(self.controller.fly_speed_m_per_s),
             sun: Some(self.settings.sun),
             frame: self.settings,

@@ -3,8 +3,9 @@
 
 use std::time::Instant;
 
-use render_core::frame::FrameInput;
 use render_core::frame::compare::CompareAll;
+use render_core::frame::{FrameInput, FrameSettings};
+use render_core::geom::Camera;
 
 use super::Running;
 use super::exact::ViewOf;
@@ -68,6 +69,7 @@ impl Running {
                 }
                 ui::UiAction::SetUnits(units) => self.set_units(units),
                 ui::UiAction::ResetSettings => self.reset_settings(),
+                ui::UiAction::ToggleObserver => self.toggle_observer(),
             }
         }
         EguiFrame {
@@ -88,31 +90,42 @@ impl Running {
             return;
         }
         let started = Instant::now();
+        // Observing: the frozen view's shadows, seen from the camera the user flies.
+        let (camera, settings) = match self.frozen_view {
+            Some(frozen) => (
+                frozen,
+                FrameSettings {
+                    observer: Some(self.controller.camera),
+                    ..self.settings
+                },
+            ),
+            None => (self.controller.camera, self.settings),
+        };
         let input = FrameInput {
-            camera: &self.controller.camera,
+            camera: &camera,
             width: width as u32,
             height: height as u32,
-            settings: &self.settings,
+            settings: &settings,
         };
         let mut report = self
             .renderer
             .render(&self.ctx, &self.scene, &self.scene_gpu, &input);
         self.last_frame_ms = started.elapsed().as_secs_f64() * 1000.0;
         let view = ViewOf {
-            camera: self.controller.camera,
+            camera,
             size: (input.width, input.height),
             sun: self.settings.sun.direction_to_sun,
         };
-        if let Some(exact) = self.exact.after_frame(&self.scene, view, &self.settings) {
+        if let Some(exact) = self.exact.after_frame(&self.scene, view, &settings) {
             match self.renderer.exact_error(&self.ctx, exact) {
-                Ok(error) => self.exact.compared(&self.settings, error),
+                Ok(error) => self.exact.compared(&settings, error),
                 Err(e) => {
                     log::error!("exact shadow: {e}");
                     self.message = Some(format!("Could not compare with the exact shadow: {e}"));
                 }
             }
         }
-        report.exact_error = self.exact.error_of(view, &self.settings);
+        report.exact_error = self.exact.error_of(view, &settings);
         if self.settings.compare_all {
             let compare = self
                 .compare
@@ -151,5 +164,34 @@ impl Running {
                 }
             }
         }
+    }
+}
+
+impl Running {
+    /// Freezes the view and puts the camera behind and above it, or goes back to the view.
+    pub(super) fn toggle_observer(&mut self) {
+        if let Some(frozen) = self.frozen_view.take() {
+            self.controller.camera = frozen;
+            self.message = Some("Back to the view".to_owned());
+            return;
+        }
+        let view = self.controller.camera;
+        self.frozen_view = Some(view);
+        let back = (self.scene.bounds().diagonal_length() * 0.1).clamp(5.0, 300.0);
+        let (_, up) = view.basis();
+        let eye = view.eye - view.forward * back + up * (back * 0.6);
+        self.controller.camera = Camera::look_at(
+            eye,
+            view.eye + view.forward * back,
+            view.fov_y_rad,
+            view.near_m,
+            view.far_m.max(back * 8.0),
+        )
+        .with_up(view.world_up);
+        self.message = Some(
+            "Observer camera: the view is frozen. White: its frustum; colours: each shadow \
+             view's light box and where its cascade ends. X goes back"
+                .to_owned(),
+        );
     }
 }

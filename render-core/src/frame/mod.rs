@@ -47,7 +47,7 @@ use crate::cascades::{CascadeSettings, Cascades};
 use crate::geom::{Camera, Frustum};
 use crate::gpu::{FrameTimer, GpuContext};
 use crate::metrics::{HeatMapOverlay, MeasureResources, ShadowError};
-use crate::overlays::LightInset;
+use crate::overlays::{LightInset, ObserverLines, observer_segments};
 use crate::scene::Scene;
 use crate::scene_gpu::DrawList;
 use crate::shadow_map::{MapTechnique, SunView, WarpedSunView};
@@ -77,6 +77,14 @@ struct FrameSetup {
     camera_culling_ms: f64,
 }
 
+/// What an observer frame keeps of the last frame of the frame's own camera.
+struct Frozen {
+    views: Vec<ShadowView>,
+    passes: ShadowPasses,
+    camera: Camera,
+    aspect: f32,
+}
+
 /// Long-lived: pipelines, layouts, the technique and per-size targets. Per frame: uniforms,
 /// views, draw lists and the bind groups that depend on them.
 pub struct FrameRenderer {
@@ -98,6 +106,12 @@ pub struct FrameRenderer {
     light_inset: LightInset,
     /// The technique's light at the truth's points, with the last frame's groups.
     light_at_points: LightAtPoints,
+    /// The last frame of the frame's own camera: its views and passes, which an observer
+    /// frame shades with, and the camera and aspect its lines show.
+    frozen: Option<Frozen>,
+    observer_lines: ObserverLines,
+    /// The last frame was seen from the observer (the technique did not draw).
+    observing: bool,
     last_groups: Option<[wgpu::BindGroup; 3]>,
     timer: FrameTimer,
     /// Whether the device can measure error and oracle exactly (see `camera.wgsl`).
@@ -151,6 +165,9 @@ impl FrameRenderer {
             heat_map: HeatMapOverlay::new(device),
             light_inset: LightInset::new(device),
             light_at_points,
+            frozen: None,
+            observer_lines: ObserverLines::new(device),
+            observing: false,
             last_groups: None,
             timer: FrameTimer::new(ctx),
             measurement_available,
@@ -173,6 +190,12 @@ impl FrameRenderer {
         scene_gpu: &SceneGpu,
         input: &FrameInput<'_>,
     ) -> FrameReport {
+        if let Some(observer) = input.settings.observer
+            && self.frozen.is_some()
+        {
+            return self.render_observed(ctx, scene, scene_gpu, input, &observer);
+        }
+        self.observing = false;
         let setup = self.begin_frame(ctx, scene, scene_gpu, input);
         let technique_input = self.technique_input(&setup, scene, scene_gpu, input.camera);
         let key = (
@@ -230,6 +253,69 @@ impl FrameRenderer {
         self.draw_shading(ctx, &mut encoder, scene_gpu, &frame_group, &shadows);
         self.draw_overlays(ctx, &mut encoder, &setup.settings);
         self.submit(ctx, encoder, &setup);
+        self.frozen = Some(Frozen {
+            views,
+            passes: shadows,
+            camera: *input.camera,
+            aspect: setup.aspect,
+        });
+        self.report(ctx, &setup)
+    }
+
+    /// A frame seen from `observer` with the shadows of the last frame of `input.camera`:
+    /// the technique neither prepares nor draws; the camera passes and the light term read the
+    /// frozen views (selected by the frozen camera's depths), and lines show the frozen view.
+    fn render_observed(
+        &mut self,
+        ctx: &GpuContext,
+        scene: &Scene,
+        scene_gpu: &SceneGpu,
+        input: &FrameInput<'_>,
+        observer: &Camera,
+    ) -> FrameReport {
+        self.observing = true;
+        let mut setup = self.begin_frame(
+            ctx,
+            scene,
+            scene_gpu,
+            &FrameInput {
+                camera: observer,
+                ..*input
+            },
+        );
+        setup.settings.measure = false;
+        let Some(frozen) = self.frozen.take() else {
+            return FrameReport::default();
+        };
+        let frame_group = self.write_frame(ctx, &setup, &frozen.camera, scene_gpu, &frozen.views);
+        let mut encoder = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("Frame::observer_encoder"),
+            });
+        // No visibility pass: the next frame of the view culls and splits by the view's own
+        // visible receivers, not the observer's.
+        if let Some(targets) = self.targets.as_ref() {
+            let draws = (scene_gpu, &self.camera_list, self.indirect_first_instance);
+            self.camera
+                .draw_prepass(&mut encoder, &self.timer, targets, draws, &frame_group);
+        }
+        self.draw_shading(ctx, &mut encoder, scene_gpu, &frame_group, &frozen.passes);
+        self.draw_overlays(ctx, &mut encoder, &setup.settings);
+        if let Some(targets) = self.targets.as_ref() {
+            let far = crate::geom::view_depth_range(&frozen.camera, &scene.bounds())
+                .map_or(frozen.camera.far_m, |(_, far)| far as f32);
+            let segments = observer_segments(&frozen.camera, frozen.aspect, far, &frozen.views);
+            self.observer_lines.draw(
+                &ctx.device,
+                &mut encoder,
+                targets,
+                setup.clip_from_world,
+                &segments,
+            );
+        }
+        self.submit(ctx, encoder, &setup);
+        self.frozen = Some(frozen);
         self.report(ctx, &setup)
     }
 

@@ -79,13 +79,13 @@ impl FrameRenderer {
     pub(super) fn last_frame_complete(&self) -> bool {
         let frame = self.frame_index;
         let latest = &self.latest;
-        latest.visibility.is_some_and(|v| v.frame_index == frame)
+        (self.observing || latest.visibility.is_some_and(|v| v.frame_index == frame))
             && (!latest.measuring
                 || latest
                     .measured
                     .as_ref()
                     .is_some_and(|m| m.frame_index == frame))
-            && self.maps.has_results_of(frame)
+            && (self.observing || self.maps.has_results_of(frame))
     }
 
     /// What happened to each instance in the shadow pass, over every view (rendered where any

@@ -122,4 +122,9 @@ pub struct FrameSettings {
     /// table (`frame::compare`); the frame itself does not change.
     #[serde(skip)]
     pub compare_all: bool,
+    /// Observer camera: the shadows stay as the last frame of the frame's own camera made
+    /// them (frozen), and the picture is seen from here, with the frozen view's frustum, its
+    /// cascades' ends and every shadow view's light box drawn as lines. Nothing is measured.
+    #[serde(skip)]
+    pub observer: Option<crate::geom::Camera>,
 }

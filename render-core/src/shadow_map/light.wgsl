@@ -14,7 +14,7 @@ struct LightReaching {
     method: f32,
     reference: f32,
     // The first view that shades the point (the `casters` overlay reads its outcomes, the
-    // `cascades` overlay tints by it), and whether any does.
+    // `cascades` overlay tints by it), and whether the point lies in its map.
     view: u32,
     shaded: bool,
 }
@@ -58,12 +58,13 @@ fn light_reaching(world_pos: vec3<f32>, geometric: vec3<f32>, measuring: bool) -
         if (!view_selected(v, world_pos, geometric)) {
             continue;
         }
+        let lookup = shadow_lookup(world_pos, geometric, v);
         if (first) {
             out.view = v;
-            out.shaded = true;
+            // Shaded by a map only where the point lies in it.
+            out.shaded = lookup.inside;
             first = false;
         }
-        let lookup = shadow_lookup(world_pos, geometric, v);
         let visibility = shadow_factor(false, lookup, false);
         var reference = visibility;
         if (measuring) {

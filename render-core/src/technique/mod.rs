@@ -85,6 +85,7 @@ pub struct DrawInput<'a> {
 }
 
 /// What the shading pass binds after a technique has drawn.
+#[derive(Clone)]
 pub struct ShadowPasses {
     /// Group 1 of the shading pass, read by the technique's light term.
     pub light_group: wgpu::BindGroup,
