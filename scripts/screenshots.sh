@@ -16,6 +16,13 @@ run shot builtin:city --size 1280x720 --shadow-res 2048 \
 run shot builtin:city --size 1280x720 --shadow-res 2048 \
     --eye=-330,3.5,8 --target=-200,12,8 --shadow cascades --method frag --overlay cascades \
     --out screenshots/city-cascades.png --stats screenshots/city-cascades.json
+run shot builtin:city --size 1280x720 --shadow-res 2048 \
+    --eye=-330,3.5,8 --target=-200,12,8 --shadow cascades --method frag --overlay cascades \
+    --observe-from=-560,260,260 --observe-target=-250,0,0 \
+    --out screenshots/city-observer.png --stats screenshots/city-observer.json
+run shot builtin:city --size 1280x720 --shadow-res 2048 \
+    --eye=-330,3.5,8 --target=-200,12,8 --shadow lispsm --method frag \
+    --out screenshots/city-lispsm.png --stats screenshots/city-lispsm.json
 if command -v xvfb-run >/dev/null 2>&1 || [ -n "${DISPLAY:-}" ]; then
     wrap=(); [ -z "${DISPLAY:-}" ] && wrap=(xvfb-run -a -s "-screen 0 1600x1000x24")
     shots=$(mktemp -d)
