@@ -140,6 +140,9 @@ pub struct ViewArgs {
     /// Shadow caster method.
     #[arg(long, value_parser = parse_method, value_name = "NAME")]
     pub method: Option<Method>,
+    /// Which shadow view (cascade) the light-view inset shows, from 0.
+    #[arg(long, value_name = "N")]
+    pub inset_view: Option<u32>,
     /// Overlay to draw (repeatable): light-view, error, casters, cascades.
     #[arg(long, value_name = "NAME")]
     pub overlay: Vec<String>,
@@ -249,6 +252,9 @@ impl ViewArgs {
         settings.shadow.normal_offset_texels = self
             .normal_offset
             .unwrap_or(settings.shadow.normal_offset_texels);
+        if let Some(view) = self.inset_view {
+            settings.overlays.inset_view = view;
+        }
         for name in &self.overlay {
             settings.overlays.enable(name).map_err(anyhow::Error::msg)?;
         }

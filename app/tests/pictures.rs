@@ -75,3 +75,46 @@ fn a_shot_with_overlays_carries_their_legend_and_no_legend_leaves_it_out() {
         shot("none-flag.png", &["--no-legend"])
     );
 }
+
+#[test]
+fn the_light_view_inset_shows_the_chosen_cascade_and_only_the_inset_changes() {
+    let flags = |view: &'static str| {
+        [
+            "--shadow",
+            "cascades",
+            "--overlay",
+            "light-view",
+            "--no-legend",
+            "--no-truth",
+            "--inset-view",
+            view,
+            // Street level: every cascade holds visible receivers.
+            "--eye=-40,3.5,2",
+            "--target=60,8,2",
+        ]
+    };
+    let first = shot("inset-0.png", &flags("0"));
+    let last = shot("inset-3.png", &flags("3"));
+    let (w, h) = first.dimensions();
+    // The inset: a square of 0.4 of the shorter side (at most 256 px), 5 % of that in from
+    // the top-left corner.
+    let inset = (w.min(h) as f32 * 0.4).min(256.0);
+    let side = (inset * 1.05).ceil() as u32 + 1;
+    let (mut inside, mut outside) = (0, 0);
+    for y in 0..h {
+        for x in 0..w {
+            if first.get_pixel(x, y) != last.get_pixel(x, y) {
+                if x < side && y < side {
+                    inside += 1;
+                } else {
+                    outside += 1;
+                }
+            }
+        }
+    }
+    assert!(
+        inside > 100,
+        "the two cascades' maps differ: {inside} pixels"
+    );
+    assert_eq!(outside, 0, "the rest of the picture is the same frame");
+}

@@ -472,7 +472,8 @@ impl FrameRenderer {
         ]);
     }
 
-    /// The light's view inset is always rendered (the panel shows it); the `light-view`
+    /// The light's view inset (of the view `overlays.inset_view`) is always rendered (the panel
+    /// shows it); the `light-view`
     /// overlay also draws it into the top-left corner of the colour target, and the `error`
     /// overlay tints pixels whose shadow differs from the reference.
     fn draw_overlays(
@@ -487,7 +488,8 @@ impl FrameRenderer {
         if settings.overlays.error && settings.measure {
             self.heat_map.draw(&ctx.device, encoder, targets);
         }
-        if let Some(sources) = self.maps.inset(0) {
+        let last_view = self.views.count().saturating_sub(1);
+        if let Some(sources) = self.maps.inset(settings.overlays.inset_view.min(last_view)) {
             let group = self.light_inset.bind(&ctx.device, &ctx.queue, &sources);
             let onto = settings.overlays.light_view.then_some((
                 &targets.color_view,

@@ -24,6 +24,9 @@ pub struct Overlays {
     pub casters: bool,
     /// Each point tinted by the shadow view that shades it: a colour per cascade.
     pub cascades: bool,
+    /// Which shadow view (cascade) the light-view inset shows; the last one when there are
+    /// fewer.
+    pub inset_view: u32,
 }
 
 impl Overlays {

@@ -7,10 +7,24 @@ use super::grid;
 use crate::format::{length, metres};
 use crate::{PanelInput, theme};
 
+const VIEW_HELP: &str = "Which shadow view (cascade) the inset shows: its map, mask and culled \
+    casters";
+
 /// Size of the texture the app provides, texels.
 const TEXTURE_SIZE: f32 = 256.0;
 
-pub fn ui(ui: &mut egui::Ui, input: &PanelInput<'_>, settings: &FrameSettings) {
+pub fn ui(ui: &mut egui::Ui, input: &PanelInput<'_>, settings: &mut FrameSettings) {
+    let views = input.report.map_or(0, |r| r.views.len() as u32);
+    if views > 1 {
+        grid::facts(ui, "light_view_choice", |ui| {
+            grid::labelled(ui, "Shadow view", VIEW_HELP, |ui| {
+                ui.add(egui::Slider::new(
+                    &mut settings.overlays.inset_view,
+                    0..=views - 1,
+                ))
+            });
+        });
+    }
     if let Some(texture) = input.light_view {
         let side = ui.available_width().min(theme::LIGHT_VIEW_SIZE);
         let sized = egui::load::SizedTexture::new(texture, [TEXTURE_SIZE, TEXTURE_SIZE]);
@@ -32,20 +46,24 @@ pub fn ui(ui: &mut egui::Ui, input: &PanelInput<'_>, settings: &FrameSettings) {
         ui.label(egui::RichText::new("No light view this frame").color(theme::MUTED));
     }
     if let Some(report) = input.report {
-        let light = &report.light;
+        // The facts of the view the inset shows.
+        let shown = report
+            .views
+            .get(settings.overlays.inset_view as usize)
+            .or(report.views.last());
+        let (texel, range, whole) = shown.map_or(
+            (
+                report.light.texel_size_m,
+                report.light.depth_range_m,
+                report.light.covers_whole_scene,
+            ),
+            |v| (v.texel_size_m, v.depth_range_m, v.covers_whole_scene),
+        );
         grid::facts(ui, "light_facts", |ui| {
-            let [x, y] = light.texel_size_m;
+            let [x, y] = texel;
             grid::row(ui, "Texel size", format!("{} × {}", length(x), metres(y)));
-            grid::row(ui, "Depth range", metres(light.depth_range_m));
-            grid::row(
-                ui,
-                "Covers scene",
-                if light.covers_whole_scene {
-                    "yes"
-                } else {
-                    "no"
-                },
-            );
+            grid::row(ui, "Depth range", metres(range));
+            grid::row(ui, "Covers scene", if whole { "yes" } else { "no" });
         });
     }
 }
