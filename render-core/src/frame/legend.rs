@@ -147,6 +147,7 @@ mod tests {
             error: true,
             casters: true,
             cascades: false,
+            inset_view: 0,
         };
         settings.method = Method::Frag;
         let titles: Vec<_> = legend(&settings).iter().map(|g| g.title).collect();
