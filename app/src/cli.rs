@@ -195,6 +195,10 @@ pub struct ViewArgs {
     /// visible (the nearest to the furthest visible receiver pixel, as SDSM).
     #[arg(long, value_parser = parse_cascade_depths, value_name = "D")]
     pub cascade_depths: Option<CascadeDepths>,
+    /// The share of each cascade's depths, at its far end, over which it blends into the next
+    /// (the last fades out), 0 to 0.5 (with --cascade-select depth).
+    #[arg(long, value_name = "F")]
+    pub cascade_blend: Option<f32>,
     /// Pose dynamic objects (the city's cars) as they are this many seconds into their motion.
     #[arg(long, value_name = "SECONDS", allow_hyphen_values = true)]
     pub time: Option<f64>,
@@ -324,6 +328,12 @@ impl ViewArgs {
         }
         if let Some(depths) = self.cascade_depths {
             cascades.depths = depths;
+        }
+        if let Some(blend) = self.cascade_blend {
+            if !(0.0..=0.5).contains(&blend) {
+                bail!("--cascade-blend {blend} is outside 0 to 0.5");
+            }
+            cascades.blend = blend;
         }
         if let Some(scale) = self.lispsm_n {
             anyhow::ensure!(

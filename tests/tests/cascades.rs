@@ -447,3 +447,64 @@ fn cascades_skip_slices_without_visible_receivers_and_can_split_only_visible_dep
         }
     }
 }
+
+#[test]
+fn the_last_cascade_fades_out_over_its_blend_band_and_frag_still_culls_exactly() {
+    // A 280 m roof 10 m over the ground and the sun straight above: the ground under it is
+    // all in shadow, so the fade is the only thing that lightens it.
+    let sun = Sun::from_direction(Vec3::Y);
+    let scene = box_on_plane(150.0, Vec3::new(280.0, 1.0, 280.0), 10.0, sun);
+    let camera = Camera::look_at(
+        Vec3::new(-60.0, 2.0, 0.0),
+        Vec3::new(40.0, 0.0, 0.0),
+        60f32.to_radians(),
+        0.1,
+        1000.0,
+    );
+    let mut settings = FrameSettings {
+        sun,
+        method: Method::Frag,
+        measure: true,
+        ..cascades(2)
+    };
+    settings.shadow.pcf = render_core::frame::PcfKernel::Off;
+    settings.cascades.fit = render_core::cascades::CascadeFit::Tight;
+    settings.cascades.splits = Splits {
+        scheme: SplitScheme::Manual,
+        manual_m: [20.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        ..Splits::default()
+    };
+    settings.cascades.blend = 0.5;
+    let (report, capture) = render(&scene, &camera, &settings, 320, 200);
+    let error = report.error.expect("measured");
+    assert_eq!((error.missing_shadow_px, error.extra_shadow_px), (0, 0));
+    assert_eq!(report.views.len(), 2, "{:?}", report.views);
+    let [near, far] = report.views[1].shades_depth_m;
+    let (near, far) = (near.expect("a near end"), far.expect("a far end"));
+    assert!((near - 20.0).abs() < 1e-3);
+    let width = 0.5 * (far - near);
+    let (mut checked, mut fading) = (0, 0);
+    for (i, p) in pixels_of(&capture, &camera, GROUND) {
+        // Under the roof, away from its edge.
+        if p.x.abs() > 130.0 || p.z.abs() > 130.0 {
+            continue;
+        }
+        let depth = (p - camera.eye).dot(camera.forward);
+        let kept = ((far - depth) / width).clamp(0.0, 1.0);
+        let expected = 1.0 - kept;
+        let got = f32::from(capture.shadow[i]) / 255.0;
+        assert!(
+            (got - expected).abs() < 0.02,
+            "ground at depth {depth} m: light {got}, expected {expected} (band {}..{far} m)",
+            far - width
+        );
+        checked += 1;
+        if expected > 0.05 && expected < 0.95 {
+            fading += 1;
+        }
+    }
+    assert!(
+        checked > 5000 && fading > 100,
+        "{checked} pixels, {fading} in the fade"
+    );
+}

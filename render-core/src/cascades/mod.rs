@@ -150,6 +150,10 @@ pub struct CascadeSettings {
     pub fit: CascadeFit,
     pub selection: CascadeSelection,
     pub depths: CascadeDepths,
+    /// With selection by depth: the share of each cascade's depths, at its far end, over
+    /// which it blends into the next (0 to 0.5; 0 switches at once), and over which the last
+    /// one fades out to no shadow.
+    pub blend: f32,
 }
 
 impl Default for CascadeSettings {
@@ -160,6 +164,7 @@ impl Default for CascadeSettings {
             fit: CascadeFit::default(),
             selection: CascadeSelection::default(),
             depths: CascadeDepths::default(),
+            blend: 0.0,
         }
     }
 }

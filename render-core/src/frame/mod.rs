@@ -412,7 +412,11 @@ impl FrameRenderer {
                 shadow.depth_bias_m,
                 shadow.slope_bias,
                 shadow.normal_offset_texels,
-                0.0,
+                if settings.setup == ShadowSetup::Cascades {
+                    settings.cascades.blend.clamp(0.0, 0.5)
+                } else {
+                    0.0
+                },
             ],
             params: [
                 shadow.pcf.width(),

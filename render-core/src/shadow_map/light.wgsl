@@ -52,6 +52,9 @@ fn shadow_factor(reference: bool, l: ShadowLookup, mark: bool) -> f32 {
 
 // `measuring`: also the reference's factor (else equal to the method's) and the oracle.
 fn light_reaching(world_pos: vec3<f32>, geometric: vec3<f32>, measuring: bool) -> LightReaching {
+    if (frame.shadow.w > 0.0 && frame.views.z == 0u) {
+        return light_blended(world_pos, geometric, measuring);
+    }
     var out = LightReaching(1.0, 1.0, 0u, false);
     var first = true;
     for (var v = 0u; v < frame.views.x; v++) {
@@ -72,6 +75,46 @@ fn light_reaching(world_pos: vec3<f32>, geometric: vec3<f32>, measuring: bool) -
         }
         out.method = min(out.method, visibility);
         out.reference = min(out.reference, reference);
+    }
+    return out;
+}
+
+// With a blend band between cascades: each view's light weighted by `blend_weight` among the
+// views whose map holds the point, then faded towards no shadow over the last view's band.
+fn light_blended(world_pos: vec3<f32>, geometric: vec3<f32>, measuring: bool) -> LightReaching {
+    var out = LightReaching(1.0, 1.0, 0u, false);
+    var method = 0.0;
+    var reference = 0.0;
+    var weight = 0.0;
+    var first = true;
+    for (var v = 0u; v < frame.views.x; v++) {
+        let w = blend_weight(v, world_pos);
+        if (w <= 0.0) {
+            continue;
+        }
+        let lookup = shadow_lookup(world_pos, geometric, v);
+        if (first) {
+            out.view = v;
+            out.shaded = lookup.inside;
+            first = false;
+        }
+        // A neighbour's map need not hold the band: then the other view alone shades it.
+        if (!lookup.inside) {
+            continue;
+        }
+        let visibility = shadow_factor(false, lookup, false);
+        var ref_visibility = visibility;
+        if (measuring) {
+            ref_visibility = shadow_factor(true, lookup, true);
+        }
+        method += w * visibility;
+        reference += w * ref_visibility;
+        weight += w;
+    }
+    if (weight > 0.0) {
+        let fade = fade_out(world_pos);
+        out.method = mix(method / weight, 1.0, fade);
+        out.reference = mix(reference / weight, 1.0, fade);
     }
     return out;
 }

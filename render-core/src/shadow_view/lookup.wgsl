@@ -84,7 +84,7 @@ fn lookup_contained(l: ShadowLookup) -> bool {
 // whose map holds every tap. Shading and the receiver passes both choose through this.
 fn view_selected(v: u32, world_pos: vec3<f32>, geometric: vec3<f32>) -> bool {
     if (frame.views.z == 0u) {
-        return view_shades(v, world_pos);
+        return blend_weight(v, world_pos) > 0.0;
     }
     if (!lookup_contained(shadow_lookup(world_pos, geometric, v))) {
         return false;
@@ -95,4 +95,57 @@ fn view_selected(v: u32, world_pos: vec3<f32>, geometric: vec3<f32>) -> bool {
         }
     }
     return true;
+}
+
+// Whether view `v + 1` shades the depths right after `v`'s, so `v` can blend into it.
+fn next_adjacent(v: u32) -> bool {
+    return v + 1u < frame.views.x
+        && shadow_views[v + 1u].shades_depth_m.x == shadow_views[v].shades_depth_m.y;
+}
+
+// How much view `v` contributes at the point, by view depth: 1 inside its depths, falling to 0
+// over the blend band at their far end (frame.shadow.w of the depths, cascades/mod.rs) where
+// the next view takes over, and what the previous view gives up in its band. Without a band,
+// 1 exactly where `view_shades`.
+fn blend_weight(v: u32, world_pos: vec3<f32>) -> f32 {
+    let band = frame.shadow.w;
+    if (band <= 0.0) {
+        return select(0.0, 1.0, view_shades(v, world_pos));
+    }
+    let depth_m = dot(world_pos - frame.eye_world.xyz, frame.camera_forward.xyz);
+    let own = shadow_views[v].shades_depth_m;
+    if (depth_m >= own.x && depth_m < own.y) {
+        if (!next_adjacent(v)) {
+            return 1.0;
+        }
+        return band_left(own.xy, depth_m, band);
+    }
+    if (v > 0u && next_adjacent(v - 1u)) {
+        let before = shadow_views[v - 1u].shades_depth_m;
+        if (depth_m >= before.x && depth_m < before.y) {
+            return 1.0 - band_left(before.xy, depth_m, band);
+        }
+    }
+    return 0.0;
+}
+
+// Over the last share `band` of the depths `range`, from 1 down to 0 at their far end.
+fn band_left(range: vec2<f32>, depth_m: f32, band: f32) -> f32 {
+    let width = max(band * (range.y - max(range.x, 0.0)), 1e-6);
+    return clamp((range.y - depth_m) / width, 0.0, 1.0);
+}
+
+// How far the shadow has faded out at the point: over the blend band at the last view's far
+// end, from 0 to 1.
+fn fade_out(world_pos: vec3<f32>) -> f32 {
+    let band = frame.shadow.w;
+    if (band <= 0.0 || frame.views.x == 0u) {
+        return 0.0;
+    }
+    let depth_m = dot(world_pos - frame.eye_world.xyz, frame.camera_forward.xyz);
+    let last = shadow_views[frame.views.x - 1u].shades_depth_m;
+    if (depth_m < last.x || depth_m >= last.y) {
+        return 0.0;
+    }
+    return 1.0 - band_left(last.xy, depth_m, band);
 }

@@ -20,7 +20,8 @@ pub struct FrameUniforms {
     pub camera_forward: [f32; 4],
     /// xyz: unit vector towards the sun; w: sun illuminance scale.
     pub direction_to_sun: [f32; 4],
-    /// x: constant depth bias (m); y: slope bias (texels); z: normal offset (texels); w: unused.
+    /// x: constant depth bias (m); y: slope bias (texels); z: normal offset (texels); w: the
+    /// cascades' blend band, a share of each one's depths (0: none).
     pub shadow: [f32; 4],
     /// x: PCF kernel width in texels (1, 2, 3 or 5); y: 1 when shadows are on; z: 1 when the
     /// frame measures error and oracle against the reference; w: overlay bits

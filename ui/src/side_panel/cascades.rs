@@ -31,6 +31,8 @@ const N_HELP: &str = "Scales the warp's n from the paper's optimum (Wimmer et al
 const DEPTHS_HELP: &str = "scene: split where the view meets the scene, skipping cascades with \
     no visible receiver. visible: split from the nearest to the furthest visible receiver pixel \
     (sample distribution shadow maps; a frame late while the camera moves)";
+const BLEND_HELP: &str = "The share of each cascade's depths, at its far end, where it blends \
+    into the next; the last one fades out there (selection by depth only; 0: a hard switch)";
 const SELECT_HELP: &str = "depth: each point from the cascade whose slice holds its view depth. \
     map: from the first cascade whose map holds all its PCF taps (the finest that has it; with \
     the sphere fit its boundaries stand still as the camera turns)";
@@ -97,42 +99,72 @@ pub fn ui(ui: &mut egui::Ui, settings: &mut FrameSettings, report: Option<&Frame
             }
             SplitScheme::Uniform | SplitScheme::Logarithmic => {}
         }
-        grid::labelled(ui, "Fit", FIT_HELP, |ui| {
-            egui::ComboBox::from_id_salt("cascade_fit")
-                .selected_text(cascades.fit.name())
-                .show_ui(ui, |ui| {
-                    for fit in CascadeFit::ALL {
-                        ui.selectable_value(&mut cascades.fit, fit, fit.name());
-                    }
-                })
-                .response
+        // Two settings a row, so the tab fits a 720 px window.
+        let fit = ui.label("Fit").on_hover_text(FIT_HELP);
+        ui.horizontal(|ui| {
+            combo(
+                ui,
+                "cascade_fit",
+                &mut cascades.fit,
+                &CascadeFit::ALL,
+                CascadeFit::name,
+            )
+            .labelled_by(fit.id)
+            .on_hover_text(FIT_HELP);
+            let depths = ui.label("depths").on_hover_text(DEPTHS_HELP);
+            combo(
+                ui,
+                "cascade_depths",
+                &mut cascades.depths,
+                &CascadeDepths::ALL,
+                CascadeDepths::name,
+            )
+            .labelled_by(depths.id)
+            .on_hover_text(DEPTHS_HELP);
         });
-        grid::labelled(ui, "Depths", DEPTHS_HELP, |ui| {
-            egui::ComboBox::from_id_salt("cascade_depths")
-                .selected_text(cascades.depths.name())
-                .show_ui(ui, |ui| {
-                    for depths in CascadeDepths::ALL {
-                        ui.selectable_value(&mut cascades.depths, depths, depths.name());
-                    }
-                })
-                .response
+        ui.end_row();
+        let select = ui.label("Select by").on_hover_text(SELECT_HELP);
+        ui.horizontal(|ui| {
+            combo(
+                ui,
+                "cascade_select",
+                &mut cascades.selection,
+                &CascadeSelection::ALL,
+                CascadeSelection::name,
+            )
+            .labelled_by(select.id)
+            .on_hover_text(SELECT_HELP);
+            let blend = ui.label("blend").on_hover_text(BLEND_HELP);
+            ui.add(egui::Slider::new(&mut cascades.blend, 0.0..=0.5).fixed_decimals(2))
+                .labelled_by(blend.id)
+                .on_hover_text(BLEND_HELP);
         });
-        grid::labelled(ui, "Select by", SELECT_HELP, |ui| {
-            egui::ComboBox::from_id_salt("cascade_select")
-                .selected_text(cascades.selection.name())
-                .show_ui(ui, |ui| {
-                    for selection in CascadeSelection::ALL {
-                        ui.selectable_value(&mut cascades.selection, selection, selection.name());
-                    }
-                })
-                .response
-        });
+        ui.end_row();
     });
     if settings.setup == ShadowSetup::Cascades
         && let Some(report) = report
     {
         texel_plot(ui, report, settings.cascades.count);
     }
+}
+
+/// A combo box of `choices`, named by `name`.
+fn combo<T: Copy + PartialEq>(
+    ui: &mut egui::Ui,
+    id: &str,
+    value: &mut T,
+    choices: &[T],
+    name: fn(T) -> &'static str,
+) -> egui::Response {
+    egui::ComboBox::from_id_salt(id)
+        .width(70.0)
+        .selected_text(name(*value))
+        .show_ui(ui, |ui| {
+            for &choice in choices {
+                ui.selectable_value(value, choice, name(choice));
+            }
+        })
+        .response
 }
 
 /// The manual distances as text; the settings change when the text parses.
