@@ -76,6 +76,19 @@ fn bad_cascade_flags_name_the_flag() {
             &["--split-ratio", "0.5"],
             "--split-ratio must be at least 1",
         ),
+        (
+            &["--cascade-blend", "0.9"],
+            "--cascade-blend 0.9 is outside 0 to 0.5",
+        ),
+        (
+            &["--cascade-select", "nearest"],
+            "unknown cascade selection 'nearest'",
+        ),
+        (&["--cascade-depths", "all"], "unknown cascade depths 'all'"),
+        (
+            &["--lispsm-n", "0"],
+            "--lispsm-n 0: the scale of n must be between 0.01 and 100",
+        ),
     ] {
         let output = run(shadowlab()
             .args(["shot", "builtin:boxes", "--size", "32x32", "--out"])
@@ -91,7 +104,7 @@ fn bad_cascade_flags_name_the_flag() {
 }
 
 #[test]
-fn bench_sweeps_cascade_counts_after_the_single_map() {
+fn bench_sweeps_cascade_counts_after_the_single_and_the_lispsm_map() {
     let output = run(shadowlab().args([
         "bench",
         "builtin:boxes",
@@ -114,12 +127,16 @@ fn bench_sweeps_cascade_counts_after_the_single_map() {
         .lines()
         .filter(|l| l.split_whitespace().any(|word| word == "frag") && !l.starts_with("setting"))
         .collect();
-    assert_eq!(rows.len(), 3, "single, 2 and 4 cascades:\n{out}");
-    assert!(rows[0].starts_with("single"), "{out}");
-    // Every column has a number: timings, error and undersampling from the measured frames.
+    assert_eq!(rows.len(), 4, "single, lispsm, 2 and 4 cascades:\n{out}");
+    assert!(
+        rows[0].starts_with("single") && rows[1].starts_with("lispsm"),
+        "{out}"
+    );
+    // Every column has a number: timings, error against `none` and the exact shadow, and
+    // undersampling from the measured frames.
     assert!(rows.iter().all(|r| !r.contains("n/a")), "{out}");
     assert!(
-        rows[1].starts_with("2 cascades") && rows[2].starts_with("4 cascades"),
+        rows[2].starts_with("2 cascades") && rows[3].starts_with("4 cascades"),
         "{out}"
     );
 }
