@@ -508,3 +508,66 @@ fn the_last_cascade_fades_out_over_its_blend_band_and_frag_still_culls_exactly()
         "{checked} pixels, {fading} in the fade"
     );
 }
+
+#[test]
+fn focus_fits_each_tight_cascade_to_the_visible_receivers_without_error() {
+    let ctx = gpu();
+    let scene = load_builtin("city-small", 0).expect("city-small");
+    let scene_gpu = SceneGpu::new(ctx, &scene);
+    let camera = city_small_street_camera();
+    let texels = |method: Method| {
+        let mut settings = FrameSettings {
+            sun: scene.sun,
+            method,
+            measure: true,
+            ..cascades(3)
+        };
+        settings.cascades.fit = render_core::cascades::CascadeFit::Tight;
+        let mut renderer = FrameRenderer::new(ctx);
+        let input = FrameInput {
+            camera: &camera,
+            width: 256,
+            height: 192,
+            settings: &settings,
+        };
+        let mut report = None;
+        for _ in 0..3 {
+            report = Some(
+                renderer
+                    .render_and_wait(ctx, &scene, &scene_gpu, &input)
+                    .expect("frame"),
+            );
+        }
+        let report = report.expect("frames");
+        let e = report.error.expect("measured");
+        assert_eq!(
+            (e.missing_shadow_px, e.extra_shadow_px),
+            (0, 0),
+            "{method:?}"
+        );
+        report
+            .views
+            .iter()
+            .map(|v| (v.name.clone(), v.texel_size_m[0] * v.texel_size_m[1]))
+            .collect::<Vec<_>>()
+    };
+    let plain = texels(Method::Ref);
+    let focused = texels(Method::Focus);
+    assert_eq!(
+        plain.iter().map(|v| &v.0).collect::<Vec<_>>(),
+        focused.iter().map(|v| &v.0).collect::<Vec<_>>()
+    );
+    for ((name, a), (_, b)) in plain.iter().zip(&focused) {
+        assert!(
+            b <= &(a * 1.0001),
+            "{name}: focused texel area {b} over {a}"
+        );
+    }
+    assert!(
+        plain
+            .iter()
+            .zip(&focused)
+            .any(|((_, a), (_, b))| *b < a * 0.9),
+        "some cascade shrinks to its receivers: {plain:?} {focused:?}"
+    );
+}

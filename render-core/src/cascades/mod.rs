@@ -10,7 +10,7 @@ pub mod splits;
 use serde::{Deserialize, Serialize};
 
 use crate::culling::Method;
-use crate::geom::{SliceFit, fit_view_slice, stable_depth_range, view_depth_range};
+use crate::geom::{SliceFit, fit_focused_slice, stable_depth_range, view_depth_range};
 use crate::shadow_map::ViewLayout;
 use crate::shadow_view::{ShadowView, ViewTarget};
 use crate::technique::TechniqueInput;
@@ -226,7 +226,7 @@ impl ViewLayout for Cascades {
     fn views(
         &self,
         input: &TechniqueInput<'_>,
-        _method: Method,
+        method: Method,
         resolution: u32,
     ) -> Vec<ShadowView> {
         let bounds = input.scene.bounds();
@@ -242,6 +242,8 @@ impl ViewLayout for Cascades {
             CascadeFit::Tight => SliceFit::Tight,
             CascadeFit::Sphere => SliceFit::Sphere,
         };
+        // FOCUS fits each cascade to the newest visible receivers that came back too.
+        let focus = input.visible_receivers.filter(|_| method == Method::Focus);
         let mut views = Vec::new();
         for (i, pair) in distances.windows(2).enumerate() {
             let [near, far] = [pair[0], pair[1]];
@@ -254,11 +256,11 @@ impl ViewLayout for Cascades {
             if far <= near || !receives {
                 continue;
             }
-            let light = fit_view_slice(
+            let light = fit_focused_slice(
                 (input.camera, input.aspect),
                 input.direction_to_sun,
                 &bounds,
-                [near, far],
+                ([near, far], focus.as_ref()),
                 (resolution, fit),
             );
             let layer = views.len() as u32;

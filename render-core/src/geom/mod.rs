@@ -15,4 +15,4 @@ pub use light_fit::{
     view_depth_range,
 };
 pub use lispsm::{MIN_SIN_GAMMA, Warp, fit_lispsm};
-pub use slice_fit::{SliceFit, fit_view_slice};
+pub use slice_fit::{SliceFit, fit_focused_slice, fit_view_slice};

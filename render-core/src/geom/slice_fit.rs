@@ -29,6 +29,26 @@ pub fn fit_view_slice(
     depths: [f64; 2],
     (resolution, fit): (u32, SliceFit),
 ) -> LightFrustum {
+    fit_focused_slice(
+        (camera, aspect),
+        direction_to_sun,
+        scene_bounds,
+        (depths, None),
+        (resolution, fit),
+    )
+}
+
+/// Like [`fit_view_slice`], and with `receivers` (the visible receivers' bounds) a tight
+/// slice's box across the light and its far side shrink to them (Bittner's FOCUS per
+/// cascade); the near side still reaches the scene's edge for the casters between. A sphere
+/// fit ignores them, or it would no longer stand still.
+pub fn fit_focused_slice(
+    (camera, aspect): (&Camera, f32),
+    direction_to_sun: Vec3,
+    scene_bounds: &Aabb,
+    (depths, receivers): ([f64; 2], Option<&Aabb>),
+    (resolution, fit): (u32, SliceFit),
+) -> LightFrustum {
     let resolution = resolution.max(16);
     let space = LightSpace::new(direction_to_sun, scene_bounds);
     let scene = space.scene_extent;
@@ -47,7 +67,15 @@ pub fn fit_view_slice(
     }
     let corners = corners.map(|p| space.to_light(p));
     let extent = match fit {
-        SliceFit::Tight => tight(&corners, scene),
+        SliceFit::Tight => tight(&corners, scene).map(|e| match receivers {
+            Some(r) if !r.is_empty() && r.min.is_finite() && r.max.is_finite() => {
+                let (lo, hi) = extent_of(&r.corners().map(|c| space.to_light(c.as_dvec3())));
+                let min = DVec3::new(e.0.x.max(lo.x), e.0.y.max(lo.y), e.0.z);
+                let max = DVec3::new(e.1.x.min(hi.x), e.1.y.min(hi.y), e.1.z.min(hi.z));
+                if min.cmplt(max).all() { (min, max) } else { e }
+            }
+            _ => e,
+        }),
         SliceFit::Sphere => sphere(&corners, scene, resolution),
     };
     match extent {
