@@ -152,6 +152,10 @@ pub struct ViewArgs {
     /// Constant depth bias in metres.
     #[arg(long, value_name = "M")]
     pub depth_bias: Option<f32>,
+    /// More constant depth bias, in texels of each shadow view (so it grows with a cascade's
+    /// texel size).
+    #[arg(long, value_name = "TEXELS")]
+    pub depth_bias_texels: Option<f32>,
     /// Slope-scaled bias, in texels of depth slope.
     #[arg(long, value_name = "S")]
     pub slope_bias: Option<f32>,
@@ -244,6 +248,7 @@ impl ViewArgs {
         }
         for (value, name) in [
             (self.depth_bias, "--depth-bias"),
+            (self.depth_bias_texels, "--depth-bias-texels"),
             (self.slope_bias, "--slope-bias"),
             (self.normal_offset, "--normal-offset"),
         ] {
@@ -252,6 +257,9 @@ impl ViewArgs {
             }
         }
         settings.shadow.depth_bias_m = self.depth_bias.unwrap_or(settings.shadow.depth_bias_m);
+        settings.shadow.depth_bias_texels = self
+            .depth_bias_texels
+            .unwrap_or(settings.shadow.depth_bias_texels);
         settings.shadow.slope_bias = self.slope_bias.unwrap_or(settings.shadow.slope_bias);
         settings.shadow.normal_offset_texels = self
             .normal_offset

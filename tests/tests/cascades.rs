@@ -571,3 +571,56 @@ fn focus_fits_each_tight_cascade_to_the_visible_receivers_without_error() {
         "some cascade shrinks to its receivers: {plain:?} {focused:?}"
     );
 }
+
+#[test]
+fn the_texel_bias_grows_with_the_texel_and_lifts_the_shadow_of_a_floating_box_when_it_passes_the_gap()
+ {
+    // The sun straight above a 2 m slab 0.2 m thick floating 0.5 m over the ground: the map
+    // holds its top, 0.7 m above the ground, which stays shadowed unless the bias moves the
+    // receiver more than 0.7 m towards the light.
+    let sun = Sun::from_direction(Vec3::Y);
+    let scene = box_on_plane(20.0, Vec3::new(2.0, 0.2, 2.0), 0.5, sun);
+    // Low, looking through the gap at the ground under the box.
+    let camera = Camera::look_at(
+        Vec3::new(0.0, 0.3, 4.0),
+        Vec3::new(0.0, 0.0, 0.0),
+        60f32.to_radians(),
+        0.05,
+        100.0,
+    );
+    let mut settings = FrameSettings {
+        sun,
+        ..FrameSettings::default()
+    };
+    settings.shadow.pcf = render_core::frame::PcfKernel::Off;
+    settings.shadow.depth_bias_m = 0.0;
+    settings.shadow.slope_bias = 0.0;
+    settings.shadow.normal_offset_texels = 0.0;
+    let (report, _) = render(&scene, &camera, &settings, 160, 120);
+    let texel = report.views[0].texel_size_m[0].max(report.views[0].texel_size_m[1]);
+    let under_the_box = |bias_m: f32| {
+        let mut s = settings;
+        s.shadow.depth_bias_texels = bias_m / texel;
+        let (report, capture) = render(&scene, &camera, &s, 160, 120);
+        assert!((report.views[0].depth_bias_m - bias_m).abs() < 1e-4 * bias_m.max(1.0));
+        // Ground pixels within 0.5 m of the point under the box's centre.
+        let light: Vec<u8> = pixels_of(&capture, &camera, GROUND)
+            .filter(|(_, p)| p.x.abs() < 0.5 && p.z.abs() < 0.5)
+            .map(|(i, _)| capture.shadow[i])
+            .collect();
+        assert!(
+            light.len() > 10,
+            "{} ground pixels under the box",
+            light.len()
+        );
+        light
+    };
+    assert!(
+        under_the_box(0.35).iter().all(|l| *l == 0),
+        "a bias below the gap keeps the shadow"
+    );
+    assert!(
+        under_the_box(1.0).iter().all(|l| *l == 255),
+        "a bias past the gap loses it"
+    );
+}

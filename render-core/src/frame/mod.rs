@@ -433,7 +433,7 @@ impl FrameRenderer {
                 } else {
                     0
                 },
-                0,
+                shadow.depth_bias_texels.max(0.0).to_bits(),
             ],
         };
         self.bindings

@@ -54,6 +54,8 @@ pub struct MapTechnique {
 #[derive(Default)]
 struct LastFrame {
     views: Vec<ShadowView>,
+    /// The shadow settings they were drawn with.
+    shadow: ShadowSettings,
     /// Instances of the scene: the stride of per-view blocks.
     instances: u32,
     gpu_culled: bool,
@@ -237,6 +239,7 @@ impl MapTechnique {
 
     fn view_report(&self, v: usize, view: &ShadowView) -> ViewReport {
         let light = &view.light;
+        let texel = light.texel_size_m[0].max(light.texel_size_m[1]);
         let mut report = ViewReport {
             name: view.name.clone(),
             texel_size_m: light.texel_size_m,
@@ -246,6 +249,9 @@ impl MapTechnique {
                 .shades_depth_m
                 .map(|d| (d.is_finite() && d.abs() < f32::MAX).then_some(d)),
             lispsm_n_m: light.warp.map(|w| w.n_m as f32),
+            depth_bias_m: self.last.shadow.depth_bias_m
+                + self.last.shadow.depth_bias_texels.max(0.0) * texel,
+            pcf_m: self.last.shadow.pcf.width() as f32 * texel,
             ..ViewReport::default()
         };
         if !self.last.gpu_culled {
@@ -373,6 +379,7 @@ impl ShadowTechnique for MapTechnique {
         let gpu_culled = gpu && failure.is_none();
         self.last = LastFrame {
             views: draw.views.to_vec(),
+            shadow: *input.shadow,
             instances: input.scene_gpu.instance_count,
             gpu_culled,
             reference_drawn,

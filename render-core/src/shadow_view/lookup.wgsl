@@ -46,7 +46,9 @@ fn shadow_lookup(world_pos: vec3<f32>, geometric: vec3<f32>, v: u32) -> ShadowLo
     let c_safe = select(min(c, -1e-3), max(c, 1e-3), c > 0.0);
     l.ddepth_per_texel = vec2<f32>(-a / c_safe * texel_m.x, b / c_safe * texel_m.y) / range_m;
     let slope = min(abs(l.ddepth_per_texel.x) + abs(l.ddepth_per_texel.y), 10.0 * max(texel_m.x, texel_m.y) / range_m);
-    l.bias = frame.shadow.x / range_m + frame.shadow.y * slope;
+    // The constant bias: metres, plus texels of this view (frame.views.w, a float).
+    let texel_bias_m = bitcast<f32>(frame.views.w) * max(texel_m.x, texel_m.y);
+    l.bias = (frame.shadow.x + texel_bias_m) / range_m + frame.shadow.y * slope;
     l.kernel = i32(frame.params.x);
     l.first = vec2<i32>(floor(l.p - 0.5 * f32(l.kernel - 1)));
     l.view = v;

@@ -68,6 +68,9 @@ pub struct ShadowSettings {
     pub resolution: u32,
     /// Constant bias along the light direction, metres.
     pub depth_bias_m: f32,
+    /// More bias along the light direction, in each view's texels: it grows with a cascade's
+    /// texel size (0: the same bias in metres for every view).
+    pub depth_bias_texels: f32,
     /// Bias proportional to the receiver's depth slope, in texels of slope.
     pub slope_bias: f32,
     /// Lookup moved along the surface normal, in shadow texels.
@@ -86,6 +89,7 @@ impl Default for ShadowSettings {
             shadows_enabled: true,
             resolution: 2048,
             depth_bias_m: 0.02,
+            depth_bias_texels: 0.0,
             slope_bias: 0.3,
             normal_offset_texels: 0.5,
             pcf: PcfKernel::default(),

@@ -112,6 +112,11 @@ pub struct ViewReport {
     pub undersampling: Option<Undersampling>,
     /// For a LiSPSM view, the warp's `n` in metres (`None` when the map is uniform).
     pub lispsm_n_m: Option<f32>,
+    /// The constant depth bias this view applies, metres (the settings' metres plus their
+    /// texels of this view; at the far end of a warped view).
+    pub depth_bias_m: f32,
+    /// How wide its PCF kernel reaches on the ground across the light, metres.
+    pub pcf_m: f32,
 }
 
 /// How many octaves the shadow map undersamples the visible pixels: max(0, log2 of a texel's

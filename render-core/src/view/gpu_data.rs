@@ -28,7 +28,8 @@ pub struct FrameUniforms {
     /// ([`OVERLAY_CASTERS`]).
     pub params: [u32; 4],
     /// x: shadow views this frame; y: instances (the stride of per-view blocks); z: how a point's
-    /// view is chosen (0 by view depth, 1 by the first map that holds it); w: unused.
+    /// view is chosen (0 by view depth, 1 by the first map that holds it); w: the depth bias
+    /// in texels of each view, as the bits of an f32.
     pub views: [u32; 4],
 }
 const _: () = assert!(size_of::<FrameUniforms>() == 160);

@@ -131,7 +131,12 @@ fn views(ui: &mut egui::Ui, report: &FrameReport) {
                 ui.label(view.name.as_str());
                 ui.label(thousands(view.casters_rendered.into()));
                 ui.label(optional_count(view.casters_oracle));
-                ui.label(format!("{} m", crate::format::length(view.texel_size_m[0])));
+                ui.label(format!("{} m", crate::format::length(view.texel_size_m[0])))
+                    .on_hover_text(format!(
+                        "depth bias {} m, PCF kernel {} m across: both follow the texel",
+                        crate::format::length(view.depth_bias_m),
+                        crate::format::length(view.pcf_m)
+                    ));
                 ui.label(
                     view.undersampling
                         .map_or_else(|| PENDING.to_owned(), |u| format!("{:.2}", u.p95_octaves)),

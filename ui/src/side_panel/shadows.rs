@@ -19,6 +19,8 @@ pub const RESOLUTIONS: [u32; 5] = [512, 1024, 2048, 4096, 8192];
 const METHOD_HELP: &str = "How shadow casters are chosen; the names match DESIGN.md and the papers";
 const RESOLUTION_HELP: &str =
     "Shadow map width and height in texels: sharper shadows for more memory and fill";
+const DEPTH_BIAS_TEXELS_HELP: &str = "More constant bias, in texels of each shadow view: a \
+    coarser cascade gets more, as its texels are larger";
 const DEPTH_BIAS_HELP: &str = "Constant offset along the light direction that stops surfaces \
     from shadowing themselves (acne); too much detaches shadows from their casters";
 const SLOPE_BIAS_HELP: &str = "Extra offset that grows with the surface's depth slope, for \
@@ -57,14 +59,27 @@ pub fn ui(ui: &mut egui::Ui, settings: &mut FrameSettings) {
                 })
                 .response
         });
-        grid::labelled(ui, "Depth bias", DEPTH_BIAS_HELP, |ui| {
+        let label = ui.label("Depth bias").on_hover_text(DEPTH_BIAS_HELP);
+        ui.horizontal(|ui| {
             ui.add(
                 egui::Slider::new(&mut shadow.depth_bias_m, 0.0..=1.0)
                     .logarithmic(true)
                     .smallest_positive(1e-4)
                     .suffix(" m"),
             )
+            .labelled_by(label.id)
+            .on_hover_text(DEPTH_BIAS_HELP);
+            // Plus texels of each view: grows with a cascade's texel size.
+            ui.add(
+                egui::DragValue::new(&mut shadow.depth_bias_texels)
+                    .range(0.0..=8.0)
+                    .speed(0.05)
+                    .prefix("+ ")
+                    .suffix(" tx"),
+            )
+            .on_hover_text(DEPTH_BIAS_TEXELS_HELP);
         });
+        ui.end_row();
         grid::labelled(ui, "Slope bias", SLOPE_BIAS_HELP, |ui| {
             ui.add(egui::Slider::new(&mut shadow.slope_bias, 0.0..=5.0))
         });
