@@ -19,6 +19,7 @@ mod capture;
 pub mod compare;
 mod flicker;
 mod legend;
+mod observer;
 mod report;
 mod results;
 mod settings;
@@ -47,7 +48,7 @@ use crate::cascades::{CascadeSettings, Cascades};
 use crate::geom::{Camera, Frustum};
 use crate::gpu::{FrameTimer, GpuContext};
 use crate::metrics::{HeatMapOverlay, MeasureResources, ShadowError};
-use crate::overlays::{LightInset, ObserverLines, observer_segments};
+use crate::overlays::{LightInset, ObserverLines};
 use crate::scene::Scene;
 use crate::scene_gpu::DrawList;
 use crate::shadow_map::{MapTechnique, SunView, WarpedSunView};
@@ -56,6 +57,7 @@ use crate::technique::{DrawInput, ShadowPasses, ShadowTechnique, TechniqueInput}
 use crate::truth::{ExactShadow, FrameGroups, LightAtPoints, SurfacePoint};
 use crate::view::gpu_data::{FrameUniforms, OVERLAY_CASTERS, OVERLAY_VIEWS};
 use crate::view::{FrameBindings, VisibilityPass};
+use observer::Frozen;
 
 /// What a frame looks at.
 #[derive(Clone, Copy, Debug)]
@@ -75,14 +77,6 @@ struct FrameSetup {
     clip_from_world: glam::Mat4,
     started: Instant,
     camera_culling_ms: f64,
-}
-
-/// What an observer frame keeps of the last frame of the frame's own camera.
-struct Frozen {
-    views: Vec<ShadowView>,
-    passes: ShadowPasses,
-    camera: Camera,
-    aspect: f32,
 }
 
 /// Long-lived: pipelines, layouts, the technique and per-size targets. Per frame: uniforms,
@@ -259,63 +253,6 @@ impl FrameRenderer {
             camera: *input.camera,
             aspect: setup.aspect,
         });
-        self.report(ctx, &setup)
-    }
-
-    /// A frame seen from `observer` with the shadows of the last frame of `input.camera`:
-    /// the technique neither prepares nor draws; the camera passes and the light term read the
-    /// frozen views (selected by the frozen camera's depths), and lines show the frozen view.
-    fn render_observed(
-        &mut self,
-        ctx: &GpuContext,
-        scene: &Scene,
-        scene_gpu: &SceneGpu,
-        input: &FrameInput<'_>,
-        observer: &Camera,
-    ) -> FrameReport {
-        self.observing = true;
-        let mut setup = self.begin_frame(
-            ctx,
-            scene,
-            scene_gpu,
-            &FrameInput {
-                camera: observer,
-                ..*input
-            },
-        );
-        setup.settings.measure = false;
-        let Some(frozen) = self.frozen.take() else {
-            return FrameReport::default();
-        };
-        let frame_group = self.write_frame(ctx, &setup, &frozen.camera, scene_gpu, &frozen.views);
-        let mut encoder = ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("Frame::observer_encoder"),
-            });
-        // No visibility pass: the next frame of the view culls and splits by the view's own
-        // visible receivers, not the observer's.
-        if let Some(targets) = self.targets.as_ref() {
-            let draws = (scene_gpu, &self.camera_list, self.indirect_first_instance);
-            self.camera
-                .draw_prepass(&mut encoder, &self.timer, targets, draws, &frame_group);
-        }
-        self.draw_shading(ctx, &mut encoder, scene_gpu, &frame_group, &frozen.passes);
-        self.draw_overlays(ctx, &mut encoder, &setup.settings);
-        if let Some(targets) = self.targets.as_ref() {
-            let far = crate::geom::view_depth_range(&frozen.camera, &scene.bounds())
-                .map_or(frozen.camera.far_m, |(_, far)| far as f32);
-            let segments = observer_segments(&frozen.camera, frozen.aspect, far, &frozen.views);
-            self.observer_lines.draw(
-                &ctx.device,
-                &mut encoder,
-                targets,
-                setup.clip_from_world,
-                &segments,
-            );
-        }
-        self.submit(ctx, encoder, &setup);
-        self.frozen = Some(frozen);
         self.report(ctx, &setup)
     }
 

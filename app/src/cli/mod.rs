@@ -14,6 +14,10 @@ use render_core::scene::{ChunkSettings, Scene, Sun, Units};
 
 use crate::scene_source::{LoadOptions, frame_scene};
 
+mod commands;
+
+pub use commands::{BenchArgs, ShotArgs, Sweep};
+
 #[derive(Parser, Debug)]
 #[command(
     name = "shadowlab",
@@ -518,138 +522,4 @@ mod tests {
         assert_eq!(open.open.scene.spec(), "scene.glb");
         assert!(parse_methods("none,bogus").is_err());
     }
-}
-
-/// `shadowlab shot`.
-#[derive(Args, Debug)]
-pub struct ShotArgs {
-    #[command(flatten)]
-    pub scene: SceneArgs,
-    #[command(flatten)]
-    pub view: ViewArgs,
-    /// PNG to write.
-    #[arg(long, value_name = "PNG")]
-    pub out: PathBuf,
-    /// Stats JSON to write (default: the PNG's name with .json).
-    #[arg(long, value_name = "JSON")]
-    pub stats: Option<PathBuf>,
-    /// Add `objects_detail` to the stats: per object its name, whether it is visible, what
-    /// happened to it in the shadow pass, and whether it is in the oracle set.
-    #[arg(long)]
-    pub detail: bool,
-    /// Leave the overlays' legend out of the picture (drawn over its bottom-left corner
-    /// whenever an overlay is on, as in the window).
-    #[arg(long)]
-    pub no_legend: bool,
-    /// Observer camera: render the view (and its stats), then picture it from this point,
-    /// x,y,z, with its frustum, cascade ends and light boxes drawn as lines.
-    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true, value_name = "X,Y,Z")]
-    pub observe_from: Option<Vec3>,
-    /// Where the observer looks (default: 40 m ahead of the view's eye).
-    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true, value_name = "X,Y,Z", requires = "observe_from")]
-    pub observe_target: Option<Vec3>,
-    /// Skip the exact shadow (a ray per pixel on the CPU, then one towards the sun) and the
-    /// `exact_error` it gives in the stats.
-    #[arg(long)]
-    pub no_truth: bool,
-    /// Also measure flicker: render the view moved 1 cm and turned 0.1 degrees and count the
-    /// pixels whose shadow changes at the first view's surface points (`flicker` in the stats).
-    #[arg(long)]
-    pub flicker: bool,
-}
-
-/// `shadowlab bench`.
-#[derive(Args, Debug)]
-pub struct BenchArgs {
-    #[command(flatten)]
-    pub scene: SceneArgs,
-    #[command(flatten)]
-    pub view: ViewArgs,
-    /// Measured frames along the path.
-    #[arg(long, default_value_t = 60, value_name = "N")]
-    pub frames: u32,
-    /// Frames rendered before measuring (pipelines compile, caches warm).
-    #[arg(long, default_value_t = 5, value_name = "N")]
-    pub warmup: u32,
-    /// Skip the exact shadow (a ray per pixel on the CPU for each measured view; cached, so
-    /// every method shares it) and the `exact err` columns.
-    #[arg(long)]
-    pub no_truth: bool,
-    /// Also measure flicker on each measured frame (three more frames: the view, moved 1 cm,
-    /// turned 0.1 degrees), the worst frame in the `flicker move/turn` column.
-    #[arg(long)]
-    pub flicker: bool,
-    /// Camera path CSV (`eye_x,eye_y,eye_z,target_x,target_y,target_z` per line); default: the
-    /// scene's street path or an orbit.
-    #[arg(long, value_name = "P")]
-    pub path: Option<PathBuf>,
-    /// Methods to compare: comma list or `all`.
-    #[arg(long, default_value = "all", value_name = "m1,m2")]
-    pub methods: String,
-    /// Also write the table as CSV.
-    #[arg(long, value_name = "FILE")]
-    pub csv: Option<PathBuf>,
-    /// Also print each method's GPU time per pass, with the culling's steps inside it
-    #[arg(long)]
-    pub passes: bool,
-    /// Cars drive: each view is the scene 1/30 s after the one before (from `--time`, the
-    /// same poses for every method), rendered once it has moved, without settling. How the
-    /// incremental updates (`incr`) are measured.
-    #[arg(long)]
-    pub animate: bool,
-    /// Speed-up is this method's GPU frame time over each method's (the first method run when
-    /// this one is not among them).
-    #[arg(long, default_value = "ref", value_name = "METHOD")]
-    pub baseline: String,
-    /// Repeat the table for several shadow-map sizes, sun elevations, cascade counts (after
-    /// the single map), split schemes or practical-split lambdas.
-    #[arg(long, value_enum)]
-    pub sweep: Option<Sweep>,
-    /// Shadow-map sizes of `--sweep resolution`.
-    #[arg(
-        long,
-        value_delimiter = ',',
-        default_value = "1024,2048,4096",
-        value_name = "N,N"
-    )]
-    pub resolutions: Vec<u32>,
-    /// Sun elevations in degrees of `--sweep elevation` (azimuth stays the scene's).
-    #[arg(
-        long,
-        value_delimiter = ',',
-        default_value = "10,20,30,40,50,60,70,80",
-        value_name = "DEG,DEG"
-    )]
-    pub elevations: Vec<f32>,
-    /// Cascade counts of `--sweep cascades`.
-    #[arg(
-        long,
-        value_delimiter = ',',
-        default_value = "1,2,4,8",
-        value_name = "N,N"
-    )]
-    pub cascade_counts: Vec<u32>,
-    /// Lambdas of `--sweep lambda`.
-    #[arg(
-        long,
-        value_delimiter = ',',
-        default_value = "0,0.25,0.5,0.75,1",
-        value_name = "L,L"
-    )]
-    pub lambdas: Vec<f32>,
-}
-
-/// What `bench --sweep` varies.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Sweep {
-    /// Shadow-map resolution, as in Bittner's Table 4.
-    Resolution,
-    /// Sun elevation, as in Bittner's Figure 7.
-    Elevation,
-    /// The single map, the LiSPSM map, then cascades of each of `--cascade-counts`.
-    Cascades,
-    /// Every split scheme but manual, with the cascades of the other flags.
-    Splits,
-    /// The practical split's lambda, over `--lambdas`.
-    Lambda,
 }
