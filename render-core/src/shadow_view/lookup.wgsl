@@ -45,6 +45,13 @@ fn shadow_lookup(world_pos: vec3<f32>, geometric: vec3<f32>, v: u32) -> ShadowLo
     let c = dot(geometric, view.light_dir.xyz);
     let c_safe = select(min(c, -1e-3), max(c, 1e-3), c > 0.0);
     l.ddepth_per_texel = vec2<f32>(-a / c_safe * texel_m.x, b / c_safe * texel_m.y) / range_m;
+    let m = view.light_clip_from_world;
+    let m_w = vec3<f32>(m[0].w, m[1].w, m[2].w);
+    if (any(m_w != vec3<f32>(0.0))) {
+        // A warped view: the receiver's plane through the projection itself, as its depth
+        // also changes with w along the map.
+        l.ddepth_per_texel = warped_plane_gradient(m, ndc, clip.w, geometric, size, l.ddepth_per_texel);
+    }
     let slope = min(abs(l.ddepth_per_texel.x) + abs(l.ddepth_per_texel.y), 10.0 * max(texel_m.x, texel_m.y) / range_m);
     // The constant bias: metres, plus texels of this view (frame.views.w, a float).
     let texel_bias_m = bitcast<f32>(frame.views.w) * max(texel_m.x, texel_m.y);
@@ -56,6 +63,58 @@ fn shadow_lookup(world_pos: vec3<f32>, geometric: vec3<f32>, v: u32) -> ShadowLo
     l.layer = i32(view.square.x);
     l.origin = vec2<i32>(view.square.yz);
     return l;
+}
+
+// The depth change per texel along the plane through the point with normal `n`, from the
+// projection's Jacobian at the point (clip `m`, its normalised position `ndc` and clip w):
+// each tangent's change of texel position and depth, solved for the depth per texel. Near a
+// plane seen edge-on from the light, `fallback` (the orthographic estimate).
+fn warped_plane_gradient(
+    m: mat4x4<f32>,
+    ndc: vec3<f32>,
+    w: f32,
+    n: vec3<f32>,
+    size: f32,
+    fallback: vec2<f32>,
+) -> vec2<f32> {
+    let row_x = vec3<f32>(m[0].x, m[1].x, m[2].x);
+    let row_y = vec3<f32>(m[0].y, m[1].y, m[2].y);
+    let row_z = vec3<f32>(m[0].z, m[1].z, m[2].z);
+    let row_w = vec3<f32>(m[0].w, m[1].w, m[2].w);
+    let helper = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), abs(n.x) > 0.9);
+    let t1 = normalize(cross(n, helper));
+    let t2 = cross(n, t1);
+    // Texel position and depth per metre along a tangent.
+    let along = per_metre_along(row_x, row_y, row_z, row_w, ndc, w, size, t1);
+    let across = per_metre_along(row_x, row_y, row_z, row_w, ndc, w, size, t2);
+    let det = along.x * across.y - along.y * across.x;
+    if (abs(det) < 1e-12) {
+        return fallback;
+    }
+    return vec2<f32>(
+        (along.z * across.y - along.y * across.z) / det,
+        (along.x * across.z - along.z * across.x) / det,
+    );
+}
+
+// How the texel position (x, y) and normalised depth (z) change per metre along `t`.
+fn per_metre_along(
+    row_x: vec3<f32>,
+    row_y: vec3<f32>,
+    row_z: vec3<f32>,
+    row_w: vec3<f32>,
+    ndc: vec3<f32>,
+    w: f32,
+    size: f32,
+    t: vec3<f32>,
+) -> vec3<f32> {
+    let dw = dot(row_w, t);
+    let d_ndc = vec3<f32>(
+        dot(row_x, t) - ndc.x * dw,
+        dot(row_y, t) - ndc.y * dw,
+        dot(row_z, t) - ndc.z * dw,
+    ) / w;
+    return vec3<f32>(0.5 * size * d_ndc.x, -0.5 * size * d_ndc.y, d_ndc.z);
 }
 
 // Whether tap `t` lies in the view's square; taps outside it count as lit.
