@@ -152,6 +152,26 @@ pub fn measured_frames(
     (renderer, scene_gpu, reports)
 }
 
+/// `frames` frames of `input` by `renderer` (one that settles on its visible set), the last
+/// one's report.
+pub fn last_of_frames(
+    renderer: &mut FrameRenderer,
+    (scene, scene_gpu): (&Scene, &SceneGpu),
+    input: &FrameInput<'_>,
+    frames: usize,
+) -> FrameReport {
+    let ctx = gpu();
+    let mut report = None;
+    for _ in 0..frames.max(1) {
+        report = Some(
+            renderer
+                .render_and_wait(ctx, scene, scene_gpu, input)
+                .expect("frame"),
+        );
+    }
+    report.expect("at least one frame")
+}
+
 /// Renders one frame headless and reads every target back.
 pub fn render(
     scene: &Scene,

@@ -11,7 +11,7 @@ use render_core::frame::{FrameInput, FrameRenderer, FrameSettings, Method, Shado
 use render_core::geom::Camera;
 use render_core::scene::{Scene, Sun, load_builtin};
 use shadowlab_tests::{
-    box_on_plane, city_small_street_camera, expected_shadow, gpu, pixels_of, render,
+    box_on_plane, city_small_street_camera, expected_shadow, gpu, last_of_frames, pixels_of, render,
 };
 
 const GROUND: u32 = 1;
@@ -118,15 +118,7 @@ fn every_method_culls_each_cascade_on_its_own_without_error() {
             height: 192,
             settings: &settings,
         };
-        let mut report = None;
-        for _ in 0..3 {
-            report = Some(
-                renderer
-                    .render_and_wait(ctx, &scene, &scene_gpu, &input)
-                    .expect("frame"),
-            );
-        }
-        let report = report.expect("three frames");
+        let report = last_of_frames(&mut renderer, (&scene, &scene_gpu), &input, 3);
         assert_eq!(report.views.len(), 3, "{method:?}");
         let error = report.error.expect("measured");
         assert_eq!(
@@ -530,15 +522,7 @@ fn focus_fits_each_tight_cascade_to_the_visible_receivers_without_error() {
             height: 192,
             settings: &settings,
         };
-        let mut report = None;
-        for _ in 0..3 {
-            report = Some(
-                renderer
-                    .render_and_wait(ctx, &scene, &scene_gpu, &input)
-                    .expect("frame"),
-            );
-        }
-        let report = report.expect("frames");
+        let report = last_of_frames(&mut renderer, (&scene, &scene_gpu), &input, 3);
         let e = report.error.expect("measured");
         assert_eq!(
             (e.missing_shadow_px, e.extra_shadow_px),

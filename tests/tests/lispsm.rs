@@ -9,7 +9,7 @@ use render_core::frame::{
 use render_core::geom::Camera;
 use render_core::scene::{Scene, Sun, load_builtin};
 use render_core::truth::TruthCache;
-use shadowlab_tests::{box_on_plane, city_small_street_camera, gpu};
+use shadowlab_tests::{box_on_plane, city_small_street_camera, gpu, last_of_frames};
 
 fn lispsm() -> FrameSettings {
     FrameSettings {
@@ -37,18 +37,11 @@ fn measured(
         height: 200,
         settings,
     };
-    let mut report = None;
-    for _ in 0..frames {
-        report = Some(
-            renderer
-                .render_and_wait(ctx, scene, &scene_gpu, &input)
-                .expect("frame"),
-        );
-    }
+    let report = last_of_frames(&mut renderer, (scene, &scene_gpu), &input, frames);
     let mut truth = TruthCache::default();
     let exact = truth.exact(scene, camera, (320, 200), settings.sun.direction_to_sun);
     let error = renderer.exact_error(ctx, exact).expect("read back");
-    (report.expect("a frame"), error)
+    (report, error)
 }
 
 #[test]

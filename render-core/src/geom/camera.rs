@@ -34,6 +34,24 @@ pub fn camera_basis(forward: DVec3, world_up: DVec3) -> (DVec3, DVec3) {
     (right, up)
 }
 
+/// The 12 edges of a box or frustum whose 8 corners are ordered as
+/// [`Camera::frustum_corners_world`] orders them (corner k: x from bit 0, y from bit 1, the far
+/// side from bit 2).
+pub const BOX_EDGES: [(usize, usize); 12] = [
+    (0, 1),
+    (1, 3),
+    (3, 2),
+    (2, 0),
+    (4, 5),
+    (5, 7),
+    (7, 6),
+    (6, 4),
+    (0, 4),
+    (1, 5),
+    (2, 6),
+    (3, 7),
+];
+
 /// A pinhole camera. Depth is reversed (near maps to 1, far to 0) for precision over 0.01 m to
 /// 10 km; the camera pass clears depth to 0 and keeps the greater value.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]

@@ -201,22 +201,8 @@ pub fn fit_lispsm(
 /// The frustum's 12 edges (corners as `Camera::frustum_corners_world` orders them) clipped to
 /// `y_min..=y_max`: the ends that lie in that slab.
 fn clipped_edges(corners: &[DVec3], y_min: f64, y_max: f64) -> Vec<DVec3> {
-    const EDGES: [(usize, usize); 12] = [
-        (0, 1),
-        (1, 3),
-        (3, 2),
-        (2, 0),
-        (4, 5),
-        (5, 7),
-        (7, 6),
-        (6, 4),
-        (0, 4),
-        (1, 5),
-        (2, 6),
-        (3, 7),
-    ];
     let mut out = Vec::new();
-    for (i, j) in EDGES {
+    for (i, j) in super::BOX_EDGES {
         let (a, b) = (corners[i], corners[j]);
         let (mut t0, mut t1) = (0.0f64, 1.0f64);
         let dy = b.y - a.y;

@@ -8,7 +8,7 @@ mod lispsm;
 mod slice_fit;
 
 pub use aabb::Aabb;
-pub use camera::{Camera, basis_for_direction};
+pub use camera::{BOX_EDGES, Camera, basis_for_direction};
 pub use frustum::{Containment, Frustum, Plane};
 pub use light_fit::{
     LightFrustum, fit_directional_light, fit_focused_light, fit_whole_scene, stable_depth_range,

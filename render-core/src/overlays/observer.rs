@@ -7,7 +7,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3, Vec4};
 use wgpu::util::DeviceExt as _;
 
-use crate::geom::Camera;
+use crate::geom::{BOX_EDGES, Camera};
 use crate::gpu::{bind_group_layout, buffer_entry, pipeline_layout, shader_module, uniform};
 use crate::palette;
 use crate::shadow_view::ShadowView;
@@ -28,20 +28,6 @@ pub fn observer_segments(
     far_m: f32,
     views: &[ShadowView],
 ) -> Vec<([Vec3; 2], [f32; 3])> {
-    const BOX_EDGES: [(usize, usize); 12] = [
-        (0, 1),
-        (1, 3),
-        (3, 2),
-        (2, 0),
-        (4, 5),
-        (5, 7),
-        (7, 6),
-        (6, 4),
-        (0, 4),
-        (1, 5),
-        (2, 6),
-        (3, 7),
-    ];
     let aspect = f64::from(if aspect.is_finite() && aspect > 0.0 {
         aspect
     } else {

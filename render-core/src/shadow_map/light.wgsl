@@ -50,6 +50,17 @@ fn shadow_factor(reference: bool, l: ShadowLookup, mark: bool) -> f32 {
     return lit / f32(l.kernel * l.kernel);
 }
 
+// One view's light at a lookup: the method's, and the reference's when `measuring` (marking
+// the oracle), else the method's again.
+fn view_light(lookup: ShadowLookup, measuring: bool) -> vec2<f32> {
+    let visibility = shadow_factor(false, lookup, false);
+    var reference = visibility;
+    if (measuring) {
+        reference = shadow_factor(true, lookup, true);
+    }
+    return vec2<f32>(visibility, reference);
+}
+
 // `measuring`: also the reference's factor (else equal to the method's) and the oracle.
 fn light_reaching(world_pos: vec3<f32>, geometric: vec3<f32>, measuring: bool) -> LightReaching {
     if (frame.shadow.w > 0.0 && frame.views.z == 0u) {
@@ -68,13 +79,9 @@ fn light_reaching(world_pos: vec3<f32>, geometric: vec3<f32>, measuring: bool) -
             out.shaded = lookup.inside;
             first = false;
         }
-        let visibility = shadow_factor(false, lookup, false);
-        var reference = visibility;
-        if (measuring) {
-            reference = shadow_factor(true, lookup, true);
-        }
-        out.method = min(out.method, visibility);
-        out.reference = min(out.reference, reference);
+        let light = view_light(lookup, measuring);
+        out.method = min(out.method, light.x);
+        out.reference = min(out.reference, light.y);
     }
     return out;
 }
@@ -102,13 +109,9 @@ fn light_blended(world_pos: vec3<f32>, geometric: vec3<f32>, measuring: bool) ->
         if (!lookup.inside) {
             continue;
         }
-        let visibility = shadow_factor(false, lookup, false);
-        var ref_visibility = visibility;
-        if (measuring) {
-            ref_visibility = shadow_factor(true, lookup, true);
-        }
-        method += w * visibility;
-        reference += w * ref_visibility;
+        let light = view_light(lookup, measuring);
+        method += w * light.x;
+        reference += w * light.y;
         weight += w;
     }
     if (weight > 0.0) {
