@@ -22,6 +22,22 @@ pub trait ViewLayout {
     -> Vec<ShadowView>;
 }
 
+/// The sun's light frustum: the whole scene's for methods with a static light, else `fit`'s
+/// over the scene's bounds.
+fn sun_light(
+    input: &TechniqueInput<'_>,
+    method: Method,
+    resolution: u32,
+    fit: impl FnOnce(&crate::geom::Aabb) -> crate::geom::LightFrustum,
+) -> crate::geom::LightFrustum {
+    let bounds = input.scene.bounds();
+    if method.static_light() {
+        fit_whole_scene(input.direction_to_sun, &bounds, resolution)
+    } else {
+        fit(&bounds)
+    }
+}
+
 /// One view of the sun fitted to the camera's view (FOCUS: to the visible receivers; methods
 /// with a static light: the whole scene), rendered `copies` times, each into its own layer and
 /// culled and counted on its own. More than one copy is a test of the per-view path, not a
@@ -52,21 +68,18 @@ impl ViewLayout for SunView {
         method: Method,
         resolution: u32,
     ) -> Vec<ShadowView> {
-        let bounds = input.scene.bounds();
-        let light = if method.static_light() {
-            fit_whole_scene(input.direction_to_sun, &bounds, resolution)
-        } else {
+        let light = sun_light(input, method, resolution, |bounds| {
             // FOCUS fits to the newest visible receivers that have come back.
             let focus = input.visible_receivers.filter(|_| method == Method::Focus);
             fit_focused_light(
                 input.camera,
                 input.aspect,
                 input.direction_to_sun,
-                &bounds,
+                bounds,
                 focus.as_ref(),
                 resolution,
             )
-        };
+        });
         (0..self.layers())
             .map(|layer| {
                 let name = if layer == 0 {
@@ -104,18 +117,15 @@ impl ViewLayout for WarpedSunView {
         method: Method,
         resolution: u32,
     ) -> Vec<ShadowView> {
-        let bounds = input.scene.bounds();
-        let light = if method.static_light() {
-            fit_whole_scene(input.direction_to_sun, &bounds, resolution)
-        } else {
+        let light = sun_light(input, method, resolution, |bounds| {
             fit_lispsm(
                 (input.camera, input.aspect),
                 input.direction_to_sun,
-                &bounds,
+                bounds,
                 resolution,
                 self.n_scale,
             )
-        };
+        });
         let name = if light.warp.is_some() {
             "sun (lispsm)"
         } else {
