@@ -30,10 +30,10 @@
 // the shading pass's own arithmetic.
 const MASK_MARGIN: f32 = 1e-5;
 
-fn receiver_lookup(in: VsOut, geometric: vec3<f32>, v: u32) -> ShadowLookup {
+fn receiver_lookup(in: VsOut, geometric: vec3<f32>, v: u32, chosen: u32) -> ShadowLookup {
     var l = shadow_lookup(in.world_pos, geometric, v);
     let receives = (instances[in.instance].flags.x & FLAG_RECEIVER) != 0u;
-    l.inside = l.inside && receives && frame.params.y != 0u && view_selected(v, in.world_pos, geometric);
+    l.inside = l.inside && receives && frame.params.y != 0u && view_selected(v, in.world_pos, chosen);
     return l;
 }
 
@@ -65,8 +65,9 @@ fn mark_fragment_mask(l: ShadowLookup) {
 @fragment
 fn fs_fragment_mask(in: VsOut) {
     let geometric = geometric_normal(in.world_pos, in.normal);
+    let chosen = chosen_view(in.world_pos, geometric);
     for (var v = 0u; v < frame.views.x; v++) {
-        let l = receiver_lookup(in, geometric, v);
+        let l = receiver_lookup(in, geometric, v, chosen);
         if (l.inside) {
             mark_fragment_mask(l);
         }
@@ -88,8 +89,9 @@ fn cs_fragment_mask(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let world_pos = textureLoad(surface_positions, id.xy, 0).xyz;
     let geometric = textureLoad(surface_normals, id.xy, 0).xyz;
+    let chosen = chosen_view(world_pos, geometric);
     for (var v = 0u; v < frame.views.x; v++) {
-        if (view_selected(v, world_pos, geometric)) {
+        if (view_selected(v, world_pos, chosen)) {
             let l = shadow_lookup(world_pos, geometric, v);
             if (l.inside) {
                 mark_fragment_mask(l);
@@ -121,8 +123,9 @@ fn mark_oracle_casters(l: ShadowLookup) {
 @fragment
 fn fs_oracle(in: VsOut) {
     let geometric = geometric_normal(in.world_pos, in.normal);
+    let chosen = chosen_view(in.world_pos, geometric);
     for (var v = 0u; v < frame.views.x; v++) {
-        let l = receiver_lookup(in, geometric, v);
+        let l = receiver_lookup(in, geometric, v, chosen);
         if (l.inside) {
             mark_oracle_casters(l);
         }

@@ -68,8 +68,9 @@ fn light_reaching(world_pos: vec3<f32>, geometric: vec3<f32>, measuring: bool) -
     }
     var out = LightReaching(1.0, 1.0, 0u, false);
     var first = true;
+    let chosen = chosen_view(world_pos, geometric);
     for (var v = 0u; v < frame.views.x; v++) {
-        if (!view_selected(v, world_pos, geometric)) {
+        if (!view_selected(v, world_pos, chosen)) {
             continue;
         }
         let lookup = shadow_lookup(world_pos, geometric, v);

@@ -140,22 +140,32 @@ fn lookup_contained(l: ShadowLookup) -> bool {
     return l.inside && all(l.first >= vec2<i32>(0)) && all(l.first + vec2<i32>(l.kernel - 1) <= vec2<i32>(l.size - 1));
 }
 
-// Whether view `v` shades the point: by view depth (`view_shades`), or, when the frame selects
-// by map (frame.views.z == 1, cascades/mod.rs `CascadeSelection`), when `v` is the first view
-// whose map holds every tap. Shading and the receiver passes both choose through this.
-fn view_selected(v: u32, world_pos: vec3<f32>, geometric: vec3<f32>) -> bool {
+// No view: what `chosen_view` returns when selecting by depth, or when no map holds the point.
+const NO_VIEW: u32 = 0xffffffffu;
+
+// When the frame selects by map (frame.views.z == 1, cascades/mod.rs `CascadeSelection`): the
+// first view whose map holds every tap of the point. Selecting by depth needs no lookup here.
+// A point's callers compute it once and hand it to `view_selected` for every view.
+fn chosen_view(world_pos: vec3<f32>, geometric: vec3<f32>) -> u32 {
+    if (frame.views.z == 0u) {
+        return NO_VIEW;
+    }
+    for (var v = 0u; v < frame.views.x; v++) {
+        if (lookup_contained(shadow_lookup(world_pos, geometric, v))) {
+            return v;
+        }
+    }
+    return NO_VIEW;
+}
+
+// Whether view `v` shades the point: by view depth (`blend_weight`, `view_shades` without a
+// band), or by map, when `v` is `chosen` (`chosen_view`). Shading and the receiver passes both
+// choose through this.
+fn view_selected(v: u32, world_pos: vec3<f32>, chosen: u32) -> bool {
     if (frame.views.z == 0u) {
         return blend_weight(v, world_pos) > 0.0;
     }
-    if (!lookup_contained(shadow_lookup(world_pos, geometric, v))) {
-        return false;
-    }
-    for (var u = 0u; u < v; u++) {
-        if (lookup_contained(shadow_lookup(world_pos, geometric, u))) {
-            return false;
-        }
-    }
-    return true;
+    return v == chosen;
 }
 
 // Whether view `v + 1` shades the depths right after `v`'s, so `v` can blend into it.
