@@ -1,17 +1,18 @@
 //! The exact shadow in the window. While measuring, once the view has been still for a frame,
 //! a worker thread casts its rays (`render_core::truth`) with its own copy of the scene; when
 //! they come back for the view still on screen, the last frame's light is read at their
-//! points (a short wait on the GPU, once per view and setting) and the Counts tab shows the
-//! error. The loop never waits for the rays.
+//! points on the GPU (once per view and setting, read back a frame or more later) and the
+//! Counts tab shows the error. The loop waits neither for the rays nor for the GPU.
 
 use std::sync::mpsc;
 
 use glam::Vec3;
 use render_core::frame::FrameSettings;
 use render_core::geom::Camera;
+use render_core::gpu::GpuError;
 use render_core::metrics::ShadowError;
 use render_core::scene::{Instance, Scene};
-use render_core::truth::{ExactShadow, SceneRays, ViewKey};
+use render_core::truth::{ExactShadow, PendingLight, SceneRays, ViewKey};
 
 /// What a view's truth depends on that the window changes.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -49,6 +50,8 @@ pub(super) struct ExactInWindow {
     exact: Option<ExactShadow>,
     /// Its comparison with the frame under these settings.
     compared: Option<(FrameSettings, ShadowError)>,
+    /// The light at its points under these settings, on its way back from the GPU.
+    comparing: Option<(FrameSettings, PendingLight)>,
 }
 
 impl ExactInWindow {
@@ -68,6 +71,7 @@ impl ExactInWindow {
             last_view: None,
             exact: None,
             compared: None,
+            comparing: None,
         }
     }
 
@@ -99,17 +103,31 @@ impl ExactInWindow {
         while let Ok(exact) = self.results.try_recv() {
             self.exact = Some(exact);
             self.compared = None;
+            self.comparing = None;
         }
         let exact = self.exact.as_ref()?;
         let due = wanted
+            && self.comparing.is_none()
             && ViewOf::of(&exact.key) == view
             && self.compared.as_ref().is_none_or(|(s, _)| s != settings);
         due.then_some(exact)
     }
 
-    /// Keeps the comparison of the frame under `settings`.
-    pub fn compared(&mut self, settings: &FrameSettings, error: ShadowError) {
-        self.compared = Some((*settings, error));
+    /// The light of the frame under `settings` at the truth's points, on its way.
+    pub fn comparing(&mut self, settings: &FrameSettings, light: PendingLight) {
+        self.comparing = Some((*settings, light));
+    }
+
+    /// Takes the light that came back (after a device poll) and compares it with the truth.
+    pub fn poll(&mut self) -> Result<(), GpuError> {
+        let Some(light) = self.comparing.as_ref().and_then(|(_, l)| l.try_take()) else {
+            return Ok(());
+        };
+        let (settings, _) = self.comparing.take().expect("checked above");
+        if let Some(exact) = &self.exact {
+            self.compared = Some((settings, exact.error_of(&light?)));
+        }
+        Ok(())
     }
 
     /// The error of `view` under `settings`, if it was compared.

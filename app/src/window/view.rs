@@ -116,14 +116,16 @@ impl Running {
             size: (input.width, input.height),
             sun: self.settings.sun.direction_to_sun,
         };
-        if let Some(exact) = self.exact.after_frame(&self.scene, view, &settings) {
-            match self.renderer.exact_error(&self.ctx, exact) {
-                Ok(error) => self.exact.compared(&settings, error),
-                Err(e) => {
-                    log::error!("exact shadow: {e}");
-                    self.message = Some(format!("Could not compare with the exact shadow: {e}"));
-                }
-            }
+        if let Err(e) = self.exact.poll() {
+            log::error!("exact shadow: {e}");
+            self.message = Some(format!("Could not compare with the exact shadow: {e}"));
+        }
+        let pending = self
+            .exact
+            .after_frame(&self.scene, view, &settings)
+            .and_then(|exact| self.renderer.request_light_at(&self.ctx, &exact.points));
+        if let Some(pending) = pending {
+            self.exact.comparing(&settings, pending);
         }
         report.exact_error = self.exact.error_of(view, &settings);
         if self.settings.compare_all {

@@ -54,7 +54,7 @@ use crate::scene_gpu::DrawList;
 use crate::shadow_map::{MapTechnique, SunView, WarpedSunView};
 use crate::shadow_view::{ShadowView, ViewBuffer};
 use crate::technique::{DrawInput, ShadowPasses, ShadowTechnique, TechniqueInput};
-use crate::truth::{ExactShadow, FrameGroups, LightAtPoints, SurfacePoint};
+use crate::truth::{ExactShadow, FrameGroups, LightAtPoints, PendingLight, SurfacePoint};
 use crate::view::gpu_data::{FrameUniforms, OVERLAY_CASTERS, OVERLAY_VIEWS};
 use crate::view::{FrameBindings, VisibilityPass};
 use observer::Frozen;
@@ -499,6 +499,26 @@ impl FrameRenderer {
             },
             points,
         )
+    }
+
+    /// As [`FrameRenderer::light_at`], without waiting: the light arrives once a later
+    /// [`FrameRenderer::collect_finished`] (or any device poll) has run after the GPU is done.
+    /// `None` before the first frame.
+    pub fn request_light_at(
+        &self,
+        ctx: &GpuContext,
+        points: &[SurfacePoint],
+    ) -> Option<PendingLight> {
+        let [frame, light, measure] = self.last_groups.as_ref()?;
+        Some(self.light_at_points.submit(
+            ctx,
+            &FrameGroups {
+                frame,
+                light,
+                measure,
+            },
+            points,
+        ))
     }
 
     /// The last frame's shadow against the exact shadow of its view: counted pixels whose

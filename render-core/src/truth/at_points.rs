@@ -1,11 +1,14 @@
 //! The technique's light at the truth's surface points, on the GPU (`truth/at_points.wgsl`):
-//! one compute pass with the last frame's groups, read back at once. For measuring only.
+//! one compute pass with the last frame's groups, read back when the GPU is done ([`PendingLight`],
+//! the window's way) or at once ([`LightAtPoints::evaluate`], headless). For measuring only.
 
 use bytemuck::{Pod, Zeroable};
 
+use std::sync::mpsc;
+
 use crate::gpu::{
     GpuContext, GpuError, bind_group_layout, buffer_entry, compute_pipeline, pipeline_layout,
-    read_buffer, shader_module, storage,
+    shader_module, storage,
 };
 use crate::technique::compose_with_light_term;
 
@@ -75,52 +78,126 @@ impl LightAtPoints {
         groups: &FrameGroups<'_>,
         points: &[SurfacePoint],
     ) -> Result<Vec<f32>, GpuError> {
-        if points.is_empty() {
-            return Ok(Vec::new());
-        }
+        let pending = self.submit(ctx, groups, points);
+        ctx.wait_idle()?;
+        pending.try_take().unwrap_or_else(|| {
+            Err(GpuError::Readback {
+                what: WHAT.to_owned(),
+                reason: "the GPU finished without mapping the result".to_owned(),
+            })
+        })
+    }
+
+    /// Records and submits the pass and its copy to a readable buffer; the light arrives
+    /// once a device poll has run after the GPU finished ([`PendingLight::try_take`]).
+    pub fn submit(
+        &self,
+        ctx: &GpuContext,
+        groups: &FrameGroups<'_>,
+        points: &[SurfacePoint],
+    ) -> PendingLight {
         let device = &ctx.device;
-        let input = wgpu::util::DeviceExt::create_buffer_init(
-            device,
-            &wgpu::util::BufferInitDescriptor {
-                label: Some("Truth::points"),
-                contents: bytemuck::cast_slice(points),
-                usage: wgpu::BufferUsages::STORAGE,
-            },
-        );
-        let size = (points.len() * 4) as u64;
-        let output = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("Truth::light_at"),
+        let count = points.len();
+        let size = (count.max(1) * 4) as u64;
+        let staging = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("Truth::light_at_staging"),
             size,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let points_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("Truth::points_group"),
-            layout: &self.points_layout,
-            entries: &[buffer_entry(0, &input), buffer_entry(1, &output)],
-        });
-        let groups_needed = (points.len() as u32).div_ceil(POINTS_PER_GROUP);
-        let (x, y) = (
-            groups_needed.min(MAX_GROUPS_X),
-            groups_needed.div_ceil(MAX_GROUPS_X),
-        );
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("Truth::light_at_points"),
         });
-        {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("Truth::light_at_points"),
-                timestamp_writes: None,
+        if count > 0 {
+            let input = wgpu::util::DeviceExt::create_buffer_init(
+                device,
+                &wgpu::util::BufferInitDescriptor {
+                    label: Some("Truth::points"),
+                    contents: bytemuck::cast_slice(points),
+                    usage: wgpu::BufferUsages::STORAGE,
+                },
+            );
+            let output = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("Truth::light_at"),
+                size,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
             });
-            pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, groups.frame, &[]);
-            pass.set_bind_group(1, groups.light, &[]);
-            pass.set_bind_group(2, groups.measure, &[]);
-            pass.set_bind_group(3, &points_group, &[]);
-            pass.dispatch_workgroups(x, y, 1);
+            let points_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("Truth::points_group"),
+                layout: &self.points_layout,
+                entries: &[buffer_entry(0, &input), buffer_entry(1, &output)],
+            });
+            let groups_needed = (count as u32).div_ceil(POINTS_PER_GROUP);
+            let (x, y) = (
+                groups_needed.min(MAX_GROUPS_X),
+                groups_needed.div_ceil(MAX_GROUPS_X),
+            );
+            {
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("Truth::light_at_points"),
+                    timestamp_writes: None,
+                });
+                pass.set_pipeline(&self.pipeline);
+                pass.set_bind_group(0, groups.frame, &[]);
+                pass.set_bind_group(1, groups.light, &[]);
+                pass.set_bind_group(2, groups.measure, &[]);
+                pass.set_bind_group(3, &points_group, &[]);
+                pass.dispatch_workgroups(x, y, 1);
+            }
+            encoder.copy_buffer_to_buffer(&output, 0, &staging, 0, size);
         }
         ctx.queue.submit([encoder.finish()]);
-        let bytes = read_buffer(ctx, &output, size, "light at the truth's points")?;
-        Ok(bytemuck::pod_collect_to_vec(&bytes))
+        let (sender, mapped) = mpsc::channel();
+        staging
+            .slice(..)
+            .map_async(wgpu::MapMode::Read, move |result| {
+                // A failed send only means nobody waits for the light any more.
+                let _ = sender.send(result);
+            });
+        PendingLight {
+            staging,
+            mapped,
+            count,
+        }
+    }
+}
+
+/// What a readback is called in its errors.
+const WHAT: &str = "light at the truth's points";
+
+/// The light at points on its way back from the GPU.
+pub struct PendingLight {
+    staging: wgpu::Buffer,
+    mapped: mpsc::Receiver<Result<(), wgpu::BufferAsyncError>>,
+    count: usize,
+}
+
+impl PendingLight {
+    /// The light at each point once it has come back (after a device poll), else `None`.
+    pub fn try_take(&self) -> Option<Result<Vec<f32>, GpuError>> {
+        let error = |reason: String| GpuError::Readback {
+            what: WHAT.to_owned(),
+            reason,
+        };
+        let mapped = match self.mapped.try_recv() {
+            Ok(result) => result.map_err(|e| error(e.to_string())),
+            Err(mpsc::TryRecvError::Empty) => return None,
+            Err(mpsc::TryRecvError::Disconnected) => {
+                Err(error("the readback was dropped".to_owned()))
+            }
+        };
+        Some(mapped.and_then(|()| {
+            let light: Vec<f32> = {
+                let view = self
+                    .staging
+                    .slice(..)
+                    .get_mapped_range()
+                    .map_err(|e| error(e.to_string()))?;
+                bytemuck::pod_collect_to_vec(&view[..self.count * 4])
+            };
+            self.staging.unmap();
+            Ok(light)
+        }))
     }
 }

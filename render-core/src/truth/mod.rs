@@ -21,7 +21,7 @@ use serde::Serialize;
 
 #[cfg(test)]
 pub(crate) use at_points::shader_source;
-pub use at_points::{FrameGroups, LightAtPoints, SurfacePoint};
+pub use at_points::{FrameGroups, LightAtPoints, PendingLight, SurfacePoint};
 pub use rays::{SceneRays, SurfaceHit, offset_from_surface};
 
 use crate::geom::Camera;
