@@ -63,7 +63,7 @@ impl FrameRenderer {
                 .map_or(frozen.camera.far_m, |(_, far)| far as f32);
             let segments = observer_segments(&frozen.camera, frozen.aspect, far, &frozen.views);
             self.observer_lines.draw(
-                &ctx.device,
+                (&ctx.device, &ctx.queue),
                 &mut encoder,
                 targets,
                 setup.clip_from_world,

@@ -5,7 +5,6 @@
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3, Vec4};
-use wgpu::util::DeviceExt as _;
 
 use crate::geom::{BOX_EDGES, Camera};
 use crate::gpu::{bind_group_layout, buffer_entry, pipeline_layout, shader_module, uniform};
@@ -75,10 +74,24 @@ pub fn observer_segments(
     out
 }
 
-/// The lines' pipeline; long-lived.
+/// The lines' pipeline, uniforms and vertices; long-lived, the vertices grown as needed.
 pub struct ObserverLines {
     pipeline: wgpu::RenderPipeline,
-    layout: wgpu::BindGroupLayout,
+    uniforms: wgpu::Buffer,
+    group: wgpu::BindGroup,
+    vertices: wgpu::Buffer,
+}
+
+/// Vertices the first buffer holds (a frustum, and 8 views' boxes and ends).
+const FIRST_VERTICES: u64 = 512;
+
+fn vertex_buffer(device: &wgpu::Device, vertices: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("ObserverLines::vertices"),
+        size: vertices * std::mem::size_of::<LineVertex>() as u64,
+        usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
 }
 
 impl ObserverLines {
@@ -120,13 +133,29 @@ impl ObserverLines {
             multiview_mask: None,
             cache: None,
         });
-        Self { pipeline, layout }
+        let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("ObserverLines::uniforms"),
+            size: std::mem::size_of::<Mat4>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("ObserverLines::group"),
+            layout: &layout,
+            entries: &[buffer_entry(0, &uniforms)],
+        });
+        Self {
+            pipeline,
+            uniforms,
+            group,
+            vertices: vertex_buffer(device, FIRST_VERTICES),
+        }
     }
 
     /// Draws `segments` over the colour target, seen through `clip_from_world`.
     pub fn draw(
-        &self,
-        device: &wgpu::Device,
+        &mut self,
+        (device, queue): (&wgpu::Device, &wgpu::Queue),
         encoder: &mut wgpu::CommandEncoder,
         targets: &ViewTargets,
         clip_from_world: Mat4,
@@ -144,21 +173,16 @@ impl ObserverLines {
                 })
             })
             .collect();
-        let vertex_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("ObserverLines::vertices"),
-            contents: bytemuck::cast_slice(&vertices),
-            usage: wgpu::BufferUsages::VERTEX,
-        });
-        let uniforms = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("ObserverLines::uniforms"),
-            contents: bytemuck::cast_slice(&clip_from_world.to_cols_array()),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
-        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("ObserverLines::group"),
-            layout: &self.layout,
-            entries: &[buffer_entry(0, &uniforms)],
-        });
+        let bytes: &[u8] = bytemuck::cast_slice(&vertices);
+        if bytes.len() as u64 > self.vertices.size() {
+            self.vertices = vertex_buffer(device, (vertices.len() as u64).next_power_of_two());
+        }
+        queue.write_buffer(&self.vertices, 0, bytes);
+        queue.write_buffer(
+            &self.uniforms,
+            0,
+            bytemuck::cast_slice(&clip_from_world.to_cols_array()),
+        );
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("ObserverLines::draw"),
             color_attachments: &[Some(crate::gpu::color_attachment(
@@ -171,8 +195,8 @@ impl ObserverLines {
             multiview_mask: None,
         });
         pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &group, &[]);
-        pass.set_vertex_buffer(0, vertex_buffer.slice(..));
+        pass.set_bind_group(0, &self.group, &[]);
+        pass.set_vertex_buffer(0, self.vertices.slice(..bytes.len() as u64));
         pass.draw(0..vertices.len() as u32, 0..1);
     }
 }
