@@ -191,16 +191,7 @@ impl Cascades {
             CascadeFit::Tight => (near, scene_far),
             CascadeFit::Sphere => stable_depth_range(input.camera, &bounds)?,
         };
-        let visible = input
-            .visible_depths_m
-            .map(|[lo, hi]| {
-                [
-                    f64::from(lo) * (1.0 - VISIBLE_MARGIN),
-                    f64::from(hi) * (1.0 + VISIBLE_MARGIN),
-                ]
-            })
-            .filter(|[lo, hi]| lo.is_finite() && hi.is_finite() && lo < hi);
-        let (near, far) = match (self.settings.depths, visible) {
+        let (near, far) = match (self.settings.depths, visible_depths(input)) {
             (CascadeDepths::Visible, Some([lo, hi])) if lo.max(near) < hi.min(far) => {
                 (lo.max(near), hi.min(far))
             }
@@ -209,6 +200,17 @@ impl Cascades {
         let count = self.settings.count.clamp(1, MAX_CASCADES);
         Some((self.settings.splits.distances(count, near, far), scene_far))
     }
+}
+
+/// The newest visible receivers' view depths, widened by [`VISIBLE_MARGIN`]; `None` before
+/// any came back, or when they are not a finite range.
+fn visible_depths(input: &TechniqueInput<'_>) -> Option<[f64; 2]> {
+    let [lo, hi] = input.visible_depths_m?;
+    let (lo, hi) = (
+        f64::from(lo) * (1.0 - VISIBLE_MARGIN),
+        f64::from(hi) * (1.0 + VISIBLE_MARGIN),
+    );
+    (lo.is_finite() && hi.is_finite() && lo < hi).then_some([lo, hi])
 }
 
 impl ViewLayout for Cascades {
@@ -230,6 +232,7 @@ impl ViewLayout for Cascades {
         resolution: u32,
     ) -> Vec<ShadowView> {
         let bounds = input.scene.bounds();
+        let visible = visible_depths(input);
         let Some((distances, scene_far)) = self.split_distances(input) else {
             let light = crate::geom::fit_whole_scene(input.direction_to_sun, &bounds, resolution);
             return vec![ShadowView::covering_all_depths(
@@ -249,10 +252,7 @@ impl ViewLayout for Cascades {
             let [near, far] = [pair[0], pair[1]];
             // A slice of no depth, or (by the newest visible depths) of no visible receiver,
             // is not rendered (Engel: a culling system can tell how many maps are needed).
-            let receives = input.visible_depths_m.is_none_or(|[lo, hi]| {
-                near <= f64::from(hi) * (1.0 + VISIBLE_MARGIN)
-                    && far >= f64::from(lo) * (1.0 - VISIBLE_MARGIN)
-            });
+            let receives = visible.is_none_or(|[lo, hi]| near <= hi && far >= lo);
             if far <= near || !receives {
                 continue;
             }
