@@ -214,11 +214,14 @@ pub fn shot(args: &ShotArgs) -> anyhow::Result<()> {
         let flicker = session.flicker(&camera, &settings)?;
         stats["flicker"] = json!(flicker);
         println!(
-            "flicker: {} pixels after moving {} m, {} after turning {}°, of {} counted",
+            "flicker: {} pixels after moving {} m (of {} seen from both), {} after turning {}° \
+             (of {}); {} counted",
             flicker.moved_px,
             render_core::frame::FLICKER_MOVE_M,
+            flicker.moved_seen_px,
             flicker.turned_px,
             render_core::frame::FLICKER_TURN_DEG,
+            flicker.turned_seen_px,
             flicker.counted_px
         );
     }

@@ -9,6 +9,7 @@ use render_core::cascades::{
 use render_core::frame::SceneGpu;
 use render_core::frame::{FrameInput, FrameRenderer, FrameSettings, Method, ShadowSetup};
 use render_core::geom::Camera;
+use render_core::shadow_view::DepthMeasure;
 use render_core::scene::{Scene, Sun, load_builtin};
 use shadowlab_tests::{
     box_on_plane, city_small_street_camera, expected_shadow, gpu, last_of_frames, pixels_of, render,
@@ -222,9 +223,13 @@ fn the_cascade_tint_colours_each_point_by_the_cascade_whose_depths_hold_it() {
     let (_, after) = render(&scene, &camera, &tinted, 200, 120);
     let mut seen = [0; 4];
     for (i, p) in pixels_of(&after, &camera, GROUND) {
-        let depth = (p - camera.eye).dot(camera.forward);
         // Away from the boundaries, where rounding could pick the neighbour.
+        let mut depth = 0.0;
         let Some(v) = report.views.iter().position(|view| {
+            depth = match view.shades_by {
+                DepthMeasure::ViewDepth => (p - camera.eye).dot(camera.forward),
+                DepthMeasure::EyeDistance => (p - camera.eye).length(),
+            };
             let [near, far] = view.shades_depth_m;
             near.is_none_or(|n| depth > n * 1.01) && far.is_some_and(|f| depth < f * 0.99)
         }) else {

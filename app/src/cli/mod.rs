@@ -192,11 +192,12 @@ pub struct ViewArgs {
     /// harder, above 1 tends to a uniform map.
     #[arg(long, value_name = "SCALE")]
     pub lispsm_n: Option<f32>,
-    /// How each cascade is fitted: tight (the slice's light-space box) or sphere (stabilised).
+    /// How each cascade is fitted: tight (the slice's light-space box) or sphere (stabilised:
+    /// texel-snapped, its slices measured as distances from the eye).
     #[arg(long, value_parser = parse_cascade_fit, value_name = "FIT")]
     pub cascade_fit: Option<CascadeFit>,
-    /// Which cascade shades a point: depth (the slice holding its view depth) or map (the
-    /// first cascade whose map holds it).
+    /// Which cascade shades a point: depth (the slice holding its depth: view depth, or
+    /// distance from the eye with the sphere fit) or map (the first cascade whose map holds it).
     #[arg(long, value_parser = parse_cascade_selection, value_name = "BY")]
     pub cascade_select: Option<CascadeSelection>,
     /// Which view depths the cascades split: scene (where the view meets the scene) or

@@ -12,7 +12,7 @@ use serde::{Deserialize, Serialize};
 use crate::culling::Method;
 use crate::geom::{SliceFit, fit_focused_slice, stable_depth_range, view_depth_range};
 use crate::shadow_map::ViewLayout;
-use crate::shadow_view::{ShadowView, ViewTarget};
+use crate::shadow_view::{DepthMeasure, ShadowView, ViewTarget};
 use crate::technique::TechniqueInput;
 
 pub use splits::{SplitScheme, Splits};
@@ -180,8 +180,9 @@ impl Cascades {
         Self { settings }
     }
 
-    /// The view depths that bound this frame's cascades (`count + 1`, increasing) and the far
-    /// end of the scene's depths, or `None` when the view frustum does not meet the scene.
+    /// The depths that bound this frame's cascades (`count + 1`, increasing; measured as
+    /// [`Self::measure`] says) and the far end of the scene's depths, or `None` when the view
+    /// frustum does not meet the scene.
     pub fn split_distances(&self, input: &TechniqueInput<'_>) -> Option<(Vec<f64>, f64)> {
         let bounds = input.scene.bounds();
         let (near, scene_far) = view_depth_range(input.camera, &bounds)?;
@@ -189,9 +190,14 @@ impl Cascades {
         // slice, and its sphere, keeps its size.
         let (near, far) = match self.settings.fit {
             CascadeFit::Tight => (near, scene_far),
-            CascadeFit::Sphere => stable_depth_range(input.camera, &bounds)?,
+            CascadeFit::Sphere => stable_depth_range(input.camera, f64::from(input.aspect), &bounds)?,
         };
-        let (near, far) = match (self.settings.depths, visible_depths(input)) {
+        // Where the last cascade may reach a little beyond its end (rounding).
+        let scene_far = match self.measure() {
+            DepthMeasure::ViewDepth => scene_far,
+            DepthMeasure::EyeDistance => far,
+        };
+        let (near, far) = match (self.settings.depths, self.visible_depths(input)) {
             (CascadeDepths::Visible, Some([lo, hi])) if lo.max(near) < hi.min(far) => {
                 (lo.max(near), hi.min(far))
             }
@@ -200,17 +206,35 @@ impl Cascades {
         let count = self.settings.count.clamp(1, MAX_CASCADES);
         Some((self.settings.splits.distances(count, near, far), scene_far))
     }
-}
 
-/// The newest visible receivers' view depths, widened by [`VISIBLE_MARGIN`]; `None` before
-/// any came back, or when they are not a finite range.
-fn visible_depths(input: &TechniqueInput<'_>) -> Option<[f64; 2]> {
-    let [lo, hi] = input.visible_depths_m?;
-    let (lo, hi) = (
-        f64::from(lo) * (1.0 - VISIBLE_MARGIN),
-        f64::from(hi) * (1.0 + VISIBLE_MARGIN),
-    );
-    (lo.is_finite() && hi.is_finite() && lo < hi).then_some([lo, hi])
+    /// How the cascades measure the depths they split: tight ones along the view direction,
+    /// stabilised ones from the eye, so that turning the camera moves no point into another
+    /// cascade (the spheres' sizes do not change, and the texel grids stay put).
+    pub fn measure(&self) -> DepthMeasure {
+        match self.settings.fit {
+            CascadeFit::Tight => DepthMeasure::ViewDepth,
+            CascadeFit::Sphere => DepthMeasure::EyeDistance,
+        }
+    }
+
+    /// The newest visible receivers' depths as the cascades measure them, widened by
+    /// [`VISIBLE_MARGIN`]; `None` before any came back, or when they are not a finite range.
+    /// The receivers' view depths `[lo, hi]` lie `[lo, hi / c]` from the eye (`c` the
+    /// frustum's corner cosine).
+    fn visible_depths(&self, input: &TechniqueInput<'_>) -> Option<[f64; 2]> {
+        let [lo, hi] = input.visible_depths_m?;
+        let hi = match self.measure() {
+            DepthMeasure::ViewDepth => f64::from(hi),
+            DepthMeasure::EyeDistance => {
+                f64::from(hi) / input.camera.corner_cosine(f64::from(input.aspect))
+            }
+        };
+        let (lo, hi) = (
+            f64::from(lo) * (1.0 - VISIBLE_MARGIN),
+            hi * (1.0 + VISIBLE_MARGIN),
+        );
+        (lo.is_finite() && hi.is_finite() && lo < hi).then_some([lo, hi])
+    }
 }
 
 impl ViewLayout for Cascades {
@@ -232,7 +256,8 @@ impl ViewLayout for Cascades {
         resolution: u32,
     ) -> Vec<ShadowView> {
         let bounds = input.scene.bounds();
-        let visible = visible_depths(input);
+        let visible = self.visible_depths(input);
+        let measure = self.measure();
         let Some((distances, scene_far)) = self.split_distances(input) else {
             let light = crate::geom::fit_whole_scene(input.direction_to_sun, &bounds, resolution);
             return vec![ShadowView::covering_all_depths(
@@ -256,11 +281,19 @@ impl ViewLayout for Cascades {
             if far <= near || !receives {
                 continue;
             }
+            // Points `near` to `far` from the eye lie from `near` times the corner cosine to
+            // `far` deep in the view, so a sphere's slice reaches that much nearer.
+            let slice = match measure {
+                DepthMeasure::ViewDepth => [near, far],
+                DepthMeasure::EyeDistance => {
+                    [near * input.camera.corner_cosine(f64::from(input.aspect)), far]
+                }
+            };
             let light = fit_focused_slice(
                 (input.camera, input.aspect),
                 input.direction_to_sun,
                 &bounds,
-                ([near, far], focus.as_ref()),
+                (slice, focus.as_ref()),
                 (resolution, fit),
             );
             let layer = views.len() as u32;
@@ -280,6 +313,7 @@ impl ViewLayout for Cascades {
                         far as f32
                     },
                 ],
+                shades_by: measure,
             });
         }
         views

@@ -75,7 +75,7 @@ fn count(it: Item, counter: u32) {
 }
 
 fn view_box(it: Item) -> LightBox {
-    return light_box(bounds[it.instance], views[it.view].light_clip_from_world);
+    return light_box(bounds[it.instance], views[it.view]);
 }
 
 fn map_size(it: Item) -> u32 {

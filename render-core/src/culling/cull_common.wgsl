@@ -49,7 +49,7 @@ struct LightBox {
     hi: vec3<f32>,
 }
 
-fn light_box(b: InstanceBounds, light_clip_from_world: mat4x4<f32>) -> LightBox {
+fn light_box(b: InstanceBounds, view: ShadowView) -> LightBox {
     var out: LightBox;
     out.lo = vec3<f32>(1e30);
     out.hi = vec3<f32>(-1e30);
@@ -59,7 +59,7 @@ fn light_box(b: InstanceBounds, light_clip_from_world: mat4x4<f32>) -> LightBox 
             select(b.min.y, b.max.y, (k & 2u) != 0u),
             select(b.min.z, b.max.z, (k & 4u) != 0u),
         );
-        let clip = light_clip_from_world * vec4<f32>(corner, 1.0);
+        let clip = light_clip(view, corner);
         if (clip.w <= 0.0) {
             // Behind a warped view's centre (LiSPSM): the box may reach anywhere in the map,
             // from the light's near plane on.
@@ -91,14 +91,14 @@ const BOX_CORNERS = array<u32, 36>(
 const BOX_DEPTH_MARGIN: f32 = 1e-6;
 
 // Vertex `vertex` (0 to 35) of box `b` in light clip space, a little towards the light.
-fn box_vertex(b: InstanceBounds, vertex: u32, light_clip_from_world: mat4x4<f32>) -> vec4<f32> {
+fn box_vertex(b: InstanceBounds, vertex: u32, view: ShadowView) -> vec4<f32> {
     let corner = BOX_CORNERS[vertex % 36u];
     let p = vec3<f32>(
         select(b.min.x, b.max.x, (corner & 1u) != 0u),
         select(b.min.y, b.max.y, (corner & 2u) != 0u),
         select(b.min.z, b.max.z, (corner & 4u) != 0u),
     );
-    var clip = light_clip_from_world * vec4<f32>(p, 1.0);
+    var clip = light_clip(view, p);
     clip.z -= BOX_DEPTH_MARGIN * clip.w;
     return clip;
 }

@@ -42,7 +42,7 @@ fn vs_footprint(@builtin(vertex_index) vertex: u32, @builtin(instance_index) k: 
     let view = pass_view.index.x;
     let instance = candidates[view * cull.counts.x + k];
     var out: FootprintOut;
-    out.clip = box_vertex(bounds[instance], vertex, pass_view.light_clip_from_world);
+    out.clip = box_vertex(bounds[instance], vertex, pass_view);
     out.instance = instance;
     return out;
 }
@@ -52,7 +52,7 @@ fn vs_footprint(@builtin(vertex_index) vertex: u32, @builtin(instance_index) k: 
 @vertex
 fn vs_footprint_geometry(@location(0) position: vec3<f32>, @builtin(instance_index) instance: u32) -> FootprintOut {
     var out: FootprintOut;
-    out.clip = shadow_clip_position(pass_view.light_clip_from_world, instance, position);
+    out.clip = shadow_clip_position(pass_view, instance, position);
     out.instance = instance;
     return out;
 }

@@ -48,7 +48,7 @@ fn vs_box(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance:
     if (!wanted) {
         return out;
     }
-    let box = light_box(bounds[instance], pass_view.light_clip_from_world);
+    let box = light_box(bounds[instance], pass_view);
     if (!in_light_frustum(box)) {
         return out;
     }
@@ -93,7 +93,7 @@ fn moved_box_corner(vertex: u32, instance: u32, pad: f32) -> vec4<f32> {
     if (vertex < 6u) {
         which = before;
     }
-    let box = light_box(which, pass_view.light_clip_from_world);
+    let box = light_box(which, pass_view);
     if (!in_light_frustum(box)) {
         return vec4<f32>(2.0, 2.0, 2.0, 1.0);
     }
@@ -130,7 +130,7 @@ fn vs_moved_faces(@builtin(vertex_index) vertex: u32, @builtin(instance_index) i
     if (vertex < 36u) {
         which = before;
     }
-    out.clip = box_vertex(which, vertex, pass_view.light_clip_from_world);
+    out.clip = box_vertex(which, vertex, pass_view);
     return out;
 }
 
@@ -153,7 +153,7 @@ fn fs_clear() -> ClearOut {
 @vertex
 fn vs_geometry(@location(0) position: vec3<f32>, @builtin(instance_index) instance: u32) -> MaskOut {
     var out: MaskOut;
-    out.clip = pass_view.light_clip_from_world * vec4<f32>(world_position(instance, position), 1.0);
+    out.clip = light_clip(pass_view, world_position(instance, position));
     // Depth is not tested: keep every fragment inside the clip volume's depth range.
     out.clip.z = 0.5 * out.clip.w;
     out.marked = MASK_MARKED_GEOMETRY;

@@ -127,6 +127,19 @@ impl Camera {
         self.clip_from_view(aspect) * self.view_from_world()
     }
 
+    /// The cosine of the angle between the view direction and the frustum's corner rays
+    /// (`aspect` = width / height): a point at distance `d` from the eye inside the frustum
+    /// lies between view depths `d` times this and `d`.
+    pub fn corner_cosine(&self, aspect: f64) -> f64 {
+        let aspect = if aspect.is_finite() && aspect > 0.0 {
+            aspect
+        } else {
+            1.0
+        };
+        let t = (f64::from(self.fov_y_rad) * 0.5).tan();
+        1.0 / (1.0 + t * t * (1.0 + aspect * aspect)).sqrt()
+    }
+
     /// The eight corners of the view frustum between `near_m` and `far_m`, in world space, in f64:
     /// near plane first (bottom-left, bottom-right, top-left, top-right), then the far plane.
     pub fn frustum_corners_world(&self, aspect: f64, near_m: f64, far_m: f64) -> [DVec3; 8] {

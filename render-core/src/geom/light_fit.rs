@@ -28,6 +28,35 @@ pub struct LightFrustum {
     /// (`geom::lispsm`); `None` for an orthographic one. `texel_size_m` and `depth_range_m`
     /// are then the coarsest, at the far end.
     pub warp: Option<super::Warp>,
+    /// For a texel-snapped (stabilised) frustum, its texel grid, so shaders place points on
+    /// it exactly (`TexelGrid`); `None` otherwise.
+    pub grid: Option<TexelGrid>,
+}
+
+/// A snapped orthographic frustum's texel grid: texels per metre across the light, and the
+/// light-space position of the map's centre in whole texels (an integer, as the square's
+/// first texel lies on the grid). Shaders compute a point's position as its light-space
+/// metres times `per_metre`, minus `centre_texel`: with the same point, rotation and texel
+/// size, two frames whose squares lie whole texels apart then give positions exactly that
+/// many texels apart, not the last bits of a different matrix, so not a depth comparison
+/// changes as the camera turns.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TexelGrid {
+    pub per_metre: [f32; 2],
+    pub centre_texel: [f32; 2],
+}
+
+impl TexelGrid {
+    /// The grid of a square `resolution` texels of `texel` metres wide from `min` (light
+    /// space, on whole texels).
+    pub(super) fn of(min: DVec3, texel: f64, resolution: u32) -> Self {
+        let half = f64::from(resolution) * 0.5;
+        let centre = |axis: usize| ((min[axis] / texel).round() + half) as f32;
+        Self {
+            per_metre: [(1.0 / texel) as f32; 2],
+            centre_texel: [centre(0), centre(1)],
+        }
+    }
 }
 
 /// Light-space extent as `(min, max)` with x, y across the light and z along its direction.
@@ -149,6 +178,7 @@ impl LightSpace {
             depth_range_m: (max.z - min.z) as f32,
             covers_whole_scene,
             warp: None,
+            grid: None,
         }
     }
 }
@@ -233,11 +263,12 @@ pub fn view_depth_range(camera: &Camera, scene: &Aabb) -> Option<(f64, f64)> {
     (far.is_finite() && far > near).then_some((near, far))
 }
 
-/// The camera's near plane to the furthest the scene can be from the eye in any direction,
-/// rounded up to a sixteenth of its octave: unlike [`view_depth_range`] it does not change
-/// when the camera turns, and rarely when it moves a little, so splits over it stay put (the
+/// Distances from the eye: the camera's near plane to the furthest the scene can be in any
+/// direction, rounded up to a sixteenth of its octave, and no further than the far plane's
+/// corners (`aspect` = width / height). Unlike [`view_depth_range`] it does not change when
+/// the camera turns, and rarely when it moves a little, so splits over it stay put (the
 /// stabilised cascades' range). `None` when the scene is out of the camera's reach.
-pub fn stable_depth_range(camera: &Camera, scene: &Aabb) -> Option<(f64, f64)> {
+pub fn stable_depth_range(camera: &Camera, aspect: f64, scene: &Aabb) -> Option<(f64, f64)> {
     let eye = camera.eye.as_dvec3();
     let reach = scene
         .corners()
@@ -250,7 +281,7 @@ pub fn stable_depth_range(camera: &Camera, scene: &Aabb) -> Option<(f64, f64)> {
     let step = 2f64.powi(reach.log2().floor() as i32 - 4);
     let reach = (reach / step).ceil() * step;
     let near = f64::from(camera.near_m).max(1e-6);
-    let far = f64::from(camera.far_m).min(reach);
+    let far = (f64::from(camera.far_m) / camera.corner_cosine(aspect)).min(reach);
     (far > near).then_some((near, far))
 }
 
@@ -314,19 +345,19 @@ mod tests {
             ..Camera::default()
         };
         let eye = Vec3::new(-40.0, 3.5, 2.0);
-        let (near, far) = stable_depth_range(&camera(eye, Vec3::X), &scene).expect("in reach");
+        let (near, far) = stable_depth_range(&camera(eye, Vec3::X), 1.5, &scene).expect("in reach");
         assert_eq!(near, f64::from(Camera::default().near_m).max(1e-6));
         // The furthest corner is sqrt(540^2 + 76.5^2 + 502^2) = 741.2 m, rounded up to a
         // sixteenth of its octave (512 m / 16 = 32 m).
         assert_eq!(far, 768.0);
         for forward in [Vec3::NEG_X, Vec3::Z, Vec3::new(0.3, -0.9, 0.2)] {
             assert_eq!(
-                stable_depth_range(&camera(eye, forward), &scene),
+                stable_depth_range(&camera(eye, forward), 1.5, &scene),
                 Some((near, far))
             );
         }
         let nudged = camera(eye + Vec3::new(0.01, 0.0, 0.0), Vec3::X);
-        assert_eq!(stable_depth_range(&nudged, &scene), Some((near, far)));
+        assert_eq!(stable_depth_range(&nudged, 1.5, &scene), Some((near, far)));
     }
 
     /// `SplitMix64`: a small deterministic generator for test inputs.

@@ -195,6 +195,7 @@ pub fn fit_lispsm(
             n_opt_m: n_opt,
             sin_gamma,
         }),
+        grid: None,
     }
 }
 

@@ -11,7 +11,8 @@ pub use aabb::Aabb;
 pub use camera::{BOX_EDGES, Camera, basis_for_direction};
 pub use frustum::{Containment, Frustum, Plane};
 pub use light_fit::{
-    LightFrustum, fit_directional_light, fit_focused_light, fit_whole_scene, stable_depth_range,
+    LightFrustum, TexelGrid, fit_directional_light, fit_focused_light, fit_whole_scene,
+    stable_depth_range,
     view_depth_range,
 };
 pub use lispsm::{MIN_SIN_GAMMA, Warp, fit_lispsm};

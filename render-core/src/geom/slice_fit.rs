@@ -6,7 +6,7 @@
 use glam::{DVec3, Vec3};
 
 use super::light_fit::{Extent, LightSpace, extent_of, pad_and_snap, view_corners};
-use super::{Aabb, Camera, LightFrustum};
+use super::{Aabb, Camera, LightFrustum, TexelGrid};
 
 /// How the light box follows its slice.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -82,7 +82,13 @@ pub fn fit_focused_slice(
         Some(extent) if fit == SliceFit::Tight => {
             space.frustum(pad_and_snap(extent, resolution), resolution, false)
         }
-        Some(extent) => space.frustum(extent, resolution, false),
+        Some(extent) => {
+            let texel = (extent.1.x - extent.0.x) / f64::from(resolution);
+            LightFrustum {
+                grid: Some(TexelGrid::of(extent.0, texel, resolution)),
+                ..space.frustum(extent, resolution, false)
+            }
+        }
         None => space.frustum(pad_and_snap(scene, resolution), resolution, true),
     }
 }

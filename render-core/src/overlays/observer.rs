@@ -9,7 +9,7 @@ use glam::{Mat4, Vec3, Vec4};
 use crate::geom::{BOX_EDGES, Camera};
 use crate::gpu::{bind_group_layout, buffer_entry, pipeline_layout, shader_module, uniform};
 use crate::palette;
-use crate::shadow_view::ShadowView;
+use crate::shadow_view::{DepthMeasure, ShadowView};
 use crate::view::targets::{COLOR_FORMAT, ViewTargets};
 
 #[repr(C)]
@@ -46,8 +46,13 @@ pub fn observer_segments(
     hexahedron(corners, [1.0, 1.0, 1.0], &mut out);
     for (i, view) in views.iter().enumerate() {
         let colour = palette::VIEWS[i % palette::VIEWS.len()].rgb;
-        // Where the cascade's depths end, across the frozen frustum.
-        let end = f64::from(view.shades_depth_m[1]);
+        // Where the cascade's depths end, across the frozen frustum; a distance from the eye
+        // where it meets the frustum's edges.
+        let end = f64::from(view.shades_depth_m[1])
+            * match view.shades_by {
+                DepthMeasure::ViewDepth => 1.0,
+                DepthMeasure::EyeDistance => frozen.corner_cosine(aspect),
+            };
         if end.is_finite() && end > near && end < far {
             let c = frozen
                 .frustum_corners_world(aspect, end, end)

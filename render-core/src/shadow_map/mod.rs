@@ -248,6 +248,7 @@ impl MapTechnique {
             shades_depth_m: view
                 .shades_depth_m
                 .map(|d| (d.is_finite() && d.abs() < f32::MAX).then_some(d)),
+            shades_by: view.shades_by,
             lispsm_n_m: light.warp.map(|w| w.n_m as f32),
             depth_bias_m: self.last.shadow.depth_bias_m
                 + self.last.shadow.depth_bias_texels.max(0.0) * texel,

@@ -14,7 +14,7 @@ struct ShadowOut {
 @vertex
 fn vs_shadow(@location(0) position: vec3<f32>, @builtin(instance_index) instance: u32) -> ShadowOut {
     var out: ShadowOut;
-    out.clip = shadow_clip_position(pass_view.light_clip_from_world, instance, position);
+    out.clip = shadow_clip_position(pass_view, instance, position);
     out.instance = instance;
     return out;
 }

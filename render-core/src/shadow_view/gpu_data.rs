@@ -2,7 +2,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::ShadowView;
+use super::{DepthMeasure, ShadowView};
 
 /// `ShadowView` in `views.wgsl`: 256 bytes, the largest uniform-offset alignment wgpu allows,
 /// so one buffer serves as the array of views and as one uniform slice per view.
@@ -20,11 +20,16 @@ pub struct ShadowViewGpu {
     pub light_dir: [f32; 4],
     /// Layer, first texel x and y, side in texels (`square` in WGSL).
     pub square: [u32; 4],
-    /// x, y: the camera view depths whose points the view shades; z, w: unused.
+    /// x, y: the camera depths whose points the view shades; z: how they are measured, 0 along
+    /// the view direction, 1 from the eye (`DepthMeasure`); w: unused.
     pub shades_depth_m: [f32; 4],
     /// x: the view's index; y, z, w: unused.
     pub index: [u32; 4],
-    _pad: [[f32; 4]; 2],
+    /// A snapped view's texel grid (`TexelGrid`, `light_clip` in WGSL): xyz the light-space
+    /// translation of `light_from_world`, w 1 when the view has a grid.
+    pub grid_origin: [f32; 4],
+    /// x, y: texels per metre; z, w: the map centre's light-space position in texels.
+    pub grid: [f32; 4],
 }
 const _: () = assert!(size_of::<ShadowViewGpu>() == ShadowViewGpu::STRIDE as usize);
 
@@ -50,9 +55,27 @@ impl ShadowViewGpu {
             light_up: up.extend(texel[1]).to_array(),
             light_dir: light.light_direction.extend(range).to_array(),
             square: [t.layer, t.origin[0], t.origin[1], t.size],
-            shades_depth_m: [view.shades_depth_m[0], view.shades_depth_m[1], 0.0, 0.0],
+            shades_depth_m: [
+                view.shades_depth_m[0],
+                view.shades_depth_m[1],
+                match view.shades_by {
+                    DepthMeasure::ViewDepth => 0.0,
+                    DepthMeasure::EyeDistance => 1.0,
+                },
+                0.0,
+            ],
             index: [index, 0, 0, 0],
-            _pad: [[0.0; 4]; 2],
+            grid_origin: light.grid.map_or([0.0; 4], |_| {
+                light.light_from_world.w_axis.truncate().extend(1.0).to_array()
+            }),
+            grid: light.grid.map_or([0.0; 4], |g| {
+                [
+                    g.per_metre[0],
+                    g.per_metre[1],
+                    g.centre_texel[0],
+                    g.centre_texel[1],
+                ]
+            }),
         }
     }
 }

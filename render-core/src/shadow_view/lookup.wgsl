@@ -34,7 +34,7 @@ fn shadow_lookup(world_pos: vec3<f32>, geometric: vec3<f32>, v: u32) -> ShadowLo
     let range_m = max(view.light_dir.w * w, 1e-6);
     let size = f32(view.square.w);
     let offset_pos = world_pos + geometric * (frame.shadow.z * max(texel_m.x, texel_m.y));
-    let clip = view.light_clip_from_world * vec4<f32>(offset_pos, 1.0);
+    let clip = light_clip(view, offset_pos);
     let ndc = clip.xyz / clip.w;
     l.inside = !(abs(ndc.x) > 1.0 || abs(ndc.y) > 1.0 || ndc.z > 1.0);
     l.p = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5) * size;
@@ -183,7 +183,7 @@ fn blend_weight(v: u32, world_pos: vec3<f32>) -> f32 {
     if (band <= 0.0) {
         return select(0.0, 1.0, view_shades(v, world_pos));
     }
-    let depth_m = dot(world_pos - frame.eye_world.xyz, frame.camera_forward.xyz);
+    let depth_m = shading_depth(v, world_pos);
     let own = shadow_views[v].shades_depth_m;
     if (depth_m >= own.x && depth_m < own.y) {
         if (!next_adjacent(v)) {
@@ -193,8 +193,9 @@ fn blend_weight(v: u32, world_pos: vec3<f32>) -> f32 {
     }
     if (v > 0u && next_adjacent(v - 1u)) {
         let before = shadow_views[v - 1u].shades_depth_m;
-        if (depth_m >= before.x && depth_m < before.y) {
-            return 1.0 - band_left(before.xy, depth_m, band);
+        let depth_before = shading_depth(v - 1u, world_pos);
+        if (depth_before >= before.x && depth_before < before.y) {
+            return 1.0 - band_left(before.xy, depth_before, band);
         }
     }
     return 0.0;
@@ -213,8 +214,8 @@ fn fade_out(world_pos: vec3<f32>) -> f32 {
     if (band <= 0.0 || frame.views.x == 0u) {
         return 0.0;
     }
-    let depth_m = dot(world_pos - frame.eye_world.xyz, frame.camera_forward.xyz);
     let last = shadow_views[frame.views.x - 1u].shades_depth_m;
+    let depth_m = shading_depth(frame.views.x - 1u, world_pos);
     if (depth_m < last.x || depth_m >= last.y) {
         return 0.0;
     }

@@ -54,8 +54,31 @@ pub struct ShadowView {
     /// The light's projection and facts about it.
     pub light: LightFrustum,
     pub target: ViewTarget,
-    /// The camera view depths `[near, far)` in metres whose points this view shades.
+    /// The camera depths `[near, far)` in metres whose points this view shades, measured as
+    /// `shades_by` says.
     pub shades_depth_m: [f32; 2],
+    pub shades_by: DepthMeasure,
+}
+
+/// How a point's camera depth is measured when views choose which of them shades it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DepthMeasure {
+    /// Along the camera's view direction: slices end at planes, which turn with the camera.
+    #[default]
+    ViewDepth,
+    /// The distance from the eye: slices end at spheres, so turning the camera moves no
+    /// point into another view (Unity's "stable fit" selects cascades so).
+    EyeDistance,
+}
+
+impl DepthMeasure {
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::ViewDepth => "view depth",
+            Self::EyeDistance => "eye distance",
+        }
+    }
 }
 
 impl ShadowView {
@@ -66,6 +89,7 @@ impl ShadowView {
             light,
             target,
             shades_depth_m: [f32::MIN, f32::MAX],
+            shades_by: DepthMeasure::ViewDepth,
         }
     }
 }

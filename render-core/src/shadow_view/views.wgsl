@@ -15,9 +15,34 @@ struct ShadowView {
     // x: layer of the depth array; y, z: the first texel of its square; w: the square's side
     // in texels.
     square: vec4<u32>,
-    // x, y: the camera view depths [near, far) in metres whose points this view shades.
+    // x, y: the camera depths [near, far) in metres whose points this view shades; z: 0 when
+    // measured along the view direction, 1 from the eye (view/common.wgsl `shading_depth`).
     shades_depth_m: vec4<f32>,
     // x: this view's index; y, z, w: unused.
     index: vec4<u32>,
-    padding: array<vec4<f32>, 2>,
+    // A snapped view's texel grid (`light_clip`): xyz the light-space translation, w 1 when
+    // the view has one.
+    grid_origin: vec4<f32>,
+    // x, y: texels per metre; z, w: the map centre's light-space position in texels.
+    grid: vec4<f32>,
+}
+
+// Where view `view` places the world point: its light clip position. Every pass that puts
+// a point or a vertex into a view calls this. A snapped (stabilised) view places it on its
+// texel grid: light-space metres times texels per metre, less the centre's whole texels,
+// over half the side; for a side that is a power of two every step after the first is exact,
+// so two frames whose maps lie whole texels apart place the point exactly that many texels
+// apart, and rasterise and compare the same depths (geom/light_fit.rs `TexelGrid`).
+fn light_clip(view: ShadowView, world: vec3<f32>) -> vec4<f32> {
+    let clip = view.light_clip_from_world * vec4<f32>(world, 1.0);
+    if (view.grid_origin.w == 0.0) {
+        return clip;
+    }
+    let light = vec2<f32>(
+        dot(view.light_right.xyz, world) + view.grid_origin.x,
+        dot(view.light_up.xyz, world) + view.grid_origin.y,
+    );
+    let texels = light * view.grid.xy - view.grid.zw;
+    let half = 0.5 * f32(view.square.w);
+    return vec4<f32>(texels / half, clip.z, 1.0);
 }

@@ -23,7 +23,7 @@ use crate::geom::{Aabb, Camera};
 use crate::gpu::{FrameTimer, GpuContext};
 use crate::scene::Scene;
 use crate::scene_gpu::{DrawList, SceneGpu};
-use crate::shadow_view::{ShadowSettings, ShadowView, ViewBuffer};
+use crate::shadow_view::{DepthMeasure, ShadowSettings, ShadowView, ViewBuffer};
 use crate::view::ViewTargets;
 
 /// The virtual file a technique's light term is composed as.
@@ -106,8 +106,10 @@ pub struct ViewReport {
     pub texel_size_m: [f32; 2],
     pub depth_range_m: f32,
     pub covers_whole_scene: bool,
-    /// The camera view depths it shades, metres (`null` in JSON for an open end).
+    /// The camera depths it shades, metres (`null` in JSON for an open end), measured as
+    /// `shades_by` says.
     pub shades_depth_m: [Option<f32>; 2],
+    pub shades_by: DepthMeasure,
     /// How much it undersamples the pixels it shades (when measuring).
     pub undersampling: Option<Undersampling>,
     /// For a LiSPSM view, the warp's `n` in metres (`None` when the map is uniform).

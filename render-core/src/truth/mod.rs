@@ -155,6 +155,47 @@ impl ExactShadow {
 }
 
 /// Rows `0..height` computed on every core; returned in order.
+/// For each point, whether `camera` (its picture `aspect` = width / height) sees it: inside
+/// its view frustum, and the first surface along the camera's ray to it (within a
+/// ten-thousandth of its depth and a millimetre).
+pub fn seen_from(
+    rays: &SceneRays,
+    camera: &Camera,
+    aspect: f32,
+    points: &[SurfacePoint],
+) -> Vec<bool> {
+    const CHUNK: usize = 1024;
+    let clip_from_world = camera.clip_from_world(aspect);
+    let forward = camera.forward.normalize_or(Vec3::NEG_Z);
+    let sees = |p: &SurfacePoint| {
+        let p = Vec3::from_slice(&p.position[..3]);
+        let clip = clip_from_world * p.extend(1.0);
+        let ndc = clip.truncate() / clip.w;
+        let depth = (p - camera.eye).dot(forward);
+        if !(clip.w > 0.0 && ndc.x.abs() <= 1.0 && ndc.y.abs() <= 1.0 && depth > camera.near_m)
+            || depth > camera.far_m
+        {
+            return false;
+        }
+        // With the direction scaled so, `t` along it is the view depth, as the truth casts.
+        let direction = (p - camera.eye) / depth;
+        let tolerance = depth * 1e-4 + 1e-3;
+        rays.first_hit(camera.eye, direction, camera.near_m, depth + tolerance)
+            .is_some_and(|hit| hit.position.distance(p) <= tolerance)
+    };
+    let chunks = points.len().div_ceil(CHUNK) as u32;
+    rows_in_parallel(chunks, |c| {
+        let start = c as usize * CHUNK;
+        points[start..(start + CHUNK).min(points.len())]
+            .iter()
+            .map(sees)
+            .collect::<Vec<_>>()
+    })
+    .into_iter()
+    .flatten()
+    .collect()
+}
+
 fn rows_in_parallel<T: Send>(height: u32, row: impl Fn(u32) -> T + Sync) -> Vec<T> {
     let threads = std::thread::available_parallelism().map_or(1, std::num::NonZero::get);
     let next = std::sync::atomic::AtomicU32::new(0);

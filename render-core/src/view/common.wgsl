@@ -32,8 +32,8 @@ fn world_position(instance: u32, local: vec3<f32>) -> vec3<f32> {
 
 // Where a shadow view rasterises an instance's vertex. The shadow pass and the footprint test
 // (culling/footprints.wgsl) both call this, so they cover the same texels at the same depths.
-fn shadow_clip_position(light_clip_from_world: mat4x4<f32>, instance: u32, local: vec3<f32>) -> vec4<f32> {
-    return light_clip_from_world * vec4<f32>(world_position(instance, local), 1.0);
+fn shadow_clip_position(view: ShadowView, instance: u32, local: vec3<f32>) -> vec4<f32> {
+    return light_clip(view, world_position(instance, local));
 }
 
 fn world_normal(instance: u32, local: vec3<f32>) -> vec3<f32> {
@@ -43,9 +43,19 @@ fn world_normal(instance: u32, local: vec3<f32>) -> vec3<f32> {
     return select(vec3<f32>(0.0, 1.0, 0.0), n / len, len > 0.0);
 }
 
-// Whether the point at `world_pos` is shaded from view `v`: within the view depths it covers.
+// The point's camera depth as view `v` measures the depths it shades (shadow_view/mod.rs
+// `DepthMeasure`): along the view direction, or from the eye.
+fn shading_depth(v: u32, world_pos: vec3<f32>) -> f32 {
+    let from_eye = world_pos - frame.eye_world.xyz;
+    if (shadow_views[v].shades_depth_m.z > 0.5) {
+        return length(from_eye);
+    }
+    return dot(from_eye, frame.camera_forward.xyz);
+}
+
+// Whether the point at `world_pos` is shaded from view `v`: within the depths it covers.
 fn view_shades(v: u32, world_pos: vec3<f32>) -> bool {
-    let depth_m = dot(world_pos - frame.eye_world.xyz, frame.camera_forward.xyz);
+    let depth_m = shading_depth(v, world_pos);
     let range = shadow_views[v].shades_depth_m;
     return depth_m >= range.x && depth_m < range.y;
 }

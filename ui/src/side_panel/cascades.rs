@@ -1,11 +1,12 @@
 //! The shadow setup (one map or cascades) and the cascades' count, splits and fit, with the
-//! split distances and each cascade's texel size plotted against view depth.
+//! split distances and each cascade's texel size plotted against depth (view depth, or distance from the eye for the sphere fit).
 
 use egui_plot::{Line, Plot, PlotPoints};
 use render_core::cascades::{
     CascadeDepths, CascadeFit, CascadeSelection, MAX_CASCADES, SplitScheme,
 };
 use render_core::frame::{FrameReport, FrameSettings, ShadowSetup};
+use render_core::shadow_view::DepthMeasure;
 
 use super::grid;
 use crate::format::length;
@@ -24,7 +25,8 @@ const RATIO_HELP: &str = "Each cascade's far distance over the one before (Engel
 const MANUAL_HELP: &str = "The distances between cascades in metres, increasing: d1, d2, ...";
 const FIT_HELP: &str = "tight: the slice's box in light space, the most texels but edges crawl \
     as the camera turns. sphere: a square around the slice's bounding sphere moved in whole \
-    texels, so shadows stand still (stabilised)";
+    texels, its slices measured as distances from the eye, so shadows stand still as the \
+    camera turns (stabilised)";
 const N_HELP: &str = "Scales the warp's n from the paper's optimum (Wimmer et al. 2004, \
     (near + sqrt(near far)) / sin of the view-light angle): smaller warps harder (finer texels \
     near the camera, coarser far), larger tends to a uniform map";
@@ -33,7 +35,8 @@ const DEPTHS_HELP: &str = "scene: split where the view meets the scene, skipping
     (sample distribution shadow maps; a frame late while the camera moves)";
 const BLEND_HELP: &str = "The share of each cascade's depths, at its far end, where it blends \
     into the next; the last one fades out there (selection by depth only; 0: a hard switch)";
-const SELECT_HELP: &str = "depth: each point from the cascade whose slice holds its view depth. \
+const SELECT_HELP: &str = "depth: each point from the cascade whose slice holds its depth (view \
+    depth with the tight fit, distance from the eye with the sphere fit). \
     map: from the first cascade whose map holds all its PCF taps (the finest that has it; with \
     the sphere fit its boundaries stand still as the camera turns)";
 
@@ -228,7 +231,10 @@ fn texel_plot(ui: &mut egui::Ui, report: &FrameReport, asked: u32) {
     );
     Plot::new("cascade_texels")
         .height(theme::CASCADE_PLOT_HEIGHT)
-        .x_axis_label("view depth, m")
+        .x_axis_label(match report.views.first().map(|v| v.shades_by) {
+            Some(DepthMeasure::EyeDistance) => "distance from the eye, m",
+            _ => "view depth, m",
+        })
         .y_axis_label("texel, m")
         .allow_drag(false)
         .allow_zoom(false)
