@@ -3,7 +3,7 @@
 //!
 //! Modules, from the bottom up (each imports only those before it): `geom`, `scene`, `gpu`,
 //! `shaders`, `palette`, `scene_gpu`, `shadow_view`, `view`, `culling`, `technique`,
-//! `shadow_map`, `cascades`, `metrics`, `truth`, `overlays`, `frame`.
+//! `shadow_map`, `cascades`, `volumes`, `metrics`, `truth`, `overlays`, `frame`.
 
 pub mod cascades;
 pub mod culling;
@@ -20,6 +20,7 @@ pub mod shadow_view;
 pub mod technique;
 pub mod truth;
 pub mod view;
+pub mod volumes;
 
 mod shaders;
 

@@ -48,6 +48,19 @@ fn composed_shaders() -> Vec<(String, String)> {
             crate::metrics::heat_map_shader_source(),
         ),
     ]);
+    // Shadow volumes: their passes, and the shading and truth passes with their light term.
+    let volumes = crate::volumes::LIGHT_WGSL;
+    shaders.extend(crate::volumes::shader_sources());
+    shaders.extend([
+        (
+            "Frame::camera_shader (volumes)".to_owned(),
+            crate::frame::camera_shader_source(volumes, true),
+        ),
+        (
+            "Truth::light_at_points (volumes)".to_owned(),
+            crate::truth::shader_source(volumes),
+        ),
+    ]);
     shaders
 }
 

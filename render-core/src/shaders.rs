@@ -69,6 +69,10 @@ const FILES: &[(&str, &str)] = &[
     ),
     ("truth/at_points.wgsl", include_str!("truth/at_points.wgsl")),
     ("frame/camera.wgsl", include_str!("frame/camera.wgsl")),
+    ("volumes/common.wgsl", include_str!("volumes/common.wgsl")),
+    ("volumes/find.wgsl", include_str!("volumes/find.wgsl")),
+    ("volumes/draw.wgsl", include_str!("volumes/draw.wgsl")),
+    ("volumes/light.wgsl", include_str!("volumes/light.wgsl")),
 ];
 
 /// A file that Rust writes, named like a file of the crate (`culling/codes.wgsl`).

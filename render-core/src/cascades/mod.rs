@@ -281,19 +281,14 @@ impl ViewLayout for Cascades {
             if far <= near || !receives {
                 continue;
             }
-            // Points `near` to `far` from the eye lie from `near` times the corner cosine to
-            // `far` deep in the view, so a sphere's slice reaches that much nearer.
-            let slice = match measure {
-                DepthMeasure::ViewDepth => [near, far],
-                DepthMeasure::EyeDistance => {
-                    [near * input.camera.corner_cosine(f64::from(input.aspect)), far]
-                }
-            };
+            // Measured from the eye, the slice also holds points nearer than `near` in view
+            // depth (down to `near` times the corner cosine), but the sphere around the
+            // slice's corners holds them already (`geom::slice_fit`'s test says why).
             let light = fit_focused_slice(
                 (input.camera, input.aspect),
                 input.direction_to_sun,
                 &bounds,
-                (slice, focus.as_ref()),
+                ([near, far], focus.as_ref()),
                 (resolution, fit),
             );
             let layer = views.len() as u32;

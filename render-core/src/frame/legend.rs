@@ -76,10 +76,11 @@ pub fn legend(settings: &FrameSettings) -> Vec<LegendGroup> {
             entries: outcomes(false),
         });
     }
-    if overlays.cascades {
+    // Shadow volumes have no views to tint by.
+    if overlays.cascades && settings.setup != super::ShadowSetup::Volumes {
         let count = match settings.setup {
-            super::ShadowSetup::Single | super::ShadowSetup::Lispsm => 1,
             super::ShadowSetup::Cascades => settings.cascades.count.clamp(1, VIEWS.len() as u32),
+            _ => 1,
         };
         groups.push(LegendGroup {
             title: "Cascade tint",

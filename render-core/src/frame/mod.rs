@@ -23,6 +23,7 @@ mod observer;
 mod report;
 mod results;
 mod settings;
+mod techniques;
 
 use std::time::Instant;
 
@@ -41,7 +42,7 @@ pub use crate::view::{ViewTargets, VisibilityCounts};
 
 #[cfg(test)]
 pub(crate) use camera::shader_source as camera_shader_source;
-use camera::{CameraPasses, ShadingGroups};
+use camera::ShadingGroups;
 use results::Latest;
 
 use crate::cascades::{CascadeSettings, Cascades};
@@ -51,13 +52,14 @@ use crate::metrics::{HeatMapOverlay, MeasureResources, ShadowError};
 use crate::overlays::{LightInset, ObserverLines};
 use crate::scene::Scene;
 use crate::scene_gpu::DrawList;
-use crate::shadow_map::{MapTechnique, SunView, WarpedSunView};
+use crate::shadow_map::{SunView, WarpedSunView};
 use crate::shadow_view::{ShadowView, ViewBuffer};
-use crate::technique::{DrawInput, ShadowPasses, ShadowTechnique, TechniqueInput};
-use crate::truth::{ExactShadow, FrameGroups, LightAtPoints, PendingLight, SurfacePoint};
+use crate::technique::{DrawInput, ShadowPasses, TechniqueInput};
+use crate::truth::{ExactShadow, FrameGroups, PendingLight, SurfacePoint};
 use crate::view::gpu_data::{FrameUniforms, OVERLAY_CASTERS, OVERLAY_VIEWS};
 use crate::view::{FrameBindings, VisibilityPass};
 use observer::Frozen;
+use techniques::{Family, Techniques};
 
 /// What a frame looks at.
 #[derive(Clone, Copy, Debug)]
@@ -84,9 +86,9 @@ struct FrameSetup {
 pub struct FrameRenderer {
     bindings: FrameBindings,
     views: ViewBuffer,
-    camera: CameraPasses,
-    /// The shadow technique: maps of the sun, one view or one per cascade.
-    maps: MapTechnique,
+    /// The shadow techniques (maps of the sun: one view or one per cascade; stencil volumes)
+    /// and the passes that read their light, one active per frame.
+    techniques: Techniques,
     /// Copies of the single map's view (1 but in tests of the per-view path).
     repeated_views: u32,
     /// What the technique's view layout was made from; a new one only when it changes.
@@ -98,8 +100,6 @@ pub struct FrameRenderer {
     measure: MeasureResources,
     heat_map: HeatMapOverlay,
     light_inset: LightInset,
-    /// The technique's light at the truth's points, with the last frame's groups.
-    light_at_points: LightAtPoints,
     /// The last frame of the frame's own camera: its views and passes, which an observer
     /// frame shades with, and the camera and aspect its lines show.
     frozen: Option<Frozen>,
@@ -131,25 +131,16 @@ impl FrameRenderer {
         }
         let bindings = FrameBindings::new(device);
         let views = ViewBuffer::new(device);
-        let maps = MapTechnique::new(ctx, &bindings.layout, views.pass_layout());
         let measure = MeasureResources::new(device);
-        let (light_wgsl, light_layout) = maps.light_term();
-        let camera = CameraPasses::new(
-            device,
-            light_wgsl,
-            [&bindings.layout, light_layout, &measure.layout],
+        let techniques = Techniques::new(
+            ctx,
+            [&bindings.layout, views.pass_layout(), &measure.layout],
             measurement_available,
-        );
-        let light_at_points = LightAtPoints::new(
-            device,
-            light_wgsl,
-            [&bindings.layout, light_layout, &measure.layout],
         );
         Self {
             bindings,
             views,
-            camera,
-            maps,
+            techniques,
             repeated_views: 1,
             layout_key: None,
             visibility: VisibilityPass::new(ctx),
@@ -158,7 +149,6 @@ impl FrameRenderer {
             measure,
             heat_map: HeatMapOverlay::new(device),
             light_inset: LightInset::new(device),
-            light_at_points,
             frozen: None,
             observer_lines: ObserverLines::new(device),
             observing: false,
@@ -190,6 +180,7 @@ impl FrameRenderer {
             return self.render_observed(ctx, scene, scene_gpu, input, &observer);
         }
         self.observing = false;
+        self.techniques.active = Family::of(input.settings.setup);
         let setup = self.begin_frame(ctx, scene, scene_gpu, input);
         let technique_input = self.technique_input(&setup, scene, scene_gpu, input.camera);
         let key = (
@@ -200,15 +191,16 @@ impl FrameRenderer {
         );
         if self.layout_key != Some(key) {
             self.layout_key = Some(key);
-            self.maps.set_layout(match key.0 {
-                ShadowSetup::Single => Box::new(SunView { copies: key.3 }),
+            let layout: Box<dyn crate::shadow_map::ViewLayout> = match key.0 {
+                ShadowSetup::Single | ShadowSetup::Volumes => Box::new(SunView { copies: key.3 }),
                 ShadowSetup::Lispsm => Box::new(WarpedSunView {
                     n_scale: key.2.n_scale,
                 }),
                 ShadowSetup::Cascades => Box::new(Cascades::new(key.1)),
-            });
+            };
+            self.techniques.maps.set_layout(layout);
         }
-        let views = self.maps.prepare(ctx, &technique_input);
+        let views = self.techniques.active_mut().prepare(ctx, &technique_input);
         let frame_group = self.write_frame(ctx, &setup, input.camera, scene_gpu, &views);
         let mut encoder = ctx
             .device
@@ -219,8 +211,13 @@ impl FrameRenderer {
             return FrameReport::default();
         };
         let draws = (scene_gpu, &self.camera_list, self.indirect_first_instance);
-        self.camera
-            .draw_prepass(&mut encoder, &self.timer, targets, draws, &frame_group);
+        self.techniques.shading().camera.draw_prepass(
+            &mut encoder,
+            &self.timer,
+            targets,
+            draws,
+            &frame_group,
+        );
         self.visibility.mark_visible(
             ctx,
             (&mut encoder, &self.timer),
@@ -228,7 +225,7 @@ impl FrameRenderer {
             scene_gpu,
             self.frame_index,
         );
-        let shadows = self.maps.draw(
+        let shadows = self.techniques.active_mut().draw(
             &mut encoder,
             &technique_input,
             &DrawInput {
@@ -270,7 +267,7 @@ impl FrameRenderer {
         let (width, height) = (input.width.max(1), input.height.max(1));
         let mut settings = *input.settings;
         settings.measure &= self.measurement_available;
-        settings.method = self.maps.effective_method(settings.method);
+        settings.method = self.techniques.active().effective_method(settings.method);
         if self
             .targets
             .as_ref()
@@ -395,7 +392,7 @@ impl FrameRenderer {
         let Some(targets) = self.targets.as_ref() else {
             return;
         };
-        self.camera.draw_shading(
+        self.techniques.shading().camera.draw_shading(
             encoder,
             &self.timer,
             targets,
@@ -430,7 +427,7 @@ impl FrameRenderer {
             self.heat_map.draw(&ctx.device, encoder, targets);
         }
         let last_view = self.views.count().saturating_sub(1);
-        if let Some(sources) = self.maps.inset(settings.overlays.inset_view.min(last_view)) {
+        if let Some(sources) = self.techniques.active().inset(settings.overlays.inset_view.min(last_view)) {
             let group = self.light_inset.bind(&ctx.device, &ctx.queue, &sources);
             let onto = settings.overlays.light_view.then_some((
                 &targets.color_view,
@@ -451,7 +448,7 @@ impl FrameRenderer {
         self.timer.end_frame();
         self.visibility.after_submit();
         self.measure.after_submit();
-        self.maps.after_submit();
+        self.techniques.active_mut().after_submit();
         self.latest
             .submitted(self.frame_index, &setup.settings, setup.camera_culling_ms);
     }
@@ -465,7 +462,7 @@ impl FrameRenderer {
             frame_index: self.frame_index,
             width,
             height,
-            technique: self.maps.name(),
+            technique: self.techniques.active().name(),
             counts: FrameCounts {
                 objects_drawn_camera: self.camera_list.len(),
                 triangles_camera: self.camera_list.triangles,
@@ -490,7 +487,7 @@ impl FrameRenderer {
         let Some([frame, light, measure]) = &self.last_groups else {
             return Ok(vec![1.0; points.len()]);
         };
-        self.light_at_points.evaluate(
+        self.techniques.shading().at_points.evaluate(
             ctx,
             &FrameGroups {
                 frame,
@@ -510,7 +507,7 @@ impl FrameRenderer {
         points: &[SurfacePoint],
     ) -> Option<PendingLight> {
         let [frame, light, measure] = self.last_groups.as_ref()?;
-        Some(self.light_at_points.submit(
+        Some(self.techniques.shading().at_points.submit(
             ctx,
             &FrameGroups {
                 frame,
@@ -554,18 +551,18 @@ impl FrameRenderer {
     /// Where FRAG's mask comes from: the prepass's surface targets (the default) or a second
     /// pass over the visible geometry, to compare the two.
     pub fn set_fragment_mask_source(&mut self, source: crate::culling::FragmentMaskSource) {
-        self.maps.set_fragment_mask_source(source);
+        self.techniques.maps.set_fragment_mask_source(source);
     }
 
     /// The method's shadow maps (a depth array, one layer per view), for tests.
     pub fn shadow_depth_texture(&self) -> &wgpu::Texture {
-        self.maps.depth_texture()
+        self.techniques.maps.depth_texture()
     }
 
     /// Leaves these instances out of the method's shadow maps from the next frame on, while
     /// the reference keeps them: shows what a caster contributes, and lets tests check that
     /// the error measure sees a missing caster.
     pub fn exclude_casters(&mut self, instances: &[u32]) {
-        self.maps.exclude(instances);
+        self.techniques.exclude(instances);
     }
 }

@@ -53,7 +53,9 @@ impl FrameRenderer {
         // visible receivers, not the observer's.
         if let Some(targets) = self.targets.as_ref() {
             let draws = (scene_gpu, &self.camera_list, self.indirect_first_instance);
-            self.camera
+            self.techniques
+                .shading()
+                .camera
                 .draw_prepass(&mut encoder, &self.timer, targets, draws, &frame_group);
         }
         self.draw_shading(ctx, &mut encoder, scene_gpu, &frame_group, &frozen.passes);

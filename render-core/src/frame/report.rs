@@ -83,7 +83,9 @@ impl FrameReport {
     /// Takes the technique's newest report: per view, and summed into the totals.
     pub(super) fn set_shadows(&mut self, shadows: ShadowReport) {
         self.counts.casters_total = shadows.casters_total;
-        self.counts.casters_rendered = shadows.views.iter().map(|v| v.casters_rendered).sum();
+        self.counts.casters_rendered = shadows
+            .casters_rendered
+            .unwrap_or_else(|| shadows.views.iter().map(|v| v.casters_rendered).sum());
         self.counts.triangles_shadow = shadows.views.iter().map(|v| v.triangles_shadow).sum();
         self.stages = summed_stages(&shadows.views);
         if let Some(first) = shadows.views.first() {

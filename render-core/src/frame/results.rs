@@ -7,7 +7,7 @@ use super::{FrameRenderer, FrameReport, FrameSettings, SceneGpu};
 use crate::culling::CasterOutcome;
 use crate::gpu::{GpuContext, GpuError, PassTiming};
 use crate::metrics::Measured;
-use crate::technique::{ShadowTechnique, combined_outcomes};
+use crate::technique::combined_outcomes;
 use crate::view::VisibilityCounts;
 
 /// The newest results that have come back, and what the last frame asked for.
@@ -63,7 +63,7 @@ impl FrameRenderer {
             report.gpu.clone_from(timings);
             report.gpu_frame_index = Some(*frame);
         }
-        let shadows = self.maps.collect();
+        let shadows = self.techniques.active_mut().collect();
         report.cpu.culling_ms = shadows.cpu_culling_ms + latest.camera_culling_ms;
         report.set_shadows(shadows);
         if let Some(m) = latest.measured.as_ref().filter(|_| latest.measuring) {
@@ -85,19 +85,20 @@ impl FrameRenderer {
                     .measured
                     .as_ref()
                     .is_some_and(|m| m.frame_index == frame))
-            && (self.observing || self.maps.has_results_of(frame))
+            && (self.observing || self.techniques.active().has_results_of(frame))
     }
 
     /// What happened to each instance in the shadow pass, over every view (rendered where any
     /// view drew it): the last frame's for the CPU methods, the newest that came back for the
     /// GPU methods.
     pub fn caster_outcomes(&self) -> Vec<CasterOutcome> {
-        combined_outcomes(&self.maps.view_outcomes())
+        combined_outcomes(&self.techniques.active().view_outcomes())
     }
 
     /// Per shadow view, what happened to each instance (as [`FrameRenderer::caster_outcomes`]).
     pub fn view_caster_outcomes(&self) -> Vec<Vec<CasterOutcome>> {
-        self.maps
+        self.techniques
+            .active()
             .view_outcomes()
             .into_iter()
             .map(<[CasterOutcome]>::to_vec)

@@ -61,16 +61,19 @@ pub enum ShadowSetup {
     Lispsm,
     /// One map per slice of the view frustum ([`FrameSettings::cascades`]).
     Cascades,
+    /// Stencil shadow volumes: exact hard shadows, no map (`volumes/`).
+    Volumes,
 }
 
 impl ShadowSetup {
-    pub const ALL: [Self; 3] = [Self::Single, Self::Lispsm, Self::Cascades];
+    pub const ALL: [Self; 4] = [Self::Single, Self::Lispsm, Self::Cascades, Self::Volumes];
 
     pub fn name(self) -> &'static str {
         match self {
             Self::Single => "single",
             Self::Lispsm => "lispsm",
             Self::Cascades => "cascades",
+            Self::Volumes => "volumes",
         }
     }
 }

@@ -281,6 +281,105 @@ mod tests {
         assert!((a - b).abs() > a * 1e-4, "texel {a} and {b}");
     }
 
+    /// Where a view with a texel grid places `p`, as `light_clip` does in WGSL, in f32:
+    /// texels from the map's centre.
+    fn grid_position(f: &LightFrustum, p: Vec3) -> [f32; 2] {
+        let g = f.grid.expect("a sphere fit has a grid");
+        let light = f.light_from_world.transform_point3(p);
+        [
+            light.x * g.per_metre[0] - g.centre_texel[0],
+            light.y * g.per_metre[1] - g.centre_texel[1],
+        ]
+    }
+
+    #[test]
+    #[allow(clippy::float_cmp, reason = "the positions must differ by whole texels exactly")]
+    fn a_sphere_fit_places_points_whole_texels_apart_in_every_bit_as_the_camera_turns() {
+        let scene = city();
+        let sun = Vec3::new(-0.3, 0.8, 0.5).normalize();
+        let base = camera(Vec3::new(10.0, 20.0, 30.0), Vec3::new(0.6, -0.3, -0.7));
+        let fit = |cam: &Camera| {
+            fit_view_slice((cam, 1.6), sun, &scene, [5.0, 80.0], (2048, SliceFit::Sphere))
+        };
+        let first = fit(&base);
+        let g = first.grid.expect("grid");
+        assert!(g.centre_texel.iter().all(|c| c.fract() == 0.0), "{g:?}");
+        let points = [
+            Vec3::new(31.25, 0.0, -12.5),
+            Vec3::new(47.123, 3.77, -40.061),
+            Vec3::new(12.9, 18.01, 4.4),
+        ];
+        let mut shifted = 0;
+        for k in 1..=40 {
+            let mut cam = base;
+            cam.forward = (glam::Quat::from_rotation_y(k as f32 * 0.01) * base.forward).normalize();
+            let f = fit(&cam);
+            let gk = f.grid.expect("grid");
+            assert_eq!(gk.per_metre, g.per_metre, "the texel size keeps every bit");
+            assert_eq!(f.light_from_world, first.light_from_world);
+            let step = [
+                gk.centre_texel[0] - g.centre_texel[0],
+                gk.centre_texel[1] - g.centre_texel[1],
+            ];
+            shifted += usize::from(step != [0.0, 0.0]);
+            for p in points {
+                let (a, b) = (grid_position(&first, p), grid_position(&f, p));
+                assert_eq!([a[0] - b[0], a[1] - b[1]], step, "turn {k}, point {p}");
+            }
+        }
+        assert!(shifted > 10, "the square moved in only {shifted} of 40 turns");
+    }
+
+    /// Stabilised cascades shade the points `near` to `far` from the eye with the sphere of
+    /// the slice between those view depths, although some lie nearer than `near` in view depth
+    /// (as near as `near c`, `c` the corner cosine). The sphere holds them: around the centroid
+    /// of the corners (half-depth h = (far - near) / 2), the radius squared is at least
+    /// h^2 + far^2 tan^2, and such a point's distance squared at most h^2 + near (1 - c)
+    /// (far + near), which is smaller since tan^2 = (1 - c)(1 + c) / c^2 >= 2 (1 - c).
+    #[test]
+    fn a_sphere_fit_holds_every_point_at_its_distances_from_the_eye() {
+        let scene = city();
+        let mut rng = 7_u64;
+        let mut next = move || {
+            rng = rng.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            (rng >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for case in 0..200 {
+            let forward = Vec3::new(next() as f32 - 0.5, next() as f32 - 0.7, next() as f32 - 0.5);
+            let mut cam = camera(Vec3::new(-300.0, 4.0 + 50.0 * next() as f32, 20.0), forward);
+            cam.fov_y_rad = (0.4 + next() * 1.2) as f32;
+            let aspect = 0.5 + next() * 2.0;
+            let sun = Vec3::new(next() as f32 - 0.5, 0.2 + next() as f32, next() as f32 - 0.5)
+                .normalize();
+            let near = 1.0 + next() * 100.0;
+            let far = near * (1.02 + next() * 0.5);
+            let f = fit_view_slice(
+                (&cam, aspect as f32),
+                sun,
+                &scene,
+                [near, far],
+                (2048, SliceFit::Sphere),
+            );
+            let (right, up) = cam.basis();
+            let t = (f64::from(cam.fov_y_rad) * 0.5).tan();
+            for _ in 0..50 {
+                // A direction inside the frustum, at a distance between near and far.
+                let (sx, sy) = (next() * 2.0 - 1.0, next() * 2.0 - 1.0);
+                let dir = (cam.forward.as_dvec3().normalize()
+                    + right.as_dvec3() * (sx * t * aspect)
+                    + up.as_dvec3() * (sy * t))
+                    .normalize();
+                let d = near + (far - near) * next();
+                let p = cam.eye.as_dvec3() + dir * d;
+                let q = clip(&f, p);
+                assert!(
+                    q.x.abs() <= 1.0 + 1e-4 && q.y.abs() <= 1.0 + 1e-4,
+                    "case {case}: {d:.1} m from the eye at clip {q}"
+                );
+            }
+        }
+    }
+
     #[test]
     fn fitted_slices_hold_their_visible_points_for_hundreds_of_random_cameras_and_suns() {
         // A small deterministic generator (SplitMix64).

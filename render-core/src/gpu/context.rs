@@ -28,7 +28,9 @@ pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY
     .union(wgpu::Features::PIPELINE_STATISTICS_QUERY)
     .union(wgpu::Features::SHADER_EARLY_DEPTH_TEST)
     .union(wgpu::Features::CONSERVATIVE_RASTERIZATION)
-    .union(wgpu::Features::POLYGON_MODE_LINE);
+    .union(wgpu::Features::POLYGON_MODE_LINE)
+    .union(wgpu::Features::DEPTH_CLIP_CONTROL)
+    .union(wgpu::Features::DEPTH32FLOAT_STENCIL8);
 
 /// Instance, adapter, device and queue. Long-lived: one per process (or per window).
 #[derive(Clone, Debug)]

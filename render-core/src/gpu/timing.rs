@@ -14,6 +14,11 @@ pub mod pass_label {
     pub const REFERENCE_MAP: &str = "reference map (measure)";
     /// The GPU culling methods: receiver mask, pyramids and caster tests (both phases).
     pub const CULLING: &str = "mask + culling";
+    /// Shadow volumes: the silhouettes and caps found in compute, the visible surface drawn
+    /// again into the depth-stencil target, and the volumes into its stencil.
+    pub const VOLUME_SILHOUETTES: &str = "silhouettes";
+    pub const VOLUME_DEPTH: &str = "volume depth";
+    pub const SHADOW_VOLUMES: &str = "shadow volumes";
     pub const SHADING: &str = "shading";
     pub const OVERLAYS: &str = "overlays";
 

@@ -426,6 +426,7 @@ impl ShadowTechnique for MapTechnique {
         }
         ShadowReport {
             casters_total: self.cpu.casters_total(),
+            casters_rendered: None,
             views,
             culled_frame_index,
             notes,

@@ -1,0 +1,108 @@
+//! The frame's shadow techniques, each with the passes composed with its light term: the
+//! camera's shading and the light at the truth's points. The setup chooses which one a frame
+//! runs ([`Family::of`]); the frame talks to it only through [`ShadowTechnique`].
+
+use super::ShadowSetup;
+use super::camera::CameraPasses;
+use crate::gpu::GpuContext;
+use crate::shadow_map::MapTechnique;
+use crate::technique::ShadowTechnique;
+use crate::truth::LightAtPoints;
+use crate::volumes::VolumeTechnique;
+
+/// Which technique a setup belongs to.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(super) enum Family {
+    /// Shadow maps: a single map, LiSPSM or cascades (`shadow_map/`).
+    #[default]
+    Maps,
+    /// Stencil shadow volumes (`volumes/`).
+    Volumes,
+}
+
+impl Family {
+    pub fn of(setup: ShadowSetup) -> Self {
+        match setup {
+            ShadowSetup::Single | ShadowSetup::Lispsm | ShadowSetup::Cascades => Self::Maps,
+            ShadowSetup::Volumes => Self::Volumes,
+        }
+    }
+}
+
+/// The passes that read a technique's light term.
+pub(super) struct Shading {
+    pub camera: CameraPasses,
+    pub at_points: LightAtPoints,
+}
+
+impl Shading {
+    fn new(
+        ctx: &GpuContext,
+        technique: &dyn ShadowTechnique,
+        [frame, measure]: [&wgpu::BindGroupLayout; 2],
+        early_depth_test: bool,
+    ) -> Self {
+        let (light_wgsl, light_layout) = technique.light_term();
+        let layouts = [frame, light_layout, measure];
+        Self {
+            camera: CameraPasses::new(&ctx.device, light_wgsl, layouts, early_depth_test),
+            at_points: LightAtPoints::new(&ctx.device, light_wgsl, layouts),
+        }
+    }
+}
+
+/// Every technique and its shading; one is active.
+pub(super) struct Techniques {
+    pub maps: MapTechnique,
+    volumes: VolumeTechnique,
+    map_shading: Shading,
+    volume_shading: Shading,
+    pub active: Family,
+}
+
+impl Techniques {
+    /// `layouts`: group 0 of scene passes, one view's uniform slice, the measure group.
+    pub fn new(
+        ctx: &GpuContext,
+        [frame, pass_view, measure]: [&wgpu::BindGroupLayout; 3],
+        early_depth_test: bool,
+    ) -> Self {
+        let maps = MapTechnique::new(ctx, frame, pass_view);
+        let volumes = VolumeTechnique::new(ctx, frame);
+        Self {
+            map_shading: Shading::new(ctx, &maps, [frame, measure], early_depth_test),
+            volume_shading: Shading::new(ctx, &volumes, [frame, measure], early_depth_test),
+            maps,
+            volumes,
+            active: Family::Maps,
+        }
+    }
+
+    pub fn active(&self) -> &dyn ShadowTechnique {
+        match self.active {
+            Family::Maps => &self.maps,
+            Family::Volumes => &self.volumes,
+        }
+    }
+
+    pub fn active_mut(&mut self) -> &mut dyn ShadowTechnique {
+        match self.active {
+            Family::Maps => &mut self.maps,
+            Family::Volumes => &mut self.volumes,
+        }
+    }
+
+    /// The active technique's shading.
+    pub fn shading(&self) -> &Shading {
+        match self.active {
+            Family::Maps => &self.map_shading,
+            Family::Volumes => &self.volume_shading,
+        }
+    }
+
+    /// Every technique leaves these instances out.
+    pub fn exclude(&mut self, instances: &[u32]) {
+        self.maps.exclude(instances);
+        self.volumes.exclude(instances);
+    }
+}

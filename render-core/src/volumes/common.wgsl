@@ -1,0 +1,89 @@
+// What the volume passes share (volumes/mod.rs): the frame's light and extrusion, the scene's
+// vertices and indices read as storage, the edges and the casters.
+#import view/common.wgsl
+struct VolumeFrame {
+    // xyz: unit vector towards the sun; w: how far volumes are extruded, metres.
+    to_light: vec4<f32>,
+    // x: edge work items, y: triangle work items, z: casters; w: unused.
+    counts: vec4<u32>,
+}
+
+// One caster: its mesh's edges and triangles, where its vertices start, and whether its
+// mesh is closed. Keep in sync with volumes/mod.rs (CasterGpu).
+struct Caster {
+    instance: u32,
+    first_edge: u32,
+    first_triangle: u32,
+    base_vertex: u32,
+    // Work items before this caster's edges and triangles.
+    edge_start: u32,
+    triangle_start: u32,
+    closed: u32,
+    padding: u32,
+}
+
+struct Edge {
+    a: u32,
+    b: u32,
+    face: u32,
+    opposite: u32,
+}
+
+const NO_FACE: u32 = 0xffffffffu;
+// A record's high bit: extruded the other way round (negative multiplicity).
+const REVERSED: u32 = 0x80000000u;
+// Float32 per scene vertex: position, then normal (scene_gpu/gpu_data.rs Vertex).
+const VERTEX_FLOATS: u32 = 6u;
+
+@group(1) @binding(0) var<uniform> volume: VolumeFrame;
+@group(1) @binding(1) var<storage, read> vertices: array<f32>;
+@group(1) @binding(2) var<storage, read> indices: array<u32>;
+@group(1) @binding(3) var<storage, read> edges: array<Edge>;
+@group(1) @binding(4) var<storage, read> casters: array<Caster>;
+
+fn local_vertex(index: u32) -> vec3<f32> {
+    let at = index * VERTEX_FLOATS;
+    return vec3<f32>(vertices[at], vertices[at + 1u], vertices[at + 2u]);
+}
+
+fn world_vertex(c: Caster, index: u32) -> vec3<f32> {
+    return world_position(c.instance, local_vertex(c.base_vertex + index));
+}
+
+// The caster's triangle `t` (of its mesh) in world space.
+fn triangle(c: Caster, t: u32) -> array<vec3<f32>, 3> {
+    let first = (c.first_triangle + t) * 3u;
+    return array<vec3<f32>, 3>(
+        world_vertex(c, indices[first]),
+        world_vertex(c, indices[first + 1u]),
+        world_vertex(c, indices[first + 2u]),
+    );
+}
+
+// +1 when the triangle's front faces the sun; -1 when its back does, which casts only in a
+// mesh that is not closed (volumes/edges.rs `face_sign`).
+fn face_sign(c: Caster, t: u32) -> i32 {
+    let p = triangle(c, t);
+    let lit = dot(cross(p[1] - p[0], p[2] - p[0]), volume.to_light.xyz) > 0.0;
+    if (lit) {
+        return 1;
+    }
+    return select(-1, 0, c.closed != 0u);
+}
+
+// The caster of work item `item`: the last whose first item is at most it.
+fn caster_of(item: u32, triangles: bool) -> u32 {
+    var lo = 0u;
+    var hi = volume.counts.z;
+    while (hi - lo > 1u) {
+        let mid = (lo + hi) / 2u;
+        let start = select(casters[mid].edge_start, casters[mid].triangle_start, triangles);
+        if (start <= item) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    return lo;
+}
+
