@@ -151,6 +151,10 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
                 }))
                 .collect()
         }
+        Some(Sweep::Setups) => ShadowSetup::ALL
+            .into_iter()
+            .map(|setup| (setup.name().to_owned(), FrameSettings { setup, ..base }))
+            .collect(),
         Some(Sweep::Splits) => SplitScheme::ALL
             .into_iter()
             .filter(|s| *s != SplitScheme::Manual)
@@ -301,7 +305,7 @@ fn summarise(setting: &str, method: &str, reports: &[(f64, FrameReport)]) -> Ben
         frames: reports.len(),
         frame_ms: collect(&|(wall, _)| Some(*wall)).unwrap_or(0.0),
         gpu_frame_ms: collect(&|(_, r)| r.gpu_total_ms()),
-        shadow_pass_ms: collect(&|(_, r)| r.gpu_ms(pass_label::SHADOW_MAP)),
+        shadow_pass_ms: collect(&|(_, r)| r.shadow_pass_ms()),
         culling_ms: collect(&|(_, r)| r.gpu_ms(pass_label::CULLING)),
         casters_drawn: collect(&|(_, r)| Some(f64::from(r.counts.casters_rendered))).unwrap_or(0.0),
         shadow_triangles: collect(&|(_, r)| Some(r.counts.triangles_shadow as f64)).unwrap_or(0.0),

@@ -9,8 +9,8 @@ use render_core::cascades::{
 use render_core::frame::SceneGpu;
 use render_core::frame::{FrameInput, FrameRenderer, FrameSettings, Method, ShadowSetup};
 use render_core::geom::Camera;
-use render_core::shadow_view::DepthMeasure;
 use render_core::scene::{Scene, Sun, load_builtin};
+use render_core::shadow_view::DepthMeasure;
 use shadowlab_tests::{
     box_on_plane, city_small_street_camera, expected_shadow, gpu, last_of_frames, pixels_of, render,
 };

@@ -89,7 +89,7 @@ pub struct BenchArgs {
     #[arg(long, default_value = "ref", value_name = "METHOD")]
     pub baseline: String,
     /// Repeat the table for several shadow-map sizes, sun elevations, cascade counts (after
-    /// the single map), split schemes or practical-split lambdas.
+    /// the single map), split schemes, practical-split lambdas or shadow setups.
     #[arg(long, value_enum)]
     pub sweep: Option<Sweep>,
     /// Shadow-map sizes of `--sweep resolution`.
@@ -139,4 +139,6 @@ pub enum Sweep {
     Splits,
     /// The practical split's lambda, over `--lambdas`.
     Lambda,
+    /// Every shadow setup (single, lispsm, cascades, volumes), with the other flags.
+    Setups,
 }

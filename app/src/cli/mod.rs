@@ -166,7 +166,8 @@ pub struct ViewArgs {
     /// Normal offset, in shadow texels.
     #[arg(long, value_name = "TEXELS")]
     pub normal_offset: Option<f32>,
-    /// Shadow setup: single (one map), lispsm (one map warped in light space) or cascades.
+    /// Shadow setup: single (one map), lispsm (one map warped in light space), cascades, or
+    /// volumes (stencil shadow volumes: exact hard shadows, no map).
     #[arg(long, value_parser = parse_setup, value_name = "SETUP")]
     pub shadow: Option<ShadowSetup>,
     /// Number of cascades, 1 to 8 (with --shadow cascades).

@@ -190,7 +190,9 @@ impl Cascades {
         // slice, and its sphere, keeps its size.
         let (near, far) = match self.settings.fit {
             CascadeFit::Tight => (near, scene_far),
-            CascadeFit::Sphere => stable_depth_range(input.camera, f64::from(input.aspect), &bounds)?,
+            CascadeFit::Sphere => {
+                stable_depth_range(input.camera, f64::from(input.aspect), &bounds)?
+            }
         };
         // Where the last cascade may reach a little beyond its end (rounding).
         let scene_far = match self.measure() {

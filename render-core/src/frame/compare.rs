@@ -43,7 +43,7 @@ impl CompareRow {
             error_px: report
                 .error
                 .map(|e| e.missing_shadow_px + e.extra_shadow_px),
-            shadow_ms: report.gpu_ms(pass_label::SHADOW_MAP),
+            shadow_ms: report.shadow_pass_ms(),
             culling_ms: report.gpu_ms(pass_label::CULLING),
             stale: false,
         }

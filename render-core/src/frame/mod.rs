@@ -40,9 +40,9 @@ pub use crate::shadow_view::{PcfKernel, ShadowSettings};
 pub use crate::technique::ViewReport;
 pub use crate::view::{ViewTargets, VisibilityCounts};
 
+use camera::ShadingGroups;
 #[cfg(test)]
 pub(crate) use camera::shader_source as camera_shader_source;
-use camera::ShadingGroups;
 use results::Latest;
 
 use crate::cascades::{CascadeSettings, Cascades};
@@ -427,7 +427,11 @@ impl FrameRenderer {
             self.heat_map.draw(&ctx.device, encoder, targets);
         }
         let last_view = self.views.count().saturating_sub(1);
-        if let Some(sources) = self.techniques.active().inset(settings.overlays.inset_view.min(last_view)) {
+        if let Some(sources) = self
+            .techniques
+            .active()
+            .inset(settings.overlays.inset_view.min(last_view))
+        {
             let group = self.light_inset.bind(&ctx.device, &ctx.queue, &sources);
             let onto = settings.overlays.light_view.then_some((
                 &targets.color_view,

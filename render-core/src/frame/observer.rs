@@ -53,10 +53,13 @@ impl FrameRenderer {
         // visible receivers, not the observer's.
         if let Some(targets) = self.targets.as_ref() {
             let draws = (scene_gpu, &self.camera_list, self.indirect_first_instance);
-            self.techniques
-                .shading()
-                .camera
-                .draw_prepass(&mut encoder, &self.timer, targets, draws, &frame_group);
+            self.techniques.shading().camera.draw_prepass(
+                &mut encoder,
+                &self.timer,
+                targets,
+                draws,
+                &frame_group,
+            );
         }
         self.draw_shading(ctx, &mut encoder, scene_gpu, &frame_group, &frozen.passes);
         self.draw_overlays(ctx, &mut encoder, &setup.settings);

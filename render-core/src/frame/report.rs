@@ -123,6 +123,23 @@ impl FrameReport {
         Some(passes.map(|t| t.gpu_ms).sum())
     }
 
+    /// The GPU time of drawing the shadows themselves: the shadow maps, or the shadow
+    /// volumes' silhouettes, depth and stencil passes (culling is timed apart).
+    pub fn shadow_pass_ms(&self) -> Option<f64> {
+        self.gpu_ms(pass_label::SHADOW_MAP).or_else(|| {
+            let volumes = [
+                pass_label::VOLUME_SILHOUETTES,
+                pass_label::VOLUME_DEPTH,
+                pass_label::SHADOW_VOLUMES,
+            ]
+            .map(|label| self.gpu_ms(label));
+            volumes
+                .iter()
+                .any(Option::is_some)
+                .then(|| volumes.iter().flatten().sum())
+        })
+    }
+
     /// Sum of the GPU pass times of the frame itself, leaving out measurement passes (and the
     /// steps timed inside a pass).
     pub fn gpu_total_ms(&self) -> Option<f64> {

@@ -12,8 +12,7 @@ pub use camera::{BOX_EDGES, Camera, basis_for_direction};
 pub use frustum::{Containment, Frustum, Plane};
 pub use light_fit::{
     LightFrustum, TexelGrid, fit_directional_light, fit_focused_light, fit_whole_scene,
-    stable_depth_range,
-    view_depth_range,
+    stable_depth_range, view_depth_range,
 };
 pub use lispsm::{MIN_SIN_GAMMA, Warp, fit_lispsm};
 pub use slice_fit::{SliceFit, fit_focused_slice, fit_view_slice};

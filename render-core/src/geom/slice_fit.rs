@@ -293,13 +293,22 @@ mod tests {
     }
 
     #[test]
-    #[allow(clippy::float_cmp, reason = "the positions must differ by whole texels exactly")]
+    #[allow(
+        clippy::float_cmp,
+        reason = "the positions must differ by whole texels exactly"
+    )]
     fn a_sphere_fit_places_points_whole_texels_apart_in_every_bit_as_the_camera_turns() {
         let scene = city();
         let sun = Vec3::new(-0.3, 0.8, 0.5).normalize();
         let base = camera(Vec3::new(10.0, 20.0, 30.0), Vec3::new(0.6, -0.3, -0.7));
         let fit = |cam: &Camera| {
-            fit_view_slice((cam, 1.6), sun, &scene, [5.0, 80.0], (2048, SliceFit::Sphere))
+            fit_view_slice(
+                (cam, 1.6),
+                sun,
+                &scene,
+                [5.0, 80.0],
+                (2048, SliceFit::Sphere),
+            )
         };
         let first = fit(&base);
         let g = first.grid.expect("grid");
@@ -327,7 +336,10 @@ mod tests {
                 assert_eq!([a[0] - b[0], a[1] - b[1]], step, "turn {k}, point {p}");
             }
         }
-        assert!(shifted > 10, "the square moved in only {shifted} of 40 turns");
+        assert!(
+            shifted > 10,
+            "the square moved in only {shifted} of 40 turns"
+        );
     }
 
     /// Stabilised cascades shade the points `near` to `far` from the eye with the sphere of
@@ -341,16 +353,26 @@ mod tests {
         let scene = city();
         let mut rng = 7_u64;
         let mut next = move || {
-            rng = rng.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            rng = rng
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
             (rng >> 11) as f64 / (1u64 << 53) as f64
         };
         for case in 0..200 {
-            let forward = Vec3::new(next() as f32 - 0.5, next() as f32 - 0.7, next() as f32 - 0.5);
+            let forward = Vec3::new(
+                next() as f32 - 0.5,
+                next() as f32 - 0.7,
+                next() as f32 - 0.5,
+            );
             let mut cam = camera(Vec3::new(-300.0, 4.0 + 50.0 * next() as f32, 20.0), forward);
             cam.fov_y_rad = (0.4 + next() * 1.2) as f32;
             let aspect = 0.5 + next() * 2.0;
-            let sun = Vec3::new(next() as f32 - 0.5, 0.2 + next() as f32, next() as f32 - 0.5)
-                .normalize();
+            let sun = Vec3::new(
+                next() as f32 - 0.5,
+                0.2 + next() as f32,
+                next() as f32 - 0.5,
+            )
+            .normalize();
             let near = 1.0 + next() * 100.0;
             let far = near * (1.02 + next() * 0.5);
             let f = fit_view_slice(

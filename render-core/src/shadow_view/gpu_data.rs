@@ -66,7 +66,12 @@ impl ShadowViewGpu {
             ],
             index: [index, 0, 0, 0],
             grid_origin: light.grid.map_or([0.0; 4], |_| {
-                light.light_from_world.w_axis.truncate().extend(1.0).to_array()
+                light
+                    .light_from_world
+                    .w_axis
+                    .truncate()
+                    .extend(1.0)
+                    .to_array()
             }),
             grid: light.grid.map_or([0.0; 4], |g| {
                 [

@@ -170,7 +170,8 @@ impl VolumeTechnique {
             "Volumes::find_pipeline_layout",
             &[frame_layout, &scene_layout, &find_layout],
         );
-        let find = |entry| compute_pipeline(device, &find_module, Some(&find_pipeline_layout), entry);
+        let find =
+            |entry| compute_pipeline(device, &find_module, Some(&find_pipeline_layout), entry);
         let depth = depth_pipeline(device, frame_layout, format);
         let draw_module = shader_module(
             device,
@@ -526,7 +527,9 @@ impl ShadowTechnique for VolumeTechnique {
         let (Some(scene), Some(target)) = (self.scene.as_ref(), self.target.as_ref()) else {
             unreachable!("ensured in prepare and above");
         };
-        let query = draw.timer.begin_scope(pass_label::VOLUME_SILHOUETTES, encoder);
+        let query = draw
+            .timer
+            .begin_scope(pass_label::VOLUME_SILHOUETTES, encoder);
         {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("Volumes::silhouettes"),

@@ -14,7 +14,9 @@ use crate::theme;
 
 const SETUP_HELP: &str = "single: one map fitted to the view. lispsm: one map warped by a \
     perspective in light space (Wimmer et al.), finer near the camera. cascades: the view \
-    frustum cut along its depth, one map per slice (Engel), so near shadows get fine texels";
+    frustum cut along its depth, one map per slice (Engel), so near shadows get fine texels. \
+    volumes: stencil shadow volumes, exact per pixel and without a map; every caster's volume \
+    is drawn (Lloyd's culling and clamping are to come)";
 const COUNT_HELP: &str = "How many slices, each with its own map of the chosen resolution";
 const SPLIT_HELP: &str = "Where the slices end: uniform, logarithmic, practical (Zhang's blend \
     of the two), geometric (Engel: each far distance a ratio times the last), manual";

@@ -1,0 +1,217 @@
+//! Stencil shadow volumes (`--shadow volumes`) against the exact shadow: a box on a plane,
+//! the camera inside the box's shadow (where z-pass would fail), an open quad lit from its
+//! back, and a city street.
+
+use glam::{Mat4, Vec3};
+use render_core::frame::{FrameInput, FrameRenderer, FrameSettings, SceneGpu, ShadowSetup};
+use render_core::geom::Camera;
+use render_core::metrics::ShadowError;
+use render_core::scene::{Instance, Mesh, Scene, Sun, load_builtin};
+use render_core::truth::{SurfacePoint, TruthCache};
+use shadowlab_tests::{box_mesh, box_on_plane, city_small_street_camera, expected_shadow, gpu};
+
+const BOX: Vec3 = Vec3::new(2.0, 3.0, 1.5);
+const SIZE: (u32, u32) = (320, 240);
+
+fn sun() -> Sun {
+    Sun::from_azimuth_elevation_deg(20.0, 40.0)
+}
+
+fn volumes(sun: Sun) -> FrameSettings {
+    FrameSettings {
+        sun,
+        setup: ShadowSetup::Volumes,
+        ..FrameSettings::default()
+    }
+}
+
+/// One frame of `settings`, its error against the exact shadow, the exactly shadowed pixels
+/// and the renderer (to read the light at points).
+fn against_truth(
+    scene: &Scene,
+    camera: &Camera,
+    settings: &FrameSettings,
+) -> (ShadowError, u32, FrameRenderer) {
+    let ctx = gpu();
+    let scene_gpu = SceneGpu::new(ctx, scene);
+    let mut renderer = FrameRenderer::new(ctx);
+    let input = FrameInput {
+        camera,
+        width: SIZE.0,
+        height: SIZE.1,
+        settings,
+    };
+    let report = renderer
+        .render_and_wait(ctx, scene, &scene_gpu, &input)
+        .expect("frame renders");
+    assert_eq!(report.technique, settings.setup.name());
+    let mut truth = TruthCache::default();
+    let exact = truth.exact(scene, camera, SIZE, settings.sun.direction_to_sun);
+    let shadowed = (0..exact.points.len())
+        .filter(|&i| exact.shadowed(i))
+        .count() as u32;
+    let error = renderer.exact_error(ctx, exact).expect("read back");
+    (error, shadowed, renderer)
+}
+
+/// The light at every ground point of the view against the box's analytic shadow, away from
+/// its edges (10 cm): returns (shadowed, lit) points checked.
+#[allow(clippy::float_cmp, reason = "hard shadows are exactly 0 or 1")]
+fn check_ground_against_analytic(
+    scene: &Scene,
+    camera: &Camera,
+    renderer: &FrameRenderer,
+) -> (u32, u32) {
+    let b = scene.instances[1].aabb_in_world;
+    let sun = scene.sun.direction_to_sun;
+    let mut truth = TruthCache::default();
+    let exact = truth.exact(scene, camera, SIZE, sun);
+    let ground: Vec<SurfacePoint> = exact
+        .points
+        .iter()
+        .filter(|p| p.position[1].abs() < 1e-3 && p.normal[1] > 0.99)
+        .copied()
+        .collect();
+    let light = renderer.light_at(gpu(), &ground).expect("read back");
+    let (mut shadowed, mut lit) = (0, 0);
+    for (p, light) in ground.iter().zip(light) {
+        let p = Vec3::from_slice(&p.position[..3]);
+        match expected_shadow(p, sun, b.min, b.max, 0.1) {
+            Some(true) => {
+                assert_eq!(light, 0.0, "ground at {p} is in the box's shadow");
+                shadowed += 1;
+            }
+            Some(false) => {
+                assert_eq!(light, 1.0, "ground at {p} is lit");
+                lit += 1;
+            }
+            None => {}
+        }
+    }
+    (shadowed, lit)
+}
+
+/// A ground point behind the box, seen from the sun.
+fn behind() -> Vec3 {
+    let to_sun = sun().direction_to_sun;
+    -Vec3::new(to_sun.x, 0.0, to_sun.z).normalize() * 3.0
+}
+
+#[test]
+fn the_volumes_of_a_box_give_its_exact_shadow() {
+    let scene = box_on_plane(20.0, BOX, 0.0, sun());
+    let camera = Camera::look_at(
+        Vec3::new(-6.0, 9.0, 8.0),
+        Vec3::new(-1.0, 0.0, 0.0),
+        60f32.to_radians(),
+        0.1,
+        200.0,
+    );
+    let (error, shadowed, renderer) = against_truth(&scene, &camera, &volumes(sun()));
+    assert!(shadowed > 1_000, "the view shows the shadow: {shadowed} px");
+    let (in_shadow, lit) = check_ground_against_analytic(&scene, &camera, &renderer);
+    assert!(
+        in_shadow > 500 && lit > 10_000,
+        "{in_shadow} shadowed, {lit} lit"
+    );
+    // Per pixel and exact: at most a pixel's rounding along the edges, and none on the box's
+    // own lit faces (where the volume's near cap lies on the surface).
+    let wrong = error.missing_shadow_px + error.extra_shadow_px;
+    assert!(
+        wrong * 500 <= error.visible_px,
+        "{error:?} of {shadowed} shadowed"
+    );
+    // A map of the same view misses far more.
+    let map = FrameSettings {
+        sun: sun(),
+        ..FrameSettings::default()
+    };
+    let (map_error, _, _) = against_truth(&scene, &camera, &map);
+    let map_wrong = map_error.missing_shadow_px + map_error.extra_shadow_px;
+    assert!(
+        map_wrong > wrong * 4,
+        "map {map_error:?}, volumes {error:?}"
+    );
+}
+
+#[test]
+fn the_camera_inside_the_shadow_sees_it_correctly() {
+    let scene = box_on_plane(20.0, BOX, 0.0, sun());
+    let behind = behind();
+    // Low behind the box, inside its shadow volume, looking along the shadow and back at the
+    // box: the near plane cuts the volume (z-pass would count it wrong).
+    let eye = behind * 0.8 + Vec3::Y * 0.6;
+    for target in [behind * 2.0, Vec3::new(0.0, 1.0, 0.0)] {
+        let camera = Camera::look_at(eye, target, 70f32.to_radians(), 0.05, 200.0);
+        let (error, shadowed, renderer) = against_truth(&scene, &camera, &volumes(sun()));
+        assert!(shadowed > 500, "{shadowed}");
+        let wrong = error.missing_shadow_px + error.extra_shadow_px;
+        assert!(
+            wrong * 500 <= error.visible_px,
+            "towards {target}: {error:?} of {shadowed} shadowed"
+        );
+        let (in_shadow, _) = check_ground_against_analytic(&scene, &camera, &renderer);
+        assert!(
+            in_shadow > 500,
+            "towards {target}: {in_shadow} shadowed ground points"
+        );
+    }
+}
+
+#[test]
+fn an_open_quad_lit_from_its_back_still_casts() {
+    let sun = sun();
+    let ground = box_mesh("ground", Vec3::new(20.0, 0.5, 20.0));
+    // One quad facing down, 2 m up: the sun sees its back; the mesh is not closed.
+    let quad = Mesh::new(
+        "roof",
+        vec![
+            Vec3::new(-1.5, 0.0, -1.5),
+            Vec3::new(1.5, 0.0, -1.5),
+            Vec3::new(1.5, 0.0, 1.5),
+            Vec3::new(-1.5, 0.0, 1.5),
+        ],
+        None,
+        vec![0, 1, 2, 0, 2, 3],
+    );
+    assert!(quad.normals[0].y < 0.0, "the quad faces down");
+    let instances = vec![
+        Instance::new(
+            "ground",
+            0,
+            &ground,
+            Mat4::from_translation(Vec3::new(0.0, -0.5, 0.0)),
+        ),
+        Instance::new(
+            "roof",
+            1,
+            &quad,
+            Mat4::from_translation(Vec3::new(0.0, 2.0, 0.0)),
+        ),
+    ];
+    let scene = Scene::new("test:open-quad", vec![ground, quad], instances, sun);
+    let camera = Camera::look_at(
+        Vec3::new(-7.0, 8.0, 7.0),
+        Vec3::new(-1.0, 0.0, 0.0),
+        60f32.to_radians(),
+        0.1,
+        200.0,
+    );
+    let (error, shadowed, _) = against_truth(&scene, &camera, &volumes(sun));
+    assert!(shadowed > 1_000, "the quad's shadow is in view: {shadowed}");
+    let wrong = error.missing_shadow_px + error.extra_shadow_px;
+    assert!(wrong * 100 <= shadowed, "{error:?} of {shadowed} shadowed");
+}
+
+#[test]
+fn a_city_street_in_volumes_is_all_but_exact() {
+    let scene = load_builtin("city-small", 0).expect("city-small");
+    let camera = city_small_street_camera();
+    let (error, shadowed, _) = against_truth(&scene, &camera, &volumes(scene.sun));
+    assert!(shadowed > 1_000, "{shadowed}");
+    let wrong = error.missing_shadow_px + error.extra_shadow_px;
+    assert!(
+        wrong * 1000 <= error.visible_px,
+        "{error:?} of {shadowed} shadowed"
+    );
+}
