@@ -71,7 +71,7 @@ fn bad_cascade_flags_name_the_flag() {
         (&["--splits", "5,3"], "--splits '5,3'"),
         (&["--split", "zhang"], "unknown split scheme 'zhang'"),
         (&["--cascade-fit", "round"], "unknown cascade fit 'round'"),
-        (&["--shadow", "volumes"], "unknown shadow setup 'volumes'"),
+        (&["--shadow", "wavelets"], "unknown shadow setup 'wavelets'"),
         (
             &["--split-ratio", "0.5"],
             "--split-ratio must be at least 1",
