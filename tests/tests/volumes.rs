@@ -3,7 +3,7 @@
 //! back, and a city street.
 
 use glam::{Mat4, Vec3};
-use render_core::frame::{FrameInput, FrameRenderer, FrameSettings, SceneGpu, ShadowSetup};
+use render_core::frame::{FrameInput, FrameRenderer, FrameSettings, Method, SceneGpu, ShadowSetup};
 use render_core::geom::Camera;
 use render_core::metrics::ShadowError;
 use render_core::scene::{Instance, Mesh, Scene, Sun, load_builtin};
@@ -213,5 +213,78 @@ fn a_city_street_in_volumes_is_all_but_exact() {
     assert!(
         wrong * 1000 <= error.visible_px,
         "{error:?} of {shadowed} shadowed"
+    );
+}
+
+#[test]
+fn culling_by_the_visible_receivers_drops_exactly_the_volume_that_reaches_none() {
+    // Nine ground tiles of 20 m; the camera sees only the middle one, with a box on it. A
+    // second box stands on a corner tile, under a sun nearly overhead: its volume reaches only
+    // its own tile, which no pixel shows.
+    let sun = Sun::from_azimuth_elevation_deg(30.0, 80.0);
+    let tile = box_mesh("tile", Vec3::new(10.0, 0.5, 10.0));
+    let cube = box_mesh("box", Vec3::new(1.0, 1.5, 1.0));
+    let mut instances = Vec::new();
+    for (k, (x, z)) in (-1..=1)
+        .flat_map(|x| (-1..=1).map(move |z| (x, z)))
+        .enumerate()
+    {
+        let at = Vec3::new(x as f32 * 20.0, -0.5, z as f32 * 20.0);
+        instances.push(Instance::new(
+            format!("tile {k}"),
+            0,
+            &tile,
+            Mat4::from_translation(at),
+        ));
+    }
+    for (name, at) in [
+        ("seen", Vec3::new(2.0, 1.5, 1.0)),
+        ("hidden", Vec3::new(-22.0, 1.5, -22.0)),
+    ] {
+        instances.push(Instance::new(name, 1, &cube, Mat4::from_translation(at)));
+    }
+    let scene = Scene::new("test:tiles", vec![tile, cube], instances, sun);
+    let camera = Camera::look_at(
+        Vec3::new(0.0, 25.0, 0.5),
+        Vec3::ZERO,
+        30f32.to_radians(),
+        0.1,
+        200.0,
+    );
+    let frame = |method| {
+        let settings = FrameSettings {
+            method,
+            ..volumes(sun)
+        };
+        let ctx = gpu();
+        let scene_gpu = SceneGpu::new(ctx, &scene);
+        let mut renderer = FrameRenderer::new(ctx);
+        let input = FrameInput {
+            camera: &camera,
+            width: SIZE.0,
+            height: SIZE.1,
+            settings: &settings,
+        };
+        let report = renderer
+            .render_and_wait(ctx, &scene, &scene_gpu, &input)
+            .expect("frame renders");
+        let mut truth = TruthCache::default();
+        let exact = truth.exact(&scene, &camera, SIZE, sun.direction_to_sun);
+        (report, renderer.exact_error(ctx, exact).expect("read back"))
+    };
+    let (all, all_error) = frame(Method::None);
+    let (culled, culled_error) = frame(Method::Bvol);
+    assert_eq!(all.counts.casters_total, 11);
+    assert_eq!(all.counts.casters_rendered, 11, "none draws every volume");
+    assert_eq!(
+        culled.counts.casters_rendered, 10,
+        "only the hidden box's volume is dropped: {:?}",
+        culled.stages
+    );
+    assert_eq!(culled.stages.last().map(|s| s.remaining), Some(10));
+    assert_eq!(culled_error, all_error, "culling changes no visible pixel");
+    assert!(
+        all_error.visible_px > 10_000
+            && all_error.missing_shadow_px + all_error.extra_shadow_px < 20
     );
 }

@@ -87,7 +87,11 @@ impl FrameReport {
             .casters_rendered
             .unwrap_or_else(|| shadows.views.iter().map(|v| v.casters_rendered).sum());
         self.counts.triangles_shadow = shadows.views.iter().map(|v| v.triangles_shadow).sum();
-        self.stages = summed_stages(&shadows.views);
+        self.stages = if shadows.views.is_empty() {
+            shadows.stages
+        } else {
+            summed_stages(&shadows.views)
+        };
         if let Some(first) = shadows.views.first() {
             self.light = LightFacts {
                 texel_size_m: first.texel_size_m,

@@ -427,6 +427,7 @@ impl ShadowTechnique for MapTechnique {
         ShadowReport {
             casters_total: self.cpu.casters_total(),
             casters_rendered: None,
+            stages: Vec::new(),
             views,
             culled_frame_index,
             notes,

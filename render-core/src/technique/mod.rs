@@ -135,8 +135,10 @@ pub struct Undersampling {
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ShadowReport {
     pub casters_total: u32,
-    /// For a technique with no views (shadow volumes), the casters it drew.
+    /// For a technique with no views (shadow volumes), the casters it drew and its culling
+    /// stages.
     pub casters_rendered: Option<u32>,
+    pub stages: Vec<Stage>,
     pub views: Vec<ViewReport>,
     /// For counts that come back from the GPU: the frame they belong to.
     pub culled_frame_index: Option<u64>,

@@ -4,8 +4,11 @@
 struct VolumeFrame {
     // xyz: unit vector towards the sun; w: how far volumes are extruded, metres.
     to_light: vec4<f32>,
-    // x: edge work items, y: triangle work items, z: casters; w: unused.
+    // x: edge work items, y: triangle work items, z: casters; w: the outcome code of a
+    // culled caster.
     counts: vec4<u32>,
+    // x: instances; y: 1 when casters are culled by the visible receivers; z, w: unused.
+    options: vec4<u32>,
 }
 
 // One caster: its mesh's edges and triangles, where its vertices start, and whether its
@@ -40,6 +43,7 @@ const VERTEX_FLOATS: u32 = 6u;
 @group(1) @binding(2) var<storage, read> indices: array<u32>;
 @group(1) @binding(3) var<storage, read> edges: array<Edge>;
 @group(1) @binding(4) var<storage, read> casters: array<Caster>;
+@group(1) @binding(5) var<storage, read> bounds: array<InstanceBounds>;
 
 fn local_vertex(index: u32) -> vec3<f32> {
     let at = index * VERTEX_FLOATS;

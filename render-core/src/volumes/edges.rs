@@ -209,8 +209,16 @@ mod tests {
         // Each lies between a lit side (+x, +y or +z) and an unlit one (-x, -y or -z).
         for s in &silhouette {
             let mid = ((s.0 + s.1) * 0.5).to_array();
-            assert_eq!(mid.iter().filter(|c| (**c - 0.5).abs() < 1e-6).count(), 1, "{s:?}");
-            assert_eq!(mid.iter().filter(|c| (**c + 0.5).abs() < 1e-6).count(), 1, "{s:?}");
+            assert_eq!(
+                mid.iter().filter(|c| (**c - 0.5).abs() < 1e-6).count(),
+                1,
+                "{s:?}"
+            );
+            assert_eq!(
+                mid.iter().filter(|c| (**c + 0.5).abs() < 1e-6).count(),
+                1,
+                "{s:?}"
+            );
         }
     }
 

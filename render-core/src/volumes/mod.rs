@@ -19,11 +19,11 @@ pub mod edges;
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
-use crate::culling::codes::{OUTCOME_NOT_CASTER, OUTCOME_RENDERED};
-use crate::culling::{CasterOutcome, Method};
+use crate::culling::codes::{OUTCOME_NOT_CASTER, OUTCOME_RENDERED, culled_code};
+use crate::culling::{CasterOutcome, Method, Stage, StageKind};
 use crate::gpu::{
-    GpuContext, bind_group_layout, buffer_entry, compute_pipeline, pass_label, pipeline_layout,
-    shader_module, storage, texture, uniform, view_entry,
+    AsyncReadback, GpuContext, bind_group_layout, buffer_entry, compute_pipeline, pass_label,
+    pipeline_layout, shader_module, storage, texture, uniform, view_entry,
 };
 use crate::scene::Scene;
 use crate::scene_gpu::{SceneGpu, VERTEX_LAYOUT};
@@ -40,8 +40,14 @@ pub const LIGHT_WGSL: &str = "volumes/light.wgsl";
 #[cfg(test)]
 pub(crate) fn shader_sources() -> Vec<(String, String)> {
     ["volumes/find.wgsl", "volumes/draw.wgsl"]
-        .map(|path| (path.to_owned(), crate::shaders::compose(path, &[])))
+        .map(|path| (path.to_owned(), shader_source(path)))
         .into()
+}
+
+/// A volume pass's shader, with culling's codes.
+fn shader_source(path: &str) -> String {
+    let codes = crate::culling::codes::wgsl();
+    crate::shaders::compose(path, &[(crate::culling::codes::WGSL_PATH, codes.as_str())])
 }
 
 /// `VolumeFrame` in `volumes/common.wgsl`.
@@ -50,6 +56,7 @@ pub(crate) fn shader_sources() -> Vec<(String, String)> {
 struct VolumeFrameGpu {
     to_light: [f32; 4],
     counts: [u32; 4],
+    options: [u32; 4],
 }
 
 /// `Caster` in `volumes/common.wgsl`.
@@ -81,10 +88,15 @@ struct SceneVolumes {
     closed_meshes: u32,
     meshes: u32,
     scene_group: wgpu::BindGroup,
-    find_group: wgpu::BindGroup,
     draw_group: wgpu::BindGroup,
+    quads: wgpu::Buffer,
+    caps: wgpu::Buffer,
     draws: wgpu::Buffer,
+    kept: wgpu::Buffer,
+    receivers: wgpu::Buffer,
+    counters: wgpu::Buffer,
     outcomes: wgpu::Buffer,
+    instances: u32,
 }
 
 /// The depth-stencil target at the view's size and the light group that reads its stencil.
@@ -104,6 +116,8 @@ pub struct VolumeTechnique {
     draw_layout: wgpu::BindGroupLayout,
     light_layout: wgpu::BindGroupLayout,
     reset: wgpu::ComputePipeline,
+    receivers: wgpu::ComputePipeline,
+    cull: wgpu::ComputePipeline,
     silhouettes: wgpu::ComputePipeline,
     caps: wgpu::ComputePipeline,
     depth: wgpu::RenderPipeline,
@@ -113,6 +127,12 @@ pub struct VolumeTechnique {
     scene: Option<SceneVolumes>,
     target: Option<StencilTarget>,
     excluded: Vec<u32>,
+    method: Method,
+    /// The counters of the frames in flight, and the newest that came back: (frame, visible
+    /// receivers, casters kept).
+    readback: AsyncReadback,
+    latest: Option<(u64, u32, u32)>,
+    frame_index: u64,
 }
 
 impl VolumeTechnique {
@@ -137,13 +157,23 @@ impl VolumeTechnique {
                 storage(true),
                 storage(true),
                 storage(true),
+                storage(true),
             ],
         );
         let find_layout = bind_group_layout(
             device,
             "Volumes::find_layout",
             wgpu::ShaderStages::COMPUTE,
-            &[storage(false), storage(false), storage(false)],
+            &[
+                storage(false),
+                storage(false),
+                storage(false),
+                storage(false),
+                storage(false),
+                storage(false),
+                storage(false),
+                storage(true),
+            ],
         );
         let draw_layout = bind_group_layout(
             device,
@@ -160,11 +190,8 @@ impl VolumeTechnique {
                 wgpu::TextureViewDimension::D2,
             )],
         );
-        let find_module = shader_module(
-            device,
-            "Volumes::find",
-            crate::shaders::compose("volumes/find.wgsl", &[]),
-        );
+        let find_module =
+            shader_module(device, "Volumes::find", shader_source("volumes/find.wgsl"));
         let find_pipeline_layout = pipeline_layout(
             device,
             "Volumes::find_pipeline_layout",
@@ -173,11 +200,8 @@ impl VolumeTechnique {
         let find =
             |entry| compute_pipeline(device, &find_module, Some(&find_pipeline_layout), entry);
         let depth = depth_pipeline(device, frame_layout, format);
-        let draw_module = shader_module(
-            device,
-            "Volumes::draw",
-            crate::shaders::compose("volumes/draw.wgsl", &[]),
-        );
+        let draw_module =
+            shader_module(device, "Volumes::draw", shader_source("volumes/draw.wgsl"));
         let draw_pipeline_layout = pipeline_layout(
             device,
             "Volumes::draw_pipeline_layout",
@@ -195,6 +219,8 @@ impl VolumeTechnique {
             format,
             depth_clamped,
             reset: find("reset_draws"),
+            receivers: find("collect_receivers"),
+            cull: find("cull_casters"),
             silhouettes: find("find_silhouettes"),
             caps: find("find_caps"),
             depth,
@@ -213,6 +239,10 @@ impl VolumeTechnique {
             scene: None,
             target: None,
             excluded: Vec::new(),
+            method: Method::None,
+            readback: AsyncReadback::new(device, "Volumes::counters_readback", 16, 3),
+            latest: None,
+            frame_index: 0,
         }
     }
 
@@ -298,12 +328,26 @@ impl VolumeTechnique {
         };
         let quads = record_buffer("Volumes::quads", edge_items.saturating_mul(2));
         let caps = record_buffer("Volumes::caps", triangle_items);
-        let draws = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("Volumes::draws"),
-            size: 32,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
-            mapped_at_creation: false,
-        });
+        let storage_buffer = |label: &str, size: u64, usage: wgpu::BufferUsages| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: size.max(16),
+                usage: wgpu::BufferUsages::STORAGE | usage,
+                mapped_at_creation: false,
+            })
+        };
+        let draws = storage_buffer("Volumes::draws", 32, wgpu::BufferUsages::INDIRECT);
+        let kept = storage_buffer(
+            "Volumes::kept",
+            u64::from(casters.len() as u32) * 4,
+            wgpu::BufferUsages::empty(),
+        );
+        let receivers = storage_buffer(
+            "Volumes::receivers",
+            scene.instances.len() as u64 * 32,
+            wgpu::BufferUsages::empty(),
+        );
+        let counters = storage_buffer("Volumes::counters", 16, wgpu::BufferUsages::COPY_SRC);
         let scene_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("Volumes::scene_group"),
             layout: &self.scene_layout,
@@ -313,15 +357,7 @@ impl VolumeTechnique {
                 buffer_entry(2, &scene_gpu.index_buffer),
                 buffer_entry(3, &edges_buffer),
                 buffer_entry(4, &casters_buffer),
-            ],
-        });
-        let find_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("Volumes::find_group"),
-            layout: &self.find_layout,
-            entries: &[
-                buffer_entry(0, &quads),
-                buffer_entry(1, &caps),
-                buffer_entry(2, &draws),
+                buffer_entry(5, &scene_gpu.bounds_buffer),
             ],
         });
         let draw_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -338,14 +374,19 @@ impl VolumeTechnique {
             closed_meshes,
             meshes: scene.meshes.len() as u32,
             scene_group,
-            find_group,
             draw_group,
+            quads,
+            caps,
             draws,
+            kept,
+            receivers,
+            counters,
             outcomes: init(
                 "Volumes::outcomes",
                 &keep(bytemuck::cast_slice(&outcomes).to_vec()),
                 wgpu::BufferUsages::STORAGE,
             ),
+            instances: scene.instances.len() as u32,
         });
     }
 
@@ -491,13 +532,20 @@ impl ShadowTechnique for VolumeTechnique {
         (LIGHT_WGSL, &self.light_layout)
     }
 
-    /// Every caster's volume is drawn: no caster culling yet.
-    fn effective_method(&self, _requested: Method) -> Method {
-        Method::None
+    /// `none` draws every caster's volume (standard shadow volumes); every other method culls
+    /// them by the visible receivers' boxes (BVOL's test on the volumes, Lloyd's 3.1).
+    fn effective_method(&self, requested: Method) -> Method {
+        if requested == Method::None {
+            Method::None
+        } else {
+            Method::Bvol
+        }
     }
 
     fn prepare(&mut self, ctx: &GpuContext, input: &TechniqueInput<'_>) -> Vec<ShadowView> {
         self.ensure_scene(ctx, input.scene, input.scene_gpu);
+        self.method = self.effective_method(input.method);
+        self.frame_index = input.frame_index;
         let bounds = input.scene.bounds();
         let reach = if bounds.is_empty() {
             1.0
@@ -511,7 +559,18 @@ impl ShadowTechnique for VolumeTechnique {
             0,
             bytemuck::bytes_of(&VolumeFrameGpu {
                 to_light: to_light.extend(reach).to_array(),
-                counts: [scene.edge_items, scene.triangle_items, scene.casters, 0],
+                counts: [
+                    scene.edge_items,
+                    scene.triangle_items,
+                    scene.casters,
+                    culled_code(StageKind::ReceiverMask),
+                ],
+                options: [
+                    scene.instances,
+                    u32::from(self.method != Method::None),
+                    0,
+                    0,
+                ],
             }),
         );
         Vec::new()
@@ -527,6 +586,23 @@ impl ShadowTechnique for VolumeTechnique {
         let (Some(scene), Some(target)) = (self.scene.as_ref(), self.target.as_ref()) else {
             unreachable!("ensured in prepare and above");
         };
+        let find_group = draw
+            .ctx
+            .device
+            .create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("Volumes::find_group"),
+                layout: &self.find_layout,
+                entries: &[
+                    buffer_entry(0, &scene.quads),
+                    buffer_entry(1, &scene.caps),
+                    buffer_entry(2, &scene.draws),
+                    buffer_entry(3, &scene.kept),
+                    buffer_entry(4, &scene.receivers),
+                    buffer_entry(5, &scene.counters),
+                    buffer_entry(6, &scene.outcomes),
+                    buffer_entry(7, draw.visible_flags),
+                ],
+            });
         let query = draw
             .timer
             .begin_scope(pass_label::VOLUME_SILHOUETTES, encoder);
@@ -537,10 +613,12 @@ impl ShadowTechnique for VolumeTechnique {
             });
             pass.set_bind_group(0, draw.frame_group, &[]);
             pass.set_bind_group(1, &scene.scene_group, &[]);
-            pass.set_bind_group(2, &scene.find_group, &[]);
+            pass.set_bind_group(2, &find_group, &[]);
             pass.set_pipeline(&self.reset);
             pass.dispatch_workgroups(1, 1, 1);
             for (pipeline, items) in [
+                (&self.receivers, scene.instances),
+                (&self.cull, scene.casters),
                 (&self.silhouettes, scene.edge_items),
                 (&self.caps, scene.triangle_items),
             ] {
@@ -552,6 +630,8 @@ impl ShadowTechnique for VolumeTechnique {
             }
         }
         draw.timer.end_pass(encoder, query);
+        self.readback
+            .copy(encoder, &scene.counters, input.frame_index);
         let query = draw.timer.begin_pass(pass_label::VOLUME_DEPTH, encoder);
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -617,15 +697,33 @@ impl ShadowTechnique for VolumeTechnique {
         }
     }
 
-    fn after_submit(&mut self) {}
+    fn after_submit(&mut self) {
+        self.readback.map_copied();
+    }
 
     fn collect(&mut self) -> ShadowReport {
+        if let Some((frame, bytes)) = self.readback.take_latest() {
+            let words: &[u32] = bytemuck::cast_slice(&bytes);
+            self.latest = Some((frame, words[0], words[1]));
+        }
         let Some(scene) = self.scene.as_ref() else {
             return ShadowReport::default();
         };
+        let kept = self.latest.map(|(_, _, kept)| kept);
+        let mut stages = vec![Stage::new("scene casters", scene.casters)];
+        if self.method != Method::None {
+            stages.push(Stage::new(
+                "visible receivers' boxes (volume)",
+                kept.unwrap_or(scene.casters),
+            ));
+        }
+        let drawn = match self.method {
+            Method::None => "every caster's volume drawn",
+            _ => "the volumes that reach a visible receiver's box drawn",
+        };
         let mut notes = vec![format!(
-            "shadow volumes: every caster's volume drawn z-fail ({} of {} meshes closed; the \
-             others cast from both sides)",
+            "shadow volumes: {drawn}, z-fail ({} of {} meshes closed; the others cast from both \
+             sides)",
             scene.closed_meshes, scene.meshes
         )];
         if !self.depth_clamped {
@@ -636,14 +734,20 @@ impl ShadowTechnique for VolumeTechnique {
         }
         ShadowReport {
             casters_total: scene.casters,
-            casters_rendered: Some(scene.casters),
+            casters_rendered: Some(match self.method {
+                Method::None => scene.casters,
+                _ => kept.unwrap_or(scene.casters),
+            }),
+            stages,
+            culled_frame_index: self.latest.map(|(frame, _, _)| frame),
             notes,
             ..ShadowReport::default()
         }
     }
 
-    fn has_results_of(&self, _frame_index: u64) -> bool {
-        true
+    fn has_results_of(&self, frame_index: u64) -> bool {
+        self.latest
+            .is_some_and(|(frame, _, _)| frame >= frame_index)
     }
 
     fn inset(&self, _view: u32) -> Option<InsetSources<'_>> {
