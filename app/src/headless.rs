@@ -248,6 +248,12 @@ pub fn shot(args: &ShotArgs) -> anyhow::Result<()> {
             .map_or_else(|| "?".into(), |n| n.to_string()),
         stats_path.display()
     );
+    if let Some(fill) = report.volume_fill {
+        println!(
+            "shadow volumes: {} fragments rasterised, {} stencil writes",
+            fill.fragments, fill.stencil_writes
+        );
+    }
     Ok(())
 }
 
@@ -345,6 +351,7 @@ pub fn stats_json(
         "views": report.views,
         "notes": report.notes,
         "shadow_failure": report.shadow_failure,
+        "volume_fill": report.volume_fill,
         "timings_ms": {
             "frame_wall": wall_ms,
             "cpu_culling": report.cpu.culling_ms,

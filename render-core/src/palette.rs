@@ -30,6 +30,12 @@ pub const MAP_FAR: Swatch = swatch("MAP_FAR", [0.05, 0.05, 0.05]);
 pub const MASK_GEOMETRY: Swatch = swatch("MASK_GEOMETRY", [0.1, 0.9, 0.2]);
 pub const MASK_BOX: Swatch = swatch("MASK_BOX", [0.15, 0.35, 1.0]);
 pub const MASK_FRAGMENT: Swatch = swatch("MASK_FRAGMENT", [1.0, 0.12, 0.1]);
+/// Shadow-volume fill heat map: one volume fragment on a pixel, then [`FILL_HIGH`] at
+/// [`FILL_HIGH_COUNT`] and more.
+pub const FILL_LOW: Swatch = swatch("FILL_LOW", [0.1, 0.3, 1.0]);
+pub const FILL_HIGH: Swatch = swatch("FILL_HIGH", [1.0, 0.9, 0.1]);
+/// Volume fragments on one pixel that the fill heat map shows as [`FILL_HIGH`].
+pub const FILL_HIGH_COUNT: u32 = 1024;
 
 /// The shadow views (cascades) in order; a ninth view takes the first colour again.
 pub const VIEWS: [Swatch; 8] = [
@@ -43,7 +49,7 @@ pub const VIEWS: [Swatch; 8] = [
     swatch("VIEW_7", [0.6, 0.6, 0.6]),
 ];
 
-const ALL: [Swatch; 13] = [
+const ALL: [Swatch; 15] = [
     RENDERED,
     EXCLUDED,
     CULLED_LIGHT_FRUSTUM,
@@ -57,6 +63,8 @@ const ALL: [Swatch; 13] = [
     MASK_GEOMETRY,
     MASK_BOX,
     MASK_FRAGMENT,
+    FILL_LOW,
+    FILL_HIGH,
 ];
 
 pub(crate) const WGSL_PATH: &str = "palette.wgsl";
@@ -77,6 +85,10 @@ pub(crate) fn wgsl() -> String {
             "const PALETTE_{name} = vec3<f32>({r:?}, {g:?}, {b:?});"
         );
     }
+    let _ = writeln!(
+        out,
+        "const PALETTE_FILL_HIGH_COUNT: u32 = {FILL_HIGH_COUNT}u;"
+    );
     out.push_str("fn palette_view(v: u32) -> vec3<f32> {\n    switch v % 8u {\n");
     for (i, Swatch { name, .. }) in VIEWS.iter().enumerate() {
         let case = if i + 1 == VIEWS.len() {

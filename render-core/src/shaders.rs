@@ -73,6 +73,10 @@ const FILES: &[(&str, &str)] = &[
     ("volumes/find.wgsl", include_str!("volumes/find.wgsl")),
     ("volumes/draw.wgsl", include_str!("volumes/draw.wgsl")),
     ("volumes/light.wgsl", include_str!("volumes/light.wgsl")),
+    (
+        "volumes/fill_heat.wgsl",
+        include_str!("volumes/fill_heat.wgsl"),
+    ),
 ];
 
 /// A file that Rust writes, named like a file of the crate (`culling/codes.wgsl`).

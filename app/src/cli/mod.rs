@@ -147,7 +147,8 @@ pub struct ViewArgs {
     /// Which shadow view (cascade) the light-view inset shows, from 0.
     #[arg(long, value_name = "N")]
     pub inset_view: Option<u32>,
-    /// Overlay to draw (repeatable): light-view, error, casters, cascades.
+    /// Overlay to draw (repeatable): light-view, error, casters, cascades, fill (shadow-volume
+    /// fill heat map).
     #[arg(long, value_name = "NAME")]
     pub overlay: Vec<String>,
     /// PCF kernel: off, 2x2, 3x3, 5x5.
@@ -189,6 +190,10 @@ pub struct ViewArgs {
     /// The manual split's distances between cascades, metres, increasing: d1,d2,...
     #[arg(long, value_name = "D1,D2,...")]
     pub splits: Option<String>,
+    /// `--shadow volumes`: how far each volume reaches along the light: none (past the scene)
+    /// or continuous (to the furthest visible receiver box it overlaps, Lloyd's clamping).
+    #[arg(long, value_parser = parse_volume_clamp, value_name = "CLAMP")]
+    pub volume_clamp: Option<render_core::volumes::VolumeClamp>,
     /// `--shadow lispsm`: multiplies the warp's optimal n (Wimmer et al. 2004); below 1 warps
     /// harder, above 1 tends to a uniform map.
     #[arg(long, value_name = "SCALE")]
@@ -349,6 +354,9 @@ impl ViewArgs {
             }
             cascades.blend = blend;
         }
+        if let Some(clamp) = self.volume_clamp {
+            settings.volumes.clamp = clamp;
+        }
         if let Some(scale) = self.lispsm_n {
             anyhow::ensure!(
                 scale.is_finite() && (0.01..=100.0).contains(&scale),
@@ -441,6 +449,10 @@ fn parse_pcf(s: &str) -> Result<PcfKernel, String> {
 }
 
 fn parse_setup(s: &str) -> Result<ShadowSetup, String> {
+    s.parse()
+}
+
+fn parse_volume_clamp(s: &str) -> Result<render_core::volumes::VolumeClamp, String> {
     s.parse()
 }
 

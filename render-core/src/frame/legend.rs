@@ -101,6 +101,15 @@ pub fn legend(settings: &FrameSettings) -> Vec<LegendGroup> {
             ],
         });
     }
+    if overlays.fill && settings.setup == super::ShadowSetup::Volumes {
+        groups.push(LegendGroup {
+            title: "Shadow-volume fill",
+            entries: vec![
+                entry(crate::palette::FILL_LOW, "1 fragment on the pixel"),
+                entry(crate::palette::FILL_HIGH, "1,024 and more (log scale)"),
+            ],
+        });
+    }
     if overlays.light_view {
         let bits = settings.method.gpu_bits().unwrap_or(0);
         let mut entries = vec![
@@ -148,6 +157,7 @@ mod tests {
             error: true,
             casters: true,
             cascades: false,
+            fill: false,
             inset_view: 0,
         };
         settings.method = Method::Frag;

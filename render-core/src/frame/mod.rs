@@ -313,6 +313,8 @@ impl FrameRenderer {
             shadow: &settings.shadow,
             direction_to_sun: settings.sun.direction_to_sun,
             measure: settings.measure,
+            measure_fill: settings.measure || settings.overlays.fill,
+            volumes: settings.volumes,
             frame_index: self.frame_index,
             visible_receivers: self.latest.visibility.map(|v| v.receiver_bounds),
             visible_depths_m: self
@@ -425,6 +427,11 @@ impl FrameRenderer {
         };
         if settings.overlays.error && settings.measure {
             self.heat_map.draw(&ctx.device, encoder, targets);
+        }
+        if settings.overlays.fill {
+            self.techniques
+                .active()
+                .draw_overlay(&ctx.device, encoder, targets);
         }
         let last_view = self.views.count().saturating_sub(1);
         if let Some(sources) = self

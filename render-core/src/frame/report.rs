@@ -77,6 +77,8 @@ pub struct FrameReport {
     pub notes: Vec<String>,
     /// Why this frame's shadow passes could not run as asked, and what was drawn instead.
     pub shadow_failure: Option<String>,
+    /// Shadow volumes: fragments rasterised and stencil writes (when counted).
+    pub volume_fill: Option<crate::technique::VolumeFill>,
 }
 
 impl FrameReport {
@@ -103,6 +105,7 @@ impl FrameReport {
         self.culled_frame_index = shadows.culled_frame_index;
         self.notes = shadows.notes;
         self.shadow_failure = shadows.failure;
+        self.volume_fill = shadows.volume_fill;
     }
 
     /// Takes a measured frame: error, and the oracle per view and in total.

@@ -24,13 +24,15 @@ pub struct Overlays {
     pub casters: bool,
     /// Each point tinted by the shadow view that shades it: a colour per cascade.
     pub cascades: bool,
+    /// Shadow volumes: how many volume fragments each pixel took (the fill heat map).
+    pub fill: bool,
     /// Which shadow view (cascade) the light-view inset shows; the last one when there are
     /// fewer.
     pub inset_view: u32,
 }
 
 impl Overlays {
-    pub const NAMES: [&'static str; 4] = ["light-view", "error", "casters", "cascades"];
+    pub const NAMES: [&'static str; 5] = ["light-view", "error", "casters", "cascades", "fill"];
 
     /// Turns on the overlay called `name`.
     pub fn enable(&mut self, name: &str) -> Result<(), String> {
@@ -39,6 +41,7 @@ impl Overlays {
             "error" => self.error = true,
             "casters" => self.casters = true,
             "cascades" => self.cascades = true,
+            "fill" => self.fill = true,
             _ => {
                 return Err(format!(
                     "unknown overlay '{name}' (available: {})",
@@ -101,7 +104,11 @@ impl std::str::FromStr for ShadowSetup {
             .into_iter()
             .find(|setup| setup.name() == s)
             .ok_or_else(|| {
-                format!("unknown shadow setup '{s}' (available: single, lispsm, cascades)")
+                let names: Vec<_> = Self::ALL.iter().map(|s| s.name()).collect();
+                format!(
+                    "unknown shadow setup '{s}' (available: {})",
+                    names.join(", ")
+                )
             })
     }
 }
@@ -115,6 +122,7 @@ pub struct FrameSettings {
     pub setup: ShadowSetup,
     pub cascades: CascadeSettings,
     pub lispsm: LispsmSettings,
+    pub volumes: crate::shadow_view::VolumeSettings,
     #[serde(skip)]
     pub sun: Sun,
     pub method: Method,

@@ -428,6 +428,7 @@ impl ShadowTechnique for MapTechnique {
             casters_total: self.cpu.casters_total(),
             casters_rendered: None,
             stages: Vec::new(),
+            volume_fill: None,
             views,
             culled_frame_index,
             notes,

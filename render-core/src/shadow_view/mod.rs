@@ -10,10 +10,12 @@
 mod buffer;
 mod gpu_data;
 mod settings;
+mod volume_settings;
 
 pub use buffer::ViewBuffer;
 pub use gpu_data::ShadowViewGpu;
 pub use settings::{PcfKernel, ShadowSettings};
+pub use volume_settings::{VolumeClamp, VolumeSettings};
 
 use crate::geom::LightFrustum;
 

@@ -59,6 +59,9 @@ pub struct TechniqueInput<'a> {
     pub direction_to_sun: glam::Vec3,
     /// The frame measures error and the oracle against the reference.
     pub measure: bool,
+    /// Shadow volumes count their fill (when measuring, or for the fill heat map).
+    pub measure_fill: bool,
+    pub volumes: crate::shadow_view::VolumeSettings,
     pub frame_index: u64,
     /// The newest visible receivers' world bounds that have come back (for FOCUS).
     pub visible_receivers: Option<Aabb>,
@@ -139,6 +142,8 @@ pub struct ShadowReport {
     /// stages.
     pub casters_rendered: Option<u32>,
     pub stages: Vec<Stage>,
+    /// Shadow volumes: the fill of the newest frame that counted it.
+    pub volume_fill: Option<VolumeFill>,
     pub views: Vec<ViewReport>,
     /// For counts that come back from the GPU: the frame they belong to.
     pub culled_frame_index: Option<u64>,
@@ -148,6 +153,15 @@ pub struct ShadowReport {
     pub failure: Option<String>,
     /// CPU time of choosing casters this frame, milliseconds.
     pub cpu_culling_ms: f64,
+}
+
+/// Fragments and stencil writes of one frame's volumes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct VolumeFill {
+    /// Fragments the volume faces rasterise, depth test off.
+    pub fragments: u64,
+    /// Of those, the ones behind the visible surface: z-fail's stencil writes.
+    pub stencil_writes: u64,
 }
 
 /// One view of the light's view inset: its map, mask and outcomes.
@@ -209,6 +223,16 @@ pub trait ShadowTechnique {
 
     /// Whether frame `frame_index`'s counts and outcomes have come back (or need not).
     fn has_results_of(&self, frame_index: u64) -> bool;
+
+    /// Draws the technique's own overlay over the colour target (shadow volumes: the fill
+    /// heat map, when the frame counted fill).
+    fn draw_overlay(
+        &self,
+        _device: &wgpu::Device,
+        _encoder: &mut wgpu::CommandEncoder,
+        _targets: &ViewTargets,
+    ) {
+    }
 
     /// View `view`'s part of the light's view inset, as the last frame drew it.
     fn inset(&self, view: u32) -> Option<InsetSources<'_>>;

@@ -7,8 +7,16 @@ struct VolumeFrame {
     // x: edge work items, y: triangle work items, z: casters; w: the outcome code of a
     // culled caster.
     counts: vec4<u32>,
-    // x: instances; y: 1 when casters are culled by the visible receivers; z, w: unused.
+    // x: instances; y: bit 0 culling, bit 1 clamping (volumes/find.wgsl); z: the receiver
+    // grid's side in cells; w: unused.
     options: vec4<u32>,
+    // The light's frame: xyz two axes across the light and the one it travels; w: where the
+    // receiver grid starts along the first two, and the scene's nearest depth along the last.
+    right: vec4<f32>,
+    up: vec4<f32>,
+    travel: vec4<f32>,
+    // x: the grid's cell size, metres; y, z, w: unused.
+    cell: vec4<f32>,
 }
 
 // One caster: its mesh's edges and triangles, where its vertices start, and whether its

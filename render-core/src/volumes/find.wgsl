@@ -16,67 +16,60 @@ struct DrawArgs {
 @group(2) @binding(0) var<storage, read_write> quads: array<vec2<u32>>;
 @group(2) @binding(1) var<storage, read_write> caps: array<vec2<u32>>;
 @group(2) @binding(2) var<storage, read_write> draws: array<DrawArgs, 2>;
-// Per caster, 1 when its volume is drawn.
+// Per caster, how far its volume reaches along the light (metres, as bits; 0: not drawn).
 @group(2) @binding(3) var<storage, read_write> kept: array<u32>;
-// The visible receivers' boxes in light space (`LightBox`), and how many.
-@group(2) @binding(4) var<storage, read_write> receivers: array<LightBox>;
-// 0: visible receivers, 1: casters kept.
+// The visible receivers in the light's view: per grid cell, the deepest visible receiver
+// point (its depth past the scene's nearest, plus 1, as bits; 0: none).
+@group(2) @binding(4) var<storage, read_write> grid: array<atomic<u32>>;
+// 0: grid cells marked (unused), 1: casters kept, 2, 3: fill (volumes/fill.rs).
 @group(2) @binding(5) var<storage, read_write> counters: array<atomic<u32>, 4>;
 // Per instance, the outcome code (the `casters` overlay).
 @group(2) @binding(6) var<storage, read_write> outcomes: array<u32>;
-// Per instance, non-zero where a pixel shows it (view/visibility.wgsl).
-@group(2) @binding(7) var<storage, read> visible: array<u32>;
+// The camera's visible surface: object id + 1 (0: sky) and world position (view/targets.rs).
+@group(2) @binding(7) var surface_ids: texture_2d<u32>;
+@group(2) @binding(8) var surface_positions: texture_2d<f32>;
 
-// A box in the light's space: across the light (x, y) and along it (z, the depth the light
-// travels); `lo.w`, `hi.w` unused.
-struct LightBox {
-    lo: vec4<f32>,
-    hi: vec4<f32>,
+// A point in the light's frame: across (x, y) and depth past the scene's nearest (z).
+fn in_light(p: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(
+        dot(p, volume.right.xyz) - volume.right.w,
+        dot(p, volume.up.xyz) - volume.up.w,
+        dot(p, volume.travel.xyz) - volume.travel.w,
+    );
 }
 
-// The light's frame: two directions across it and the one it travels.
-fn light_axes() -> array<vec3<f32>, 3> {
-    let travel = -volume.to_light.xyz;
-    let helper = select(vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(1.0, 0.0, 0.0), abs(travel.y) > 0.9);
-    let right = normalize(cross(helper, travel));
-    let up = cross(travel, right);
-    return array<vec3<f32>, 3>(right, up, travel);
+fn cell_of(p: vec2<f32>) -> vec2<i32> {
+    return vec2<i32>(floor(p / volume.cell.x));
 }
 
-fn light_box(b: InstanceBounds) -> LightBox {
-    let axes = light_axes();
-    var out = LightBox(vec4<f32>(1e30), vec4<f32>(-1e30));
-    for (var k = 0u; k < 8u; k++) {
-        let corner = vec3<f32>(
-            select(b.min.x, b.max.x, (k & 1u) != 0u),
-            select(b.min.y, b.max.y, (k & 2u) != 0u),
-            select(b.min.z, b.max.z, (k & 4u) != 0u),
-        );
-        let p = vec4<f32>(dot(corner, axes[0]), dot(corner, axes[1]), dot(corner, axes[2]), 0.0);
-        out.lo = min(out.lo, p);
-        out.hi = max(out.hi, p);
-    }
-    return out;
-}
-
-// Lloyd's potential shadow receivers: every visible receiver's box in light space.
-@compute @workgroup_size(64)
-fn collect_receivers(@builtin(global_invocation_id) id: vec3<u32>) {
-    let i = id.x + id.y * 65535u * 64u;
-    if (i >= volume.options.x) {
+// Lloyd's potential shadow receivers, exactly: every visible receiver pixel marks the grid
+// cell under it with its depth along the light.
+@compute @workgroup_size(8, 8)
+fn mark_receivers(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(surface_ids);
+    if (any(id.xy >= size)) {
         return;
     }
-    let b = bounds[i];
-    if (visible[i] == 0u || (b.flags & FLAG_RECEIVER) == 0u) {
+    let object = textureLoad(surface_ids, vec2<i32>(id.xy), 0).x;
+    if (object == 0u || (bounds[object - 1u].flags & FLAG_RECEIVER) == 0u) {
         return;
     }
-    let slot = atomicAdd(&counters[0], 1u);
-    receivers[slot] = light_box(b);
+    let p = in_light(textureLoad(surface_positions, vec2<i32>(id.xy), 0).xyz);
+    let side = i32(volume.options.z);
+    let cell = clamp(cell_of(p.xy), vec2<i32>(0), vec2<i32>(side - 1));
+    atomicMax(&grid[u32(cell.y * side + cell.x)], bitcast<u32>(max(p.z, 0.0) + 1.0));
 }
+
+// The cells a caster's box covers in the light's view, at most this many before its volume
+// is kept whole.
+const MAX_CELLS: i32 = 4096;
 
 // A caster's volume (its box across the light, from its nearest depth on) can hold a visible
-// point only where it overlaps a visible receiver's box: else it is not drawn. Conservative:
-// the boxes hold what they bound, and the volume lies inside its box's extrusion.
+// receiver point only where the grid marks one under it, no nearer than the box: else it is
+// not drawn (culling, options.y bit 0). With clamping (bit 1) it reaches only to the deepest
+// such point. Conservative: the box holds the caster, the volume lies inside its box's
+// extrusion, every vertex lies at least as deep as the box's near side, and each cell keeps
+// the deepest point in it. Writes the volume's reach along the light (metres, as bits).
 @compute @workgroup_size(64)
 fn cull_casters(@builtin(global_invocation_id) id: vec3<u32>) {
     let ci = id.x + id.y * 65535u * 64u;
@@ -84,26 +77,51 @@ fn cull_casters(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let c = casters[ci];
-    var keep = volume.options.y == 0u;
-    if (!keep) {
-        let own = light_box(bounds[c.instance]);
-        // The boxes are rounded outwards by a millimetre and a bit of their size.
-        let pad = vec3<f32>(1e-3) + (own.hi.xyz - own.lo.xyz) * 1e-5;
-        let count = atomicLoad(&counters[0]);
-        for (var r = 0u; r < count && !keep; r++) {
-            let other = receivers[r];
-            keep = all(other.hi.xy + pad.xy >= own.lo.xy)
-                && all(other.lo.xy - pad.xy <= own.hi.xy)
-                && other.hi.z + pad.z >= own.lo.z;
+    let culling = (volume.options.y & 1u) != 0u;
+    let clamping = (volume.options.y & 2u) != 0u;
+    let b = bounds[c.instance];
+    var lo = vec3<f32>(1e30);
+    var hi = vec3<f32>(-1e30);
+    for (var k = 0u; k < 8u; k++) {
+        let corner = vec3<f32>(
+            select(b.min.x, b.max.x, (k & 1u) != 0u),
+            select(b.min.y, b.max.y, (k & 2u) != 0u),
+            select(b.min.z, b.max.z, (k & 4u) != 0u),
+        );
+        let p = in_light(corner);
+        lo = min(lo, p);
+        hi = max(hi, p);
+    }
+    // Rounded outwards by a millimetre and a bit of the box.
+    let pad = 1e-3 + length(hi - lo) * 1e-5;
+    let side = i32(volume.options.z);
+    let first = clamp(cell_of(lo.xy - pad), vec2<i32>(0), vec2<i32>(side - 1));
+    let last = clamp(cell_of(hi.xy + pad), vec2<i32>(0), vec2<i32>(side - 1));
+    let span = last - first + 1;
+    var deepest = -1.0;
+    if (span.x * span.y > MAX_CELLS) {
+        deepest = 1e30;
+    } else if (culling || clamping) {
+        for (var y = first.y; y <= last.y; y++) {
+            for (var x = first.x; x <= last.x; x++) {
+                let bits = atomicLoad(&grid[u32(y * side + x)]);
+                if (bits != 0u) {
+                    deepest = max(deepest, bitcast<f32>(bits) - 1.0);
+                }
+            }
         }
     }
-    kept[ci] = select(0u, 1u, keep);
+    let keep = !culling || deepest + pad >= max(lo.z, 0.0);
+    var reach = volume.to_light.w;
+    if (clamping && deepest < 1e29) {
+        reach = min(reach, max(deepest - lo.z, 0.0) + 2.0 * pad + 1e-2);
+    }
+    kept[ci] = select(0u, bitcast<u32>(reach), keep);
     outcomes[c.instance] = select(volume.counts.w, OUTCOME_RENDERED, keep);
     if (keep) {
         atomicAdd(&counters[1], 1u);
     }
 }
-
 
 fn append_quad(caster: u32, edge: u32, reversed: bool) {
     let slot = atomicAdd(&draws[0].instance_count, 1u);

@@ -15,89 +15,35 @@
 //! Every caster's volume is drawn; Lloyd's culling and clamping build on this.
 
 pub mod edges;
+mod fill;
+mod pipelines;
+mod scene;
 
-use bytemuck::{Pod, Zeroable};
-use wgpu::util::DeviceExt;
-
-use crate::culling::codes::{OUTCOME_NOT_CASTER, OUTCOME_RENDERED, culled_code};
+use crate::culling::codes::culled_code;
 use crate::culling::{CasterOutcome, Method, Stage, StageKind};
+use crate::geom::basis_for_direction;
 use crate::gpu::{
     AsyncReadback, GpuContext, bind_group_layout, buffer_entry, compute_pipeline, pass_label,
     pipeline_layout, shader_module, storage, texture, uniform, view_entry,
 };
 use crate::scene::Scene;
-use crate::scene_gpu::{SceneGpu, VERTEX_LAYOUT};
+use crate::scene_gpu::SceneGpu;
 use crate::shadow_view::ShadowView;
+pub use crate::shadow_view::{VolumeClamp, VolumeSettings};
+pub use crate::technique::VolumeFill;
 use crate::technique::{
     DrawInput, InsetSources, ShadowPasses, ShadowReport, ShadowTechnique, TechniqueInput,
 };
-use edges::{Edge, mesh_edges};
+use fill::{Fill, FillDraw};
+#[cfg(test)]
+pub(crate) use pipelines::shader_sources;
+use pipelines::{
+    RECEIVER_GRID, VolumeFrameGpu, depth_pipeline, dispatch_size, shader_source, volume_pipeline,
+};
+use scene::{SceneLayouts, SceneVolumes};
 
 /// The light term's file (group 1 of the shading pass).
 pub const LIGHT_WGSL: &str = "volumes/light.wgsl";
-
-/// The volume passes' shaders: (label, WGSL), as they are built.
-#[cfg(test)]
-pub(crate) fn shader_sources() -> Vec<(String, String)> {
-    ["volumes/find.wgsl", "volumes/draw.wgsl"]
-        .map(|path| (path.to_owned(), shader_source(path)))
-        .into()
-}
-
-/// A volume pass's shader, with culling's codes.
-fn shader_source(path: &str) -> String {
-    let codes = crate::culling::codes::wgsl();
-    crate::shaders::compose(path, &[(crate::culling::codes::WGSL_PATH, codes.as_str())])
-}
-
-/// `VolumeFrame` in `volumes/common.wgsl`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
-struct VolumeFrameGpu {
-    to_light: [f32; 4],
-    counts: [u32; 4],
-    options: [u32; 4],
-}
-
-/// `Caster` in `volumes/common.wgsl`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-struct CasterGpu {
-    instance: u32,
-    first_edge: u32,
-    first_triangle: u32,
-    base_vertex: u32,
-    edge_start: u32,
-    triangle_start: u32,
-    closed: u32,
-    padding: u32,
-}
-
-/// Work items per workgroup of the silhouette passes.
-const WORKGROUP: u32 = 64;
-/// Workgroups per dispatch row.
-const ROW_GROUPS: u32 = 65_535;
-
-/// The scene as the volumes see it: every mesh's edges, the casters, room for the records.
-struct SceneVolumes {
-    scene_id: u64,
-    excluded: Vec<u32>,
-    casters: u32,
-    edge_items: u32,
-    triangle_items: u32,
-    closed_meshes: u32,
-    meshes: u32,
-    scene_group: wgpu::BindGroup,
-    draw_group: wgpu::BindGroup,
-    quads: wgpu::Buffer,
-    caps: wgpu::Buffer,
-    draws: wgpu::Buffer,
-    kept: wgpu::Buffer,
-    receivers: wgpu::Buffer,
-    counters: wgpu::Buffer,
-    outcomes: wgpu::Buffer,
-    instances: u32,
-}
 
 /// The depth-stencil target at the view's size and the light group that reads its stencil.
 struct StencilTarget {
@@ -115,6 +61,7 @@ pub struct VolumeTechnique {
     find_layout: wgpu::BindGroupLayout,
     draw_layout: wgpu::BindGroupLayout,
     light_layout: wgpu::BindGroupLayout,
+    fill: Fill,
     reset: wgpu::ComputePipeline,
     receivers: wgpu::ComputePipeline,
     cull: wgpu::ComputePipeline,
@@ -133,6 +80,9 @@ pub struct VolumeTechnique {
     readback: AsyncReadback,
     latest: Option<(u64, u32, u32)>,
     frame_index: u64,
+    /// Whether the frames in flight count fill, and the newest fill that came back.
+    fill_counted: bool,
+    latest_fill: Option<VolumeFill>,
 }
 
 impl VolumeTechnique {
@@ -172,14 +122,21 @@ impl VolumeTechnique {
                 storage(false),
                 storage(false),
                 storage(false),
-                storage(true),
+                texture(
+                    wgpu::TextureSampleType::Uint,
+                    wgpu::TextureViewDimension::D2,
+                ),
+                texture(
+                    wgpu::TextureSampleType::Float { filterable: false },
+                    wgpu::TextureViewDimension::D2,
+                ),
             ],
         );
         let draw_layout = bind_group_layout(
             device,
             "Volumes::draw_layout",
             wgpu::ShaderStages::VERTEX,
-            &[storage(true), storage(true)],
+            &[storage(true), storage(true), storage(true)],
         );
         let light_layout = bind_group_layout(
             device,
@@ -215,11 +172,18 @@ impl VolumeTechnique {
                 depth_clamped,
             )
         };
+        let fill = Fill::new(
+            device,
+            [frame_layout, &scene_layout, &draw_layout],
+            &draw_module,
+            (format, depth_clamped),
+        );
         Self {
+            fill,
             format,
             depth_clamped,
             reset: find("reset_draws"),
-            receivers: find("collect_receivers"),
+            receivers: find("mark_receivers"),
             cull: find("cull_casters"),
             silhouettes: find("find_silhouettes"),
             caps: find("find_caps"),
@@ -243,6 +207,8 @@ impl VolumeTechnique {
             readback: AsyncReadback::new(device, "Volumes::counters_readback", 16, 3),
             latest: None,
             frame_index: 0,
+            fill_counted: false,
+            latest_fill: None,
         }
     }
 
@@ -260,134 +226,16 @@ impl VolumeTechnique {
         {
             return;
         }
-        let device = &ctx.device;
-        let mut edges: Vec<Edge> = Vec::new();
-        let mut mesh_info = Vec::with_capacity(scene.meshes.len());
-        let mut closed_meshes = 0;
-        for mesh in &scene.meshes {
-            let e = mesh_edges(&mesh.positions, &mesh.indices);
-            closed_meshes += u32::from(e.closed);
-            mesh_info.push((edges.len() as u32, e.edges.len() as u32, e.closed));
-            edges.extend(e.edges);
-        }
-        let mut casters = Vec::new();
-        let (mut edge_items, mut triangle_items) = (0u32, 0u32);
-        let mut outcomes = vec![OUTCOME_NOT_CASTER; scene.instances.len()];
-        for (i, instance) in (0u32..).zip(&scene.instances) {
-            let range = scene_gpu.instance_ranges[i as usize];
-            if !instance.casts_shadow || self.excluded.contains(&i) || range.index_count < 3 {
-                continue;
-            }
-            let (first_edge, edge_count, closed) = mesh_info[instance.mesh as usize];
-            outcomes[i as usize] = OUTCOME_RENDERED;
-            casters.push(CasterGpu {
-                instance: i,
-                first_edge,
-                first_triangle: range.first_index / 3,
-                base_vertex: range.base_vertex as u32,
-                edge_start: edge_items,
-                triangle_start: triangle_items,
-                closed: u32::from(closed),
-                padding: 0,
-            });
-            edge_items += edge_count;
-            triangle_items += range.index_count / 3;
-        }
-        let init = |label: &str, contents: &[u8], usage| {
-            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(label),
-                contents,
-                usage,
-            })
-        };
-        let keep = |mut v: Vec<u8>| {
-            if v.is_empty() {
-                v.resize(16, 0);
-            }
-            v
-        };
-        let edges_buffer = init(
-            "Volumes::edges",
-            &keep(bytemuck::cast_slice(&edges).to_vec()),
-            wgpu::BufferUsages::STORAGE,
-        );
-        let casters_buffer = init(
-            "Volumes::casters",
-            &keep(bytemuck::cast_slice(&casters).to_vec()),
-            wgpu::BufferUsages::STORAGE,
-        );
-        // A quad at most twice per edge (an open mesh's edge between a lit and an unlit
-        // triangle), a cap pair per triangle.
-        let record_buffer = |label: &str, records: u32| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: u64::from(records.max(1)) * 8,
-                usage: wgpu::BufferUsages::STORAGE,
-                mapped_at_creation: false,
-            })
-        };
-        let quads = record_buffer("Volumes::quads", edge_items.saturating_mul(2));
-        let caps = record_buffer("Volumes::caps", triangle_items);
-        let storage_buffer = |label: &str, size: u64, usage: wgpu::BufferUsages| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: size.max(16),
-                usage: wgpu::BufferUsages::STORAGE | usage,
-                mapped_at_creation: false,
-            })
-        };
-        let draws = storage_buffer("Volumes::draws", 32, wgpu::BufferUsages::INDIRECT);
-        let kept = storage_buffer(
-            "Volumes::kept",
-            u64::from(casters.len() as u32) * 4,
-            wgpu::BufferUsages::empty(),
-        );
-        let receivers = storage_buffer(
-            "Volumes::receivers",
-            scene.instances.len() as u64 * 32,
-            wgpu::BufferUsages::empty(),
-        );
-        let counters = storage_buffer("Volumes::counters", 16, wgpu::BufferUsages::COPY_SRC);
-        let scene_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("Volumes::scene_group"),
-            layout: &self.scene_layout,
-            entries: &[
-                buffer_entry(0, &self.uniforms),
-                buffer_entry(1, &scene_gpu.vertex_buffer),
-                buffer_entry(2, &scene_gpu.index_buffer),
-                buffer_entry(3, &edges_buffer),
-                buffer_entry(4, &casters_buffer),
-                buffer_entry(5, &scene_gpu.bounds_buffer),
-            ],
-        });
-        let draw_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("Volumes::draw_group"),
-            layout: &self.draw_layout,
-            entries: &[buffer_entry(0, &quads), buffer_entry(1, &caps)],
-        });
-        self.scene = Some(SceneVolumes {
-            scene_id: scene_gpu.id,
-            excluded: self.excluded.clone(),
-            casters: casters.len() as u32,
-            edge_items,
-            triangle_items,
-            closed_meshes,
-            meshes: scene.meshes.len() as u32,
-            scene_group,
-            draw_group,
-            quads,
-            caps,
-            draws,
-            kept,
-            receivers,
-            counters,
-            outcomes: init(
-                "Volumes::outcomes",
-                &keep(bytemuck::cast_slice(&outcomes).to_vec()),
-                wgpu::BufferUsages::STORAGE,
-            ),
-            instances: scene.instances.len() as u32,
-        });
+        self.scene = Some(SceneVolumes::new(
+            &ctx.device,
+            &SceneLayouts {
+                scene: &self.scene_layout,
+                draw: &self.draw_layout,
+            },
+            &self.uniforms,
+            (scene, scene_gpu),
+            &self.excluded,
+        ));
     }
 
     /// The depth-stencil target at the view's size.
@@ -427,102 +275,6 @@ impl VolumeTechnique {
     }
 }
 
-/// The camera's visible surface into the depth-stencil target: its vertex stage, no colour.
-fn depth_pipeline(
-    device: &wgpu::Device,
-    frame_layout: &wgpu::BindGroupLayout,
-    format: wgpu::TextureFormat,
-) -> wgpu::RenderPipeline {
-    let module = shader_module(
-        device,
-        "Volumes::depth",
-        crate::shaders::compose("view/camera_vertex.wgsl", &[]),
-    );
-    let layout = pipeline_layout(device, "Volumes::depth_layout", &[frame_layout]);
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some("Volumes::depth"),
-        layout: Some(&layout),
-        vertex: wgpu::VertexState {
-            module: &module,
-            entry_point: Some("vs_main"),
-            compilation_options: wgpu::PipelineCompilationOptions::default(),
-            buffers: &[Some(VERTEX_LAYOUT)],
-        },
-        primitive: wgpu::PrimitiveState {
-            cull_mode: Some(wgpu::Face::Back),
-            ..Default::default()
-        },
-        depth_stencil: Some(wgpu::DepthStencilState {
-            format,
-            depth_write_enabled: Some(true),
-            depth_compare: Some(wgpu::CompareFunction::Greater),
-            stencil: wgpu::StencilState::default(),
-            bias: wgpu::DepthBiasState::default(),
-        }),
-        multisample: wgpu::MultisampleState::default(),
-        fragment: None,
-        multiview_mask: None,
-        cache: None,
-    })
-}
-
-/// Volume faces, both sides, z-fail: behind the visible surface a back face counts +1 and a
-/// front face -1; nothing written but the stencil.
-fn volume_pipeline(
-    device: &wgpu::Device,
-    (layout, module, entry): (&wgpu::PipelineLayout, &wgpu::ShaderModule, &str),
-    format: wgpu::TextureFormat,
-    depth_clamped: bool,
-) -> wgpu::RenderPipeline {
-    let face = |depth_fail_op| wgpu::StencilFaceState {
-        compare: wgpu::CompareFunction::Always,
-        fail_op: wgpu::StencilOperation::Keep,
-        depth_fail_op,
-        pass_op: wgpu::StencilOperation::Keep,
-    };
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some(entry),
-        layout: Some(layout),
-        vertex: wgpu::VertexState {
-            module,
-            entry_point: Some(entry),
-            compilation_options: wgpu::PipelineCompilationOptions::default(),
-            buffers: &[],
-        },
-        primitive: wgpu::PrimitiveState {
-            cull_mode: None,
-            unclipped_depth: depth_clamped,
-            ..Default::default()
-        },
-        depth_stencil: Some(wgpu::DepthStencilState {
-            format,
-            depth_write_enabled: Some(false),
-            depth_compare: Some(wgpu::CompareFunction::Greater),
-            stencil: wgpu::StencilState {
-                front: face(wgpu::StencilOperation::DecrementWrap),
-                back: face(wgpu::StencilOperation::IncrementWrap),
-                read_mask: 0xff,
-                write_mask: 0xff,
-            },
-            bias: wgpu::DepthBiasState::default(),
-        }),
-        multisample: wgpu::MultisampleState::default(),
-        fragment: None,
-        multiview_mask: None,
-        cache: None,
-    })
-}
-
-/// Workgroups for `items` work items, in rows of [`ROW_GROUPS`].
-fn dispatch_size(items: u32) -> (u32, u32) {
-    let groups = items.div_ceil(WORKGROUP);
-    if groups <= ROW_GROUPS {
-        (groups, 1)
-    } else {
-        (ROW_GROUPS, groups.div_ceil(ROW_GROUPS))
-    }
-}
-
 impl ShadowTechnique for VolumeTechnique {
     fn name(&self) -> &'static str {
         "volumes"
@@ -554,6 +306,24 @@ impl ShadowTechnique for VolumeTechnique {
         };
         let to_light = input.direction_to_sun.normalize_or(glam::Vec3::Y);
         let scene = self.scene.as_ref().expect("ensured above");
+        // The receiver grid covers the scene across the light.
+        let travel = -to_light;
+        let (right, up) = basis_for_direction(travel.as_dvec3());
+        let (right, up) = (right.as_vec3(), up.as_vec3());
+        let corners = if bounds.is_empty() {
+            [glam::Vec3::ZERO; 8]
+        } else {
+            bounds.corners()
+        };
+        let range = |axis: glam::Vec3| {
+            corners
+                .iter()
+                .map(|c| c.dot(axis))
+                .fold((f32::MAX, f32::MIN), |(lo, hi), d| (lo.min(d), hi.max(d)))
+        };
+        let (x, y, z) = (range(right), range(up), range(travel));
+        let cell = ((x.1 - x.0).max(y.1 - y.0) / RECEIVER_GRID as f32).max(1e-3);
+        let clamping = input.volumes.clamp == VolumeClamp::Continuous;
         ctx.queue.write_buffer(
             &self.uniforms,
             0,
@@ -567,10 +337,14 @@ impl ShadowTechnique for VolumeTechnique {
                 ],
                 options: [
                     scene.instances,
-                    u32::from(self.method != Method::None),
-                    0,
+                    u32::from(self.method != Method::None) | (u32::from(clamping) << 1),
+                    RECEIVER_GRID,
                     0,
                 ],
+                right: right.extend(x.0).to_array(),
+                up: up.extend(y.0).to_array(),
+                travel: travel.extend(z.0).to_array(),
+                cell: [cell, 0.0, 0.0, 0.0],
             }),
         );
         Vec::new()
@@ -597,12 +371,14 @@ impl ShadowTechnique for VolumeTechnique {
                     buffer_entry(1, &scene.caps),
                     buffer_entry(2, &scene.draws),
                     buffer_entry(3, &scene.kept),
-                    buffer_entry(4, &scene.receivers),
+                    buffer_entry(4, &scene.grid),
                     buffer_entry(5, &scene.counters),
                     buffer_entry(6, &scene.outcomes),
-                    buffer_entry(7, draw.visible_flags),
+                    view_entry(7, &draw.targets.ids_view),
+                    view_entry(8, &draw.targets.positions_view),
                 ],
             });
+        encoder.clear_buffer(&scene.grid, 0, None);
         let query = draw
             .timer
             .begin_scope(pass_label::VOLUME_SILHOUETTES, encoder);
@@ -616,8 +392,13 @@ impl ShadowTechnique for VolumeTechnique {
             pass.set_bind_group(2, &find_group, &[]);
             pass.set_pipeline(&self.reset);
             pass.dispatch_workgroups(1, 1, 1);
+            pass.set_pipeline(&self.receivers);
+            pass.dispatch_workgroups(
+                draw.targets.width.div_ceil(8),
+                draw.targets.height.div_ceil(8),
+                1,
+            );
             for (pipeline, items) in [
-                (&self.receivers, scene.instances),
                 (&self.cull, scene.casters),
                 (&self.silhouettes, scene.edge_items),
                 (&self.caps, scene.triangle_items),
@@ -630,8 +411,6 @@ impl ShadowTechnique for VolumeTechnique {
             }
         }
         draw.timer.end_pass(encoder, query);
-        self.readback
-            .copy(encoder, &scene.counters, input.frame_index);
         let query = draw.timer.begin_pass(pass_label::VOLUME_DEPTH, encoder);
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -691,6 +470,23 @@ impl ShadowTechnique for VolumeTechnique {
             pass.draw_indirect(&scene.draws, 16);
         }
         draw.timer.end_pass(encoder, query);
+        self.fill_counted = input.measure_fill;
+        if input.measure_fill {
+            self.fill.draw(
+                (&draw.ctx.device, &draw.ctx.queue),
+                encoder,
+                (draw.targets, &target.depth_stencil),
+                &FillDraw {
+                    frame: draw.frame_group,
+                    scene: &scene.scene_group,
+                    records: &scene.draw_group,
+                    draws: &scene.draws,
+                    counters: &scene.counters,
+                },
+            );
+        }
+        self.readback
+            .copy(encoder, &scene.counters, input.frame_index);
         ShadowPasses {
             light_group: target.light_group.clone(),
             outcomes: scene.outcomes.clone(),
@@ -705,6 +501,10 @@ impl ShadowTechnique for VolumeTechnique {
         if let Some((frame, bytes)) = self.readback.take_latest() {
             let words: &[u32] = bytemuck::cast_slice(&bytes);
             self.latest = Some((frame, words[0], words[1]));
+            self.latest_fill = self.fill_counted.then(|| VolumeFill {
+                fragments: u64::from(words[2]),
+                stencil_writes: u64::from(words[3]),
+            });
         }
         let Some(scene) = self.scene.as_ref() else {
             return ShadowReport::default();
@@ -713,7 +513,7 @@ impl ShadowTechnique for VolumeTechnique {
         let mut stages = vec![Stage::new("scene casters", scene.casters)];
         if self.method != Method::None {
             stages.push(Stage::new(
-                "visible receivers' boxes (volume)",
+                "visible receiver points (volume)",
                 kept.unwrap_or(scene.casters),
             ));
         }
@@ -740,6 +540,7 @@ impl ShadowTechnique for VolumeTechnique {
             }),
             stages,
             culled_frame_index: self.latest.map(|(frame, _, _)| frame),
+            volume_fill: self.latest_fill,
             notes,
             ..ShadowReport::default()
         }
@@ -748,6 +549,15 @@ impl ShadowTechnique for VolumeTechnique {
     fn has_results_of(&self, frame_index: u64) -> bool {
         self.latest
             .is_some_and(|(frame, _, _)| frame >= frame_index)
+    }
+
+    fn draw_overlay(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        targets: &crate::view::ViewTargets,
+    ) {
+        self.fill.draw_heat(device, encoder, targets);
     }
 
     fn inset(&self, _view: u32) -> Option<InsetSources<'_>> {

@@ -7,6 +7,7 @@ use render_core::cascades::{
 };
 use render_core::frame::{FrameReport, FrameSettings, ShadowSetup};
 use render_core::shadow_view::DepthMeasure;
+use render_core::volumes::VolumeClamp;
 
 use super::grid;
 use crate::format::length;
@@ -17,6 +18,10 @@ const SETUP_HELP: &str = "single: one map fitted to the view. lispsm: one map wa
     frustum cut along its depth, one map per slice (Engel), so near shadows get fine texels. \
     volumes: stencil shadow volumes, exact per pixel and without a map; every caster's volume \
     is drawn (Lloyd's culling and clamping are to come)";
+const CLAMP_HELP: &str = "How far each shadow volume reaches along the light. none: past the \
+    scene. continuous: only to the deepest visible receiver point under the caster (Lloyd's \
+    clamping), so no volume fills the empty space below. The method none draws every volume; \
+    any other culls those with no visible receiver point under them";
 const COUNT_HELP: &str = "How many slices, each with its own map of the chosen resolution";
 const SPLIT_HELP: &str = "Where the slices end: uniform, logarithmic, practical (Zhang's blend \
     of the two), geometric (Engel: each far distance a ratio times the last), manual";
@@ -60,6 +65,18 @@ pub fn ui(ui: &mut egui::Ui, settings: &mut FrameSettings, report: Option<&Frame
                 ui.add(
                     egui::Slider::new(&mut settings.lispsm.n_scale, 0.1..=10.0).logarithmic(true),
                 )
+            });
+        }
+        if settings.setup == ShadowSetup::Volumes {
+            grid::labelled(ui, "Clamping", CLAMP_HELP, |ui| {
+                egui::ComboBox::from_id_salt("volume_clamp")
+                    .selected_text(settings.volumes.clamp.name())
+                    .show_ui(ui, |ui| {
+                        for clamp in VolumeClamp::ALL {
+                            ui.selectable_value(&mut settings.volumes.clamp, clamp, clamp.name());
+                        }
+                    })
+                    .response
             });
         }
         if settings.setup != ShadowSetup::Cascades {

@@ -109,6 +109,13 @@ pub fn ui(ui: &mut egui::Ui, settings: &mut FrameSettings) {
             );
         ui.checkbox(&mut settings.overlays.cascades, "Tint by cascade")
             .on_hover_text("Tint each point by the cascade (shadow view) that shades it");
+        if settings.setup == render_core::frame::ShadowSetup::Volumes {
+            ui.checkbox(&mut settings.overlays.fill, "Fill heat map")
+                .on_hover_text(
+                    "How many shadow-volume fragments each pixel took, depth test off: blue one, \
+                 yellow a thousand and more",
+                );
+        }
         ui.checkbox(&mut settings.measure, "Measure error and oracle")
             .on_hover_text(MEASURE_HELP);
         ui.add_enabled(

@@ -1,0 +1,137 @@
+//! The volume technique's shaders, uniforms, render pipelines and dispatch sizes.
+
+use bytemuck::{Pod, Zeroable};
+
+use crate::gpu::{pipeline_layout, shader_module};
+use crate::scene_gpu::VERTEX_LAYOUT;
+
+/// The volume passes' shaders: (label, WGSL), as they are built.
+#[cfg(test)]
+pub(crate) fn shader_sources() -> Vec<(String, String)> {
+    ["volumes/find.wgsl", "volumes/draw.wgsl"]
+        .map(|path| (path.to_owned(), shader_source(path)))
+        .into()
+}
+
+/// A volume pass's shader, with culling's codes.
+pub(super) fn shader_source(path: &str) -> String {
+    let codes = crate::culling::codes::wgsl();
+    crate::shaders::compose(path, &[(crate::culling::codes::WGSL_PATH, codes.as_str())])
+}
+
+/// `VolumeFrame` in `volumes/common.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub(super) struct VolumeFrameGpu {
+    pub to_light: [f32; 4],
+    pub counts: [u32; 4],
+    pub options: [u32; 4],
+    pub right: [f32; 4],
+    pub up: [f32; 4],
+    pub travel: [f32; 4],
+    pub cell: [f32; 4],
+}
+
+/// Cells per side of the grid of visible receiver points in the light's view.
+pub(super) const RECEIVER_GRID: u32 = 256;
+
+/// Work items per workgroup of the silhouette passes.
+pub(super) const WORKGROUP: u32 = 64;
+/// Workgroups per dispatch row.
+pub(super) const ROW_GROUPS: u32 = 65_535;
+
+/// The camera's visible surface into the depth-stencil target: its vertex stage, no colour.
+pub(super) fn depth_pipeline(
+    device: &wgpu::Device,
+    frame_layout: &wgpu::BindGroupLayout,
+    format: wgpu::TextureFormat,
+) -> wgpu::RenderPipeline {
+    let module = shader_module(
+        device,
+        "Volumes::depth",
+        crate::shaders::compose("view/camera_vertex.wgsl", &[]),
+    );
+    let layout = pipeline_layout(device, "Volumes::depth_layout", &[frame_layout]);
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("Volumes::depth"),
+        layout: Some(&layout),
+        vertex: wgpu::VertexState {
+            module: &module,
+            entry_point: Some("vs_main"),
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            buffers: &[Some(VERTEX_LAYOUT)],
+        },
+        primitive: wgpu::PrimitiveState {
+            cull_mode: Some(wgpu::Face::Back),
+            ..Default::default()
+        },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(wgpu::CompareFunction::Greater),
+            stencil: wgpu::StencilState::default(),
+            bias: wgpu::DepthBiasState::default(),
+        }),
+        multisample: wgpu::MultisampleState::default(),
+        fragment: None,
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+/// Volume faces, both sides, z-fail: behind the visible surface a back face counts +1 and a
+/// front face -1; nothing written but the stencil.
+pub(super) fn volume_pipeline(
+    device: &wgpu::Device,
+    (layout, module, entry): (&wgpu::PipelineLayout, &wgpu::ShaderModule, &str),
+    format: wgpu::TextureFormat,
+    depth_clamped: bool,
+) -> wgpu::RenderPipeline {
+    let face = |depth_fail_op| wgpu::StencilFaceState {
+        compare: wgpu::CompareFunction::Always,
+        fail_op: wgpu::StencilOperation::Keep,
+        depth_fail_op,
+        pass_op: wgpu::StencilOperation::Keep,
+    };
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(entry),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some(entry),
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            buffers: &[],
+        },
+        primitive: wgpu::PrimitiveState {
+            cull_mode: None,
+            unclipped_depth: depth_clamped,
+            ..Default::default()
+        },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format,
+            depth_write_enabled: Some(false),
+            depth_compare: Some(wgpu::CompareFunction::Greater),
+            stencil: wgpu::StencilState {
+                front: face(wgpu::StencilOperation::DecrementWrap),
+                back: face(wgpu::StencilOperation::IncrementWrap),
+                read_mask: 0xff,
+                write_mask: 0xff,
+            },
+            bias: wgpu::DepthBiasState::default(),
+        }),
+        multisample: wgpu::MultisampleState::default(),
+        fragment: None,
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+/// Workgroups for `items` work items, in rows of [`ROW_GROUPS`].
+pub(super) fn dispatch_size(items: u32) -> (u32, u32) {
+    let groups = items.div_ceil(WORKGROUP);
+    if groups <= ROW_GROUPS {
+        (groups, 1)
+    } else {
+        (ROW_GROUPS, groups.div_ceil(ROW_GROUPS))
+    }
+}

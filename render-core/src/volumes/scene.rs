@@ -1,0 +1,201 @@
+//! The scene as shadow volumes see it, built once per scene (and excluded set): every mesh's
+//! edges (`edges.rs`), the casters with where their edges and triangles start among the
+//! work items, and room for the records the silhouette passes append.
+
+use bytemuck::{Pod, Zeroable};
+use wgpu::util::DeviceExt;
+
+use super::edges::{Edge, mesh_edges};
+use crate::culling::codes::{OUTCOME_NOT_CASTER, OUTCOME_RENDERED};
+use crate::gpu::buffer_entry;
+use crate::scene::Scene;
+use crate::scene_gpu::SceneGpu;
+
+/// `Caster` in `volumes/common.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+struct CasterGpu {
+    instance: u32,
+    first_edge: u32,
+    first_triangle: u32,
+    base_vertex: u32,
+    edge_start: u32,
+    triangle_start: u32,
+    closed: u32,
+    padding: u32,
+}
+
+/// The scene as the volumes see it: every mesh's edges, the casters, room for the records.
+pub(super) struct SceneVolumes {
+    pub scene_id: u64,
+    pub excluded: Vec<u32>,
+    pub casters: u32,
+    pub edge_items: u32,
+    pub triangle_items: u32,
+    pub closed_meshes: u32,
+    pub meshes: u32,
+    pub scene_group: wgpu::BindGroup,
+    pub draw_group: wgpu::BindGroup,
+    pub quads: wgpu::Buffer,
+    pub caps: wgpu::Buffer,
+    pub draws: wgpu::Buffer,
+    pub kept: wgpu::Buffer,
+    pub grid: wgpu::Buffer,
+    pub counters: wgpu::Buffer,
+    pub outcomes: wgpu::Buffer,
+    pub instances: u32,
+}
+
+/// The layouts the scene's groups are made for.
+pub(super) struct SceneLayouts<'a> {
+    pub scene: &'a wgpu::BindGroupLayout,
+    pub draw: &'a wgpu::BindGroupLayout,
+}
+
+impl SceneVolumes {
+    /// `excluded` sorted; `uniforms` the frame's `VolumeFrame`.
+    pub fn new(
+        device: &wgpu::Device,
+        layouts: &SceneLayouts<'_>,
+        uniforms: &wgpu::Buffer,
+        (scene, scene_gpu): (&Scene, &SceneGpu),
+        excluded: &[u32],
+    ) -> Self {
+        let mut edges: Vec<Edge> = Vec::new();
+        let mut mesh_info = Vec::with_capacity(scene.meshes.len());
+        let mut closed_meshes = 0;
+        for mesh in &scene.meshes {
+            let e = mesh_edges(&mesh.positions, &mesh.indices);
+            closed_meshes += u32::from(e.closed);
+            mesh_info.push((edges.len() as u32, e.edges.len() as u32, e.closed));
+            edges.extend(e.edges);
+        }
+        let mut casters = Vec::new();
+        let (mut edge_items, mut triangle_items) = (0u32, 0u32);
+        let mut outcomes = vec![OUTCOME_NOT_CASTER; scene.instances.len()];
+        for (i, instance) in (0u32..).zip(&scene.instances) {
+            let range = scene_gpu.instance_ranges[i as usize];
+            if !instance.casts_shadow || excluded.binary_search(&i).is_ok() || range.index_count < 3
+            {
+                continue;
+            }
+            let (first_edge, edge_count, closed) = mesh_info[instance.mesh as usize];
+            outcomes[i as usize] = OUTCOME_RENDERED;
+            casters.push(CasterGpu {
+                instance: i,
+                first_edge,
+                first_triangle: range.first_index / 3,
+                base_vertex: range.base_vertex as u32,
+                edge_start: edge_items,
+                triangle_start: triangle_items,
+                closed: u32::from(closed),
+                padding: 0,
+            });
+            edge_items += edge_count;
+            triangle_items += range.index_count / 3;
+        }
+        let init = |label: &str, contents: &[u8], usage| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage,
+            })
+        };
+        let keep = |mut v: Vec<u8>| {
+            if v.is_empty() {
+                v.resize(16, 0);
+            }
+            v
+        };
+        let edges_buffer = init(
+            "Volumes::edges",
+            &keep(bytemuck::cast_slice(&edges).to_vec()),
+            wgpu::BufferUsages::STORAGE,
+        );
+        let casters_buffer = init(
+            "Volumes::casters",
+            &keep(bytemuck::cast_slice(&casters).to_vec()),
+            wgpu::BufferUsages::STORAGE,
+        );
+        // A quad at most twice per edge (an open mesh's edge between a lit and an unlit
+        // triangle), a cap pair per triangle.
+        let record_buffer = |label: &str, records: u32| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: u64::from(records.max(1)) * 8,
+                usage: wgpu::BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            })
+        };
+        let quads = record_buffer("Volumes::quads", edge_items.saturating_mul(2));
+        let caps = record_buffer("Volumes::caps", triangle_items);
+        let storage_buffer = |label: &str, size: u64, usage: wgpu::BufferUsages| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: size.max(16),
+                usage: wgpu::BufferUsages::STORAGE | usage,
+                mapped_at_creation: false,
+            })
+        };
+        let draws = storage_buffer("Volumes::draws", 32, wgpu::BufferUsages::INDIRECT);
+        let kept = storage_buffer(
+            "Volumes::kept",
+            u64::from(casters.len() as u32) * 4,
+            wgpu::BufferUsages::empty(),
+        );
+        let grid = storage_buffer(
+            "Volumes::receiver_grid",
+            u64::from(super::pipelines::RECEIVER_GRID * super::pipelines::RECEIVER_GRID) * 4,
+            wgpu::BufferUsages::COPY_DST,
+        );
+        let counters = storage_buffer(
+            "Volumes::counters",
+            16,
+            wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+        );
+        let scene_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("Volumes::scene_group"),
+            layout: layouts.scene,
+            entries: &[
+                buffer_entry(0, uniforms),
+                buffer_entry(1, &scene_gpu.vertex_buffer),
+                buffer_entry(2, &scene_gpu.index_buffer),
+                buffer_entry(3, &edges_buffer),
+                buffer_entry(4, &casters_buffer),
+                buffer_entry(5, &scene_gpu.bounds_buffer),
+            ],
+        });
+        let draw_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("Volumes::draw_group"),
+            layout: layouts.draw,
+            entries: &[
+                buffer_entry(0, &quads),
+                buffer_entry(1, &caps),
+                buffer_entry(2, &kept),
+            ],
+        });
+        Self {
+            scene_id: scene_gpu.id,
+            excluded: excluded.to_vec(),
+            casters: casters.len() as u32,
+            edge_items,
+            triangle_items,
+            closed_meshes,
+            meshes: scene.meshes.len() as u32,
+            scene_group,
+            draw_group,
+            quads,
+            caps,
+            draws,
+            kept,
+            grid,
+            counters,
+            outcomes: init(
+                "Volumes::outcomes",
+                &keep(bytemuck::cast_slice(&outcomes).to_vec()),
+                wgpu::BufferUsages::STORAGE,
+            ),
+            instances: scene.instances.len() as u32,
+        }
+    }
+}
