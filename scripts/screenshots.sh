@@ -23,6 +23,12 @@ run shot builtin:city --size 1280x720 --shadow-res 2048 \
 run shot builtin:city --size 1280x720 --shadow-res 2048 \
     --eye=-330,3.5,8 --target=-200,12,8 --shadow lispsm --method frag \
     --out screenshots/city-lispsm.png --stats screenshots/city-lispsm.json
+run shot builtin:city --size 1280x720 \
+    --eye=-330,3.5,8 --target=-200,12,8 --shadow volumes --method none --volume-clamp none \
+    --overlay fill --out screenshots/city-fill-standard.png --stats screenshots/city-fill-standard.json
+run shot builtin:city --size 1280x720 \
+    --eye=-330,3.5,8 --target=-200,12,8 --shadow volumes --method bvol --volume-clamp continuous \
+    --overlay fill --out screenshots/city-fill-cc.png --stats screenshots/city-fill-cc.json
 if command -v xvfb-run >/dev/null 2>&1 || [ -n "${DISPLAY:-}" ]; then
     wrap=(); [ -z "${DISPLAY:-}" ] && wrap=(xvfb-run -a -s "-screen 0 1600x1000x24")
     shots=$(mktemp -d)

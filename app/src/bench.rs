@@ -11,6 +11,7 @@ use render_core::frame::{
 };
 use render_core::geom::Camera;
 use render_core::scene::{CameraPath, SceneFacts, Sun};
+use render_core::volumes::VolumeClamp;
 
 use crate::cli::{BenchArgs, Sweep, parse_methods};
 use crate::headless::Session;
@@ -43,6 +44,8 @@ struct BenchRow {
     /// Undersampling in octaves: the median over frames of each frame's median and 95th
     /// percentile.
     undersampling: (Option<f64>, Option<f64>),
+    /// Shadow volumes' fill, millions of fragments: the median frame's and the worst.
+    fill_m: (Option<f64>, Option<f64>),
     /// Baseline GPU frame time / this method's, under the same setting.
     speed_up: Option<f64>,
     /// Median GPU ms per pass label (and depth: steps inside a pass are 1), in frame order.
@@ -151,6 +154,17 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
                 }))
                 .collect()
         }
+        Some(Sweep::Clamp) => VolumeClamp::ALL
+            .into_iter()
+            .map(|clamp| {
+                let mut s = FrameSettings {
+                    setup: ShadowSetup::Volumes,
+                    ..base
+                };
+                s.volumes.clamp = clamp;
+                (format!("clamp {}", clamp.name()), s)
+            })
+            .collect(),
         Some(Sweep::Setups) => ShadowSetup::ALL
             .into_iter()
             .map(|setup| (setup.name().to_owned(), FrameSettings { setup, ..base }))
@@ -337,6 +351,13 @@ fn summarise(setting: &str, method: &str, reports: &[(f64, FrameReport)]) -> Ben
             .iter()
             .filter_map(|(_, r)| r.flicker.map(|f| (f.moved_px, f.turned_px)))
             .reduce(|a, b| (a.0.max(b.0), a.1.max(b.1))),
+        fill_m: (
+            collect(&|(_, r)| r.volume_fill.map(|f| f.fragments as f64 / 1e6)),
+            reports
+                .iter()
+                .filter_map(|(_, r)| r.volume_fill.map(|f| f.fragments as f64 / 1e6))
+                .reduce(f64::max),
+        ),
         speed_up: None,
         passes: median_passes(reports),
     }
@@ -398,7 +419,7 @@ fn format_passes(rows: &[BenchRow]) -> String {
     aligned(&lines, 1)
 }
 
-const COLUMNS: [&str; 18] = [
+const COLUMNS: [&str; 19] = [
     "setting",
     "method",
     "frames",
@@ -416,10 +437,11 @@ const COLUMNS: [&str; 18] = [
     "flicker move/turn",
     "under p50",
     "under p95",
+    "fill M (max)",
     "speed-up",
 ];
 
-fn row_cells(r: &BenchRow) -> [String; 18] {
+fn row_cells(r: &BenchRow) -> [String; 19] {
     let opt =
         |v: Option<f64>, digits: usize| v.map_or_else(|| "n/a".into(), |v| format!("{v:.digits$}"));
     [
@@ -442,6 +464,10 @@ fn row_cells(r: &BenchRow) -> [String; 18] {
             .map_or_else(|| "-".into(), |(m, t)| format!("{m}/{t}")),
         opt(r.undersampling.0, 2),
         opt(r.undersampling.1, 2),
+        match r.fill_m {
+            (Some(median), Some(max)) => format!("{median:.1} ({max:.1})"),
+            _ => "-".into(),
+        },
         opt(r.speed_up, 2),
     ]
 }
@@ -450,7 +476,7 @@ fn row_cells(r: &BenchRow) -> [String; 18] {
 fn format_table(rows: &[BenchRow], baseline: &str) -> String {
     let skip = usize::from(rows.iter().all(|r| r.setting.is_empty()));
     let mut header = COLUMNS.map(str::to_owned);
-    header[17] = format!("speed-up vs {baseline}");
+    header[18] = format!("speed-up vs {baseline}");
     let lines: Vec<Vec<String>> = std::iter::once(header.to_vec())
         .chain(rows.iter().map(|r| row_cells(r).to_vec()))
         .map(|l| l[skip..].to_vec())
@@ -492,13 +518,13 @@ fn aligned(lines: &[Vec<String>], left: usize) -> String {
 
 fn format_csv(rows: &[BenchRow]) -> String {
     let mut out = String::from(
-        "setting,method,frames,frame_ms,gpu_frame_ms,shadow_pass_ms,casters_drawn,casters_oracle,tightness,shadow_triangles,error_px_max,casters_total,speed_up,culling_ms,undersampling_p50,undersampling_p95,exact_error_px,exact_error_percent,flicker_moved_px,flicker_turned_px\n",
+        "setting,method,frames,frame_ms,gpu_frame_ms,shadow_pass_ms,casters_drawn,casters_oracle,tightness,shadow_triangles,error_px_max,casters_total,speed_up,culling_ms,undersampling_p50,undersampling_p95,exact_error_px,exact_error_percent,flicker_moved_px,flicker_turned_px,fill_mfragments,fill_mfragments_max\n",
     );
     let opt = |v: Option<f64>| v.map_or_else(String::new, |v| format!("{v:.4}"));
     for r in rows {
         let _ = writeln!(
             out,
-            "{},{},{},{:.4},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{:.4},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             r.setting,
             r.method,
             r.frames,
@@ -518,7 +544,9 @@ fn format_csv(rows: &[BenchRow]) -> String {
             opt(r.exact_error.0),
             opt(r.exact_error.1),
             r.flicker.map_or_else(String::new, |f| f.0.to_string()),
-            r.flicker.map_or_else(String::new, |f| f.1.to_string())
+            r.flicker.map_or_else(String::new, |f| f.1.to_string()),
+            opt(r.fill_m.0),
+            opt(r.fill_m.1)
         );
     }
     out

@@ -117,11 +117,11 @@ fn the_volumes_of_a_box_give_its_exact_shadow() {
         in_shadow > 500 && lit > 10_000,
         "{in_shadow} shadowed, {lit} lit"
     );
-    // Per pixel and exact: at most a pixel's rounding along the edges, and none on the box's
-    // own lit faces (where the volume's near cap lies on the surface).
+    // Per pixel and exact: at most 0.01% of the visible pixels (a silhouette edge through a
+    // pixel centre), and none on the box's own lit faces (where the near cap lies on them).
     let wrong = error.missing_shadow_px + error.extra_shadow_px;
     assert!(
-        wrong * 500 <= error.visible_px,
+        wrong * 10_000 <= error.visible_px,
         "{error:?} of {shadowed} shadowed"
     );
     // A map of the same view misses far more.
@@ -150,7 +150,7 @@ fn the_camera_inside_the_shadow_sees_it_correctly() {
         assert!(shadowed > 500, "{shadowed}");
         let wrong = error.missing_shadow_px + error.extra_shadow_px;
         assert!(
-            wrong * 500 <= error.visible_px,
+            wrong * 10_000 <= error.visible_px,
             "towards {target}: {error:?} of {shadowed} shadowed"
         );
         let (in_shadow, _) = check_ground_against_analytic(&scene, &camera, &renderer);
@@ -203,7 +203,10 @@ fn an_open_quad_lit_from_its_back_still_casts() {
     let (error, shadowed, _, _) = against_truth(&scene, &camera, &volumes(sun));
     assert!(shadowed > 1_000, "the quad's shadow is in view: {shadowed}");
     let wrong = error.missing_shadow_px + error.extra_shadow_px;
-    assert!(wrong * 100 <= shadowed, "{error:?} of {shadowed} shadowed");
+    assert!(
+        wrong * 10_000 <= error.visible_px,
+        "{error:?} of {shadowed} shadowed"
+    );
 }
 
 #[test]
@@ -224,7 +227,7 @@ fn a_city_street_in_volumes_is_all_but_exact_and_cc_volumes_fill_far_less() {
     assert!(shadowed > 1_000, "{shadowed}");
     let wrong = error.missing_shadow_px + error.extra_shadow_px;
     assert!(
-        wrong * 1000 <= error.visible_px,
+        wrong * 10_000 <= error.visible_px,
         "{error:?} of {shadowed} shadowed"
     );
     let (cc_error, _, cc) = run(Method::Bvol, VolumeClamp::Continuous);

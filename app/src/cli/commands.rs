@@ -89,7 +89,8 @@ pub struct BenchArgs {
     #[arg(long, default_value = "ref", value_name = "METHOD")]
     pub baseline: String,
     /// Repeat the table for several shadow-map sizes, sun elevations, cascade counts (after
-    /// the single map), split schemes, practical-split lambdas or shadow setups.
+    /// the single map), split schemes, practical-split lambdas, shadow setups or shadow-volume
+    /// clampings.
     #[arg(long, value_enum)]
     pub sweep: Option<Sweep>,
     /// Shadow-map sizes of `--sweep resolution`.
@@ -141,4 +142,6 @@ pub enum Sweep {
     Lambda,
     /// Every shadow setup (single, lispsm, cascades, volumes), with the other flags.
     Setups,
+    /// Shadow volumes with each clamping (none, continuous).
+    Clamp,
 }

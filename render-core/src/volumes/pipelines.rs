@@ -8,9 +8,14 @@ use crate::scene_gpu::VERTEX_LAYOUT;
 /// The volume passes' shaders: (label, WGSL), as they are built.
 #[cfg(test)]
 pub(crate) fn shader_sources() -> Vec<(String, String)> {
-    ["volumes/find.wgsl", "volumes/draw.wgsl"]
+    let mut shaders: Vec<(String, String)> = ["volumes/find.wgsl", "volumes/draw.wgsl"]
         .map(|path| (path.to_owned(), shader_source(path)))
-        .into()
+        .into();
+    shaders.push((
+        "volumes/fill_heat.wgsl".to_owned(),
+        super::fill::heat_shader_source(),
+    ));
+    shaders
 }
 
 /// A volume pass's shader, with culling's codes.
