@@ -236,6 +236,15 @@ impl VolumeTechnique {
             (scene, scene_gpu),
             &self.excluded,
         ));
+        if let Some(built) = &self.scene {
+            log::info!(
+                "shadow volumes: {} of {} meshes closed (the others cast from both sides of \
+                 every triangle), {} casters",
+                built.closed_meshes,
+                built.meshes,
+                built.casters
+            );
+        }
     }
 
     /// The depth-stencil target at the view's size.
@@ -517,15 +526,7 @@ impl ShadowTechnique for VolumeTechnique {
                 kept.unwrap_or(scene.casters),
             ));
         }
-        let drawn = match self.method {
-            Method::None => "every caster's volume drawn",
-            _ => "the volumes that reach a visible receiver's box drawn",
-        };
-        let mut notes = vec![format!(
-            "shadow volumes: {drawn}, z-fail ({} of {} meshes closed; the others cast from both \
-             sides)",
-            scene.closed_meshes, scene.meshes
-        )];
+        let mut notes = Vec::new();
         if !self.depth_clamped {
             notes.push(
                 "this adapter has no DEPTH_CLIP_CONTROL: volumes past the far plane are clipped"
