@@ -42,3 +42,23 @@ pub fn fullscreen_pipeline(
         cache: None,
     })
 }
+
+/// Draws `pipeline`'s fullscreen triangle with `group` over `target`, keeping what it holds.
+pub fn draw_fullscreen(
+    encoder: &mut wgpu::CommandEncoder,
+    label: &str,
+    target: &wgpu::TextureView,
+    (pipeline, group): (&wgpu::RenderPipeline, &wgpu::BindGroup),
+) {
+    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: &[Some(super::color_attachment(target, wgpu::LoadOp::Load))],
+        depth_stencil_attachment: None,
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    });
+    pass.set_pipeline(pipeline);
+    pass.set_bind_group(0, group, &[]);
+    pass.draw(0..3, 0..1);
+}

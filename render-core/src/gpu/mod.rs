@@ -12,7 +12,7 @@ mod timing;
 pub use async_readback::AsyncReadback;
 pub use context::{GpuContext, GpuError, OPTIONAL_FEATURES, SharedGpu};
 pub use counters::GpuCounters;
-pub use fullscreen::fullscreen_pipeline;
+pub use fullscreen::{draw_fullscreen, fullscreen_pipeline};
 pub use layout::{
     bind_group_layout, buffer_entry, color_attachment, compute_pipeline, depth_attachment,
     depth_pass, depth_texture, layout_entry, pipeline_layout, shader_module, storage, texture,

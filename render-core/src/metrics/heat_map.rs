@@ -1,6 +1,6 @@
 //! The error heat map overlay. Long-lived pipeline; the bind group follows the view targets.
 
-use crate::gpu::{bind_group_layout, color_attachment, fullscreen_pipeline, texture, view_entry};
+use crate::gpu::{bind_group_layout, draw_fullscreen, fullscreen_pipeline, texture, view_entry};
 use crate::palette;
 use crate::shaders::compose;
 use crate::view::targets::{COLOR_FORMAT, ViewTargets};
@@ -58,19 +58,11 @@ impl HeatMapOverlay {
             layout: &self.layout,
             entries: &[view_entry(0, &targets.shadow_view)],
         });
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("HeatMap::draw"),
-            color_attachments: &[Some(color_attachment(
-                &targets.color_view,
-                wgpu::LoadOp::Load,
-            ))],
-            depth_stencil_attachment: None,
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &bind_group, &[]);
-        pass.draw(0..3, 0..1);
+        draw_fullscreen(
+            encoder,
+            "HeatMap::draw",
+            &targets.color_view,
+            (&self.pipeline, &bind_group),
+        );
     }
 }

@@ -5,7 +5,7 @@
 //! the per-pixel counts make the fill heat map (`fill_heat.wgsl`).
 
 use crate::gpu::{
-    bind_group_layout, buffer_entry, color_attachment, depth_texture, fullscreen_pipeline,
+    bind_group_layout, buffer_entry, depth_texture, draw_fullscreen, fullscreen_pipeline,
     pipeline_layout, storage, uniform, view_entry,
 };
 use crate::view::ViewTargets;
@@ -206,20 +206,12 @@ impl Fill {
                 buffer_entry(1, &self.size_uniform),
             ],
         });
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("VolumeFill::heat"),
-            color_attachments: &[Some(color_attachment(
-                &targets.color_view,
-                wgpu::LoadOp::Load,
-            ))],
-            depth_stencil_attachment: None,
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        pass.set_pipeline(&self.heat);
-        pass.set_bind_group(0, &group, &[]);
-        pass.draw(0..3, 0..1);
+        draw_fullscreen(
+            encoder,
+            "VolumeFill::heat",
+            &targets.color_view,
+            (&self.heat, &group),
+        );
     }
 }
 

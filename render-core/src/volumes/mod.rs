@@ -38,7 +38,8 @@ use fill::{Fill, FillDraw};
 #[cfg(test)]
 pub(crate) use pipelines::shader_sources;
 use pipelines::{
-    RECEIVER_GRID, VolumeFrameGpu, depth_pipeline, dispatch_size, shader_source, volume_pipeline,
+    RECEIVER_GRID, VolumeFrameGpu, depth_pipeline, depth_stencil_pass, dispatch_size,
+    shader_source, volume_pipeline,
 };
 use scene::{SceneLayouts, SceneVolumes};
 
@@ -422,26 +423,12 @@ impl ShadowTechnique for VolumeTechnique {
         draw.timer.end_pass(encoder, query);
         let query = draw.timer.begin_pass(pass_label::VOLUME_DEPTH, encoder);
         {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("Volumes::depth"),
-                color_attachments: &[],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &target.depth_stencil,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(0.0),
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(0),
-                        store: wgpu::StoreOp::Store,
-                    }),
-                }),
-                timestamp_writes: query
-                    .as_ref()
-                    .and_then(wgpu_profiler::GpuProfilerQuery::render_pass_timestamp_writes),
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
+            let mut pass = depth_stencil_pass(
+                encoder,
+                ("Volumes::depth", &target.depth_stencil),
+                Some((0.0, 0)),
+                query.as_ref(),
+            );
             pass.set_pipeline(&self.depth);
             pass.set_bind_group(0, draw.frame_group, &[]);
             draw.camera_draws
@@ -450,26 +437,12 @@ impl ShadowTechnique for VolumeTechnique {
         draw.timer.end_pass(encoder, query);
         let query = draw.timer.begin_pass(pass_label::SHADOW_VOLUMES, encoder);
         {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("Volumes::stencil"),
-                color_attachments: &[],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &target.depth_stencil,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    }),
-                }),
-                timestamp_writes: query
-                    .as_ref()
-                    .and_then(wgpu_profiler::GpuProfilerQuery::render_pass_timestamp_writes),
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
+            let mut pass = depth_stencil_pass(
+                encoder,
+                ("Volumes::stencil", &target.depth_stencil),
+                None,
+                query.as_ref(),
+            );
             pass.set_bind_group(0, draw.frame_group, &[]);
             pass.set_bind_group(1, &scene.scene_group, &[]);
             pass.set_bind_group(2, &scene.draw_group, &[]);

@@ -140,3 +140,36 @@ pub(super) fn dispatch_size(items: u32) -> (u32, u32) {
         (ROW_GROUPS, groups.div_ceil(ROW_GROUPS))
     }
 }
+
+/// A pass on the volumes' depth-stencil target: both cleared to `clear` (depth, stencil) or
+/// kept, both stored.
+pub(super) fn depth_stencil_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    (label, view): (&str, &wgpu::TextureView),
+    clear: Option<(f32, u32)>,
+    query: Option<&wgpu_profiler::GpuProfilerQuery>,
+) -> wgpu::RenderPass<'e> {
+    fn ops<T>(load: wgpu::LoadOp<T>) -> wgpu::Operations<T> {
+        wgpu::Operations {
+            load,
+            store: wgpu::StoreOp::Store,
+        }
+    }
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: &[],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view,
+            depth_ops: Some(ops(
+                clear.map_or(wgpu::LoadOp::Load, |c| wgpu::LoadOp::Clear(c.0))
+            )),
+            stencil_ops: Some(ops(
+                clear.map_or(wgpu::LoadOp::Load, |c| wgpu::LoadOp::Clear(c.1))
+            )),
+        }),
+        timestamp_writes: query
+            .and_then(wgpu_profiler::GpuProfilerQuery::render_pass_timestamp_writes),
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
+}
