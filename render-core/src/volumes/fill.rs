@@ -4,6 +4,7 @@
 //! and per pixel (`fs_fill` in `draw.wgsl`). The totals travel with the culling counters;
 //! the per-pixel counts make the fill heat map (`fill_heat.wgsl`).
 
+use super::pipelines::{VolumePass, volume_pipeline};
 use crate::gpu::{
     bind_group_layout, buffer_entry, depth_texture, draw_fullscreen, fullscreen_pipeline,
     pipeline_layout, storage, uniform, view_entry,
@@ -57,37 +58,12 @@ impl Fill {
             &[layouts[0], layouts[1], layouts[2], &layout],
         );
         let pipeline = |entry: &str| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("VolumeFill::pipeline"),
-                layout: Some(&pipeline_layout),
-                vertex: wgpu::VertexState {
-                    module,
-                    entry_point: Some(entry),
-                    compilation_options: wgpu::PipelineCompilationOptions::default(),
-                    buffers: &[],
-                },
-                primitive: wgpu::PrimitiveState {
-                    cull_mode: None,
-                    unclipped_depth: depth_clamped,
-                    ..Default::default()
-                },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format,
-                    depth_write_enabled: Some(false),
-                    depth_compare: Some(wgpu::CompareFunction::Always),
-                    stencil: wgpu::StencilState::default(),
-                    bias: wgpu::DepthBiasState::default(),
-                }),
-                multisample: wgpu::MultisampleState::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module,
-                    entry_point: Some("fs_fill"),
-                    compilation_options: wgpu::PipelineCompilationOptions::default(),
-                    targets: &[],
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
+            volume_pipeline(
+                device,
+                (&pipeline_layout, module, entry),
+                (format, depth_clamped),
+                VolumePass::Fill,
+            )
         };
         let heat_layout = bind_group_layout(
             device,

@@ -38,7 +38,7 @@ use fill::{Fill, FillDraw};
 #[cfg(test)]
 pub(crate) use pipelines::shader_sources;
 use pipelines::{
-    RECEIVER_GRID, VolumeFrameGpu, depth_pipeline, depth_stencil_pass, dispatch_size,
+    RECEIVER_GRID, VolumeFrameGpu, VolumePass, depth_pipeline, depth_stencil_pass, dispatch_size,
     shader_source, volume_pipeline,
 };
 use scene::{SceneLayouts, SceneVolumes};
@@ -169,8 +169,8 @@ impl VolumeTechnique {
             volume_pipeline(
                 device,
                 (&draw_pipeline_layout, &draw_module, entry),
-                format,
-                depth_clamped,
+                (format, depth_clamped),
+                VolumePass::Stencil,
             )
         };
         let fill = Fill::new(

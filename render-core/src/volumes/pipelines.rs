@@ -84,19 +84,50 @@ pub(super) fn depth_pipeline(
     })
 }
 
-/// Volume faces, both sides, z-fail: behind the visible surface a back face counts +1 and a
-/// front face -1; nothing written but the stencil.
+/// What a pipeline over the volume faces does.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(super) enum VolumePass {
+    /// Both sides, z-fail: behind the visible surface a back face counts +1 and a front face
+    /// -1; nothing written but the stencil.
+    Stencil,
+    /// The depth test off, every fragment counted by `fs_fill` (`fill.rs`).
+    Fill,
+}
+
+/// A pipeline drawing the volume faces from vertex entry `entry` of `module`.
 pub(super) fn volume_pipeline(
     device: &wgpu::Device,
     (layout, module, entry): (&wgpu::PipelineLayout, &wgpu::ShaderModule, &str),
-    format: wgpu::TextureFormat,
-    depth_clamped: bool,
+    (format, depth_clamped): (wgpu::TextureFormat, bool),
+    kind: VolumePass,
 ) -> wgpu::RenderPipeline {
     let face = |depth_fail_op| wgpu::StencilFaceState {
         compare: wgpu::CompareFunction::Always,
         fail_op: wgpu::StencilOperation::Keep,
         depth_fail_op,
         pass_op: wgpu::StencilOperation::Keep,
+    };
+    let (depth_compare, stencil, fragment) = match kind {
+        VolumePass::Stencil => (
+            wgpu::CompareFunction::Greater,
+            wgpu::StencilState {
+                front: face(wgpu::StencilOperation::DecrementWrap),
+                back: face(wgpu::StencilOperation::IncrementWrap),
+                read_mask: 0xff,
+                write_mask: 0xff,
+            },
+            None,
+        ),
+        VolumePass::Fill => (
+            wgpu::CompareFunction::Always,
+            wgpu::StencilState::default(),
+            Some(wgpu::FragmentState {
+                module,
+                entry_point: Some("fs_fill"),
+                compilation_options: wgpu::PipelineCompilationOptions::default(),
+                targets: &[],
+            }),
+        ),
     };
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(entry),
@@ -115,17 +146,12 @@ pub(super) fn volume_pipeline(
         depth_stencil: Some(wgpu::DepthStencilState {
             format,
             depth_write_enabled: Some(false),
-            depth_compare: Some(wgpu::CompareFunction::Greater),
-            stencil: wgpu::StencilState {
-                front: face(wgpu::StencilOperation::DecrementWrap),
-                back: face(wgpu::StencilOperation::IncrementWrap),
-                read_mask: 0xff,
-                write_mask: 0xff,
-            },
+            depth_compare: Some(depth_compare),
+            stencil,
             bias: wgpu::DepthBiasState::default(),
         }),
         multisample: wgpu::MultisampleState::default(),
-        fragment: None,
+        fragment,
         multiview_mask: None,
         cache: None,
     })
