@@ -6,7 +6,9 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use common::{has_display, out_dir, run, screenshot_stats, shadowlab, text};
+use common::{
+    has_display, out_dir, run, run_window, screenshot_stats, shadowlab, text, window_lock,
+};
 
 #[test]
 fn shot_of_the_city_writes_a_picture_and_stats() {
@@ -621,16 +623,18 @@ fn a_meshopt_packed_file_renders_headless_and_in_the_window() {
     }
     let shots = dir.join("window");
     let _ = std::fs::remove_dir_all(&shots);
-    let output = run(shadowlab()
-        .arg(&glb)
-        .args([
-            "--chunk-fraction",
-            "0",
-            "--exit-after-frames",
-            "3",
-            "--screenshot-dir",
-        ])
-        .arg(&shots));
+    let output = run_window(
+        shadowlab()
+            .arg(&glb)
+            .args([
+                "--chunk-fraction",
+                "0",
+                "--exit-after-frames",
+                "3",
+                "--screenshot-dir",
+            ])
+            .arg(&shots),
+    );
     assert!(output.status.success(), "{}", text(&output));
     let stats = screenshot_stats(&shots);
     assert_eq!(stats["objects"], city.instances.len());
@@ -647,6 +651,7 @@ fn window_opens_renders_and_saves_a_screenshot() {
     for entry in std::fs::read_dir(&dir).expect("dir").flatten() {
         let _ = std::fs::remove_file(entry.path());
     }
+    let _window = window_lock();
     let mut child = shadowlab()
         .args([
             "builtin:city-small",

@@ -31,6 +31,29 @@ pub fn run(cmd: &mut Command) -> Output {
     cmd.output().expect("shadowlab runs")
 }
 
+/// One window at a time in a test binary: the window tests of a file run as threads, and a
+/// window that opens while another sets up its surface has failed to reach the X server
+/// under `xvfb-run` once. Hold the guard while a window is open.
+pub fn window_lock() -> std::sync::MutexGuard<'static, ()> {
+    static WINDOW: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    WINDOW
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+/// Runs a command that opens the window, one window at a time; when it could not reach the
+/// display server at all (the virtual display's fault, not the window's), once more.
+pub fn run_window(cmd: &mut Command) -> Output {
+    let _window = window_lock();
+    let output = run(cmd);
+    if !output.status.success() && text(&output).contains("Failed to open connection to X server") {
+        eprintln!("the display server refused the window; trying once more");
+        std::thread::sleep(std::time::Duration::from_secs(1));
+        return run(cmd);
+    }
+    output
+}
+
 pub fn text(output: &Output) -> String {
     format!(
         "{}{}",
