@@ -21,7 +21,7 @@ struct DrawArgs {
 // The visible receivers in the light's view: per grid cell, the deepest visible receiver
 // point (its depth past the scene's nearest, plus 1, as bits; 0: none).
 @group(2) @binding(4) var<storage, read_write> grid: array<atomic<u32>>;
-// 0: grid cells marked (unused), 1: casters kept, 2, 3: fill (volumes/fill.rs).
+// 0: unused, 1: casters kept, 2, 3: fill (volumes/fill.rs).
 @group(2) @binding(5) var<storage, read_write> counters: array<atomic<u32>, 4>;
 // Per instance, the outcome code (the `casters` overlay).
 @group(2) @binding(6) var<storage, read_write> outcomes: array<u32>;

@@ -76,11 +76,10 @@ pub struct VolumeTechnique {
     target: Option<StencilTarget>,
     excluded: Vec<u32>,
     method: Method,
-    /// The counters of the frames in flight, and the newest that came back: (frame, visible
-    /// receivers, casters kept).
+    /// The counters of the frames in flight, and the newest that came back: (frame, casters
+    /// kept).
     readback: AsyncReadback,
-    latest: Option<(u64, u32, u32)>,
-    frame_index: u64,
+    latest: Option<(u64, u32)>,
     /// Whether the frames in flight count fill, and the newest fill that came back.
     fill_counted: bool,
     latest_fill: Option<VolumeFill>,
@@ -207,15 +206,9 @@ impl VolumeTechnique {
             method: Method::None,
             readback: AsyncReadback::new(device, "Volumes::counters_readback", 16, 3),
             latest: None,
-            frame_index: 0,
             fill_counted: false,
             latest_fill: None,
         }
-    }
-
-    /// The depth-stencil format the volumes are drawn into.
-    pub fn format(&self) -> wgpu::TextureFormat {
-        self.format
     }
 
     /// Builds the scene's edges and casters when the scene (or the excluded set) changed.
@@ -307,7 +300,6 @@ impl ShadowTechnique for VolumeTechnique {
     fn prepare(&mut self, ctx: &GpuContext, input: &TechniqueInput<'_>) -> Vec<ShadowView> {
         self.ensure_scene(ctx, input.scene, input.scene_gpu);
         self.method = self.effective_method(input.method);
-        self.frame_index = input.frame_index;
         let bounds = input.scene.bounds();
         let reach = if bounds.is_empty() {
             1.0
@@ -482,7 +474,7 @@ impl ShadowTechnique for VolumeTechnique {
     fn collect(&mut self) -> ShadowReport {
         if let Some((frame, bytes)) = self.readback.take_latest() {
             let words: &[u32] = bytemuck::cast_slice(&bytes);
-            self.latest = Some((frame, words[0], words[1]));
+            self.latest = Some((frame, words[1]));
             self.latest_fill = self.fill_counted.then(|| VolumeFill {
                 fragments: u64::from(words[2]),
                 stencil_writes: u64::from(words[3]),
@@ -491,7 +483,7 @@ impl ShadowTechnique for VolumeTechnique {
         let Some(scene) = self.scene.as_ref() else {
             return ShadowReport::default();
         };
-        let kept = self.latest.map(|(_, _, kept)| kept);
+        let kept = self.latest.map(|(_, kept)| kept);
         let mut stages = vec![Stage::new("scene casters", scene.casters)];
         if self.method != Method::None {
             stages.push(Stage::new(
@@ -513,7 +505,7 @@ impl ShadowTechnique for VolumeTechnique {
                 _ => kept.unwrap_or(scene.casters),
             }),
             stages,
-            culled_frame_index: self.latest.map(|(frame, _, _)| frame),
+            culled_frame_index: self.latest.map(|(frame, _)| frame),
             volume_fill: self.latest_fill,
             notes,
             ..ShadowReport::default()
@@ -521,8 +513,7 @@ impl ShadowTechnique for VolumeTechnique {
     }
 
     fn has_results_of(&self, frame_index: u64) -> bool {
-        self.latest
-            .is_some_and(|(frame, _, _)| frame >= frame_index)
+        self.latest.is_some_and(|(frame, _)| frame >= frame_index)
     }
 
     fn draw_overlay(
