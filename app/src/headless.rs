@@ -248,6 +248,12 @@ pub fn shot(args: &ShotArgs) -> anyhow::Result<()> {
             .map_or_else(|| "?".into(), |n| n.to_string()),
         stats_path.display()
     );
+    if let Some(passes) = report.volume_passes {
+        println!(
+            "shadow volumes: {} counted z-pass, {} z-fail",
+            passes.z_pass, passes.z_fail
+        );
+    }
     if let Some(fill) = report.volume_fill {
         println!(
             "shadow volumes: {} fragments rasterised, {} stencil writes",
@@ -352,6 +358,7 @@ pub fn stats_json(
         "notes": report.notes,
         "shadow_failure": report.shadow_failure,
         "volume_fill": report.volume_fill,
+        "volume_passes": report.volume_passes,
         "timings_ms": {
             "frame_wall": wall_ms,
             "cpu_culling": report.cpu.culling_ms,

@@ -1,6 +1,7 @@
 //! Stencil shadow volumes (`--shadow volumes`) against the exact shadow: a box on a plane,
-//! the camera inside the box's shadow (where z-pass would fail), an open quad lit from its
-//! back, and a city street.
+//! the camera inside the box's shadow and the near plane cutting the box (where z-pass would
+//! fail, so the per-caster choice must take z-fail), an open quad lit from its back, and a
+//! city street.
 
 use glam::{Mat4, Vec3};
 use render_core::frame::{
@@ -10,7 +11,7 @@ use render_core::geom::Camera;
 use render_core::metrics::ShadowError;
 use render_core::scene::{Instance, Mesh, Scene, Sun, load_builtin};
 use render_core::truth::{SurfacePoint, TruthCache};
-use render_core::volumes::VolumeClamp;
+use render_core::volumes::{VolumeClamp, VolumePassChoice, VolumePasses};
 use shadowlab_tests::{box_mesh, box_on_plane, city_small_street_camera, expected_shadow, gpu};
 
 const BOX: Vec3 = Vec3::new(2.0, 3.0, 1.5);
@@ -94,6 +95,37 @@ fn check_ground_against_analytic(
     (shadowed, lit)
 }
 
+fn counting(pass: VolumePassChoice) -> FrameSettings {
+    let mut settings = volumes(sun());
+    settings.volumes.pass = pass;
+    settings
+}
+
+/// The light at every exact point of the view with each way of counting (auto, z-fail,
+/// z-pass), and auto's report.
+fn light_by_counting(scene: &Scene, camera: &Camera) -> ([Vec<f32>; 3], FrameReport) {
+    let mut truth = TruthCache::default();
+    let exact = truth.exact(scene, camera, SIZE, scene.sun.direction_to_sun);
+    let mut auto_report = None;
+    let lights = [
+        VolumePassChoice::Auto,
+        VolumePassChoice::ZFail,
+        VolumePassChoice::ZPass,
+    ]
+    .map(|pass| {
+        let (_, _, renderer, report) = against_truth(scene, camera, &counting(pass));
+        auto_report.get_or_insert(report);
+        renderer.light_at(gpu(), &exact.points).expect("read back")
+    });
+    (lights, auto_report.expect("auto ran first"))
+}
+
+/// Points where two lights differ.
+#[allow(clippy::float_cmp, reason = "hard shadows are exactly 0 or 1")]
+fn differing(a: &[f32], b: &[f32]) -> usize {
+    a.iter().zip(b).filter(|(a, b)| a != b).count()
+}
+
 /// A ground point behind the box, seen from the sun.
 fn behind() -> Vec3 {
     let to_sun = sun().direction_to_sun;
@@ -158,7 +190,64 @@ fn the_camera_inside_the_shadow_sees_it_correctly() {
             in_shadow > 500,
             "towards {target}: {in_shadow} shadowed ground points"
         );
+        // The near rectangle lies in the box's volume: auto counts it z-fail, exactly as
+        // z-fail everywhere does, and z-pass would lose the shadow around the camera.
+        let ([auto, z_fail, z_pass], report) = light_by_counting(&scene, &camera);
+        let passes = report.volume_passes.expect("counted");
+        assert!(passes.z_fail >= 1, "towards {target}: {passes:?}");
+        assert_eq!(differing(&auto, &z_fail), 0, "towards {target}");
+        let wrong = differing(&z_pass, &z_fail);
+        assert!(wrong > 1_000, "towards {target}: z-pass differs at {wrong}");
     }
+}
+
+#[test]
+fn auto_counts_a_volume_z_pass_only_where_the_near_rectangle_is_outside_it() {
+    let scene = box_on_plane(20.0, BOX, 0.0, sun());
+    // Above and away from the box: its volume cannot hold the near rectangle.
+    let above = Camera::look_at(
+        Vec3::new(-6.0, 9.0, 8.0),
+        Vec3::new(-1.0, 0.0, 0.0),
+        60f32.to_radians(),
+        0.1,
+        200.0,
+    );
+    let ([auto, z_fail, _], report) = light_by_counting(&scene, &above);
+    let passes = report.volume_passes.expect("counted");
+    assert!(passes.z_pass >= 1, "the box is counted z-pass: {passes:?}");
+    assert_eq!(differing(&auto, &z_fail), 0);
+    // 2 cm outside the box's lit +z face, looking along it into the box's shadow: the near
+    // plane (5 cm) cuts the box, and with it the box's volume.
+    let beside = Camera::look_at(
+        Vec3::new(0.5, 1.0, BOX.z * 0.5 + 0.02),
+        Vec3::new(-8.0, 0.0, BOX.z * 0.5 + 0.02),
+        70f32.to_radians(),
+        0.05,
+        200.0,
+    );
+    let ([auto, z_fail, z_pass], report) = light_by_counting(&scene, &beside);
+    let passes = report.volume_passes.expect("counted");
+    assert_eq!(
+        passes,
+        VolumePasses {
+            z_pass: passes.z_pass,
+            z_fail: passes.z_fail.max(1)
+        },
+        "the box is counted z-fail"
+    );
+    assert_eq!(differing(&auto, &z_fail), 0);
+    let wrong = differing(&z_pass, &z_fail);
+    assert!(wrong > 1_000, "z-pass differs at {wrong}");
+    let (error, shadowed, _, _) =
+        against_truth(&scene, &beside, &counting(VolumePassChoice::Auto));
+    assert!(shadowed > 1_000, "{shadowed}");
+    // Near caps are clipped at the near plane as the camera's passes are, so the box's lit
+    // face seen edge-on keeps its light (clamped, they interpolated other depths there).
+    let wrong = error.missing_shadow_px + error.extra_shadow_px;
+    assert!(
+        wrong * 10_000 <= error.visible_px,
+        "{error:?} of {shadowed} shadowed"
+    );
 }
 
 #[test]
@@ -323,3 +412,4 @@ fn culling_and_clamping_by_the_visible_receivers_change_no_pixel() {
         "{clamped_fill:?} against {culled_fill:?}"
     );
 }
+

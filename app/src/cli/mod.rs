@@ -194,6 +194,11 @@ pub struct ViewArgs {
     /// or continuous (to the furthest visible receiver box it overlaps, Lloyd's clamping).
     #[arg(long, value_parser = parse_volume_clamp, value_name = "CLAMP")]
     pub volume_clamp: Option<render_core::volumes::VolumeClamp>,
+    /// `--shadow volumes`: how the stencil counts each volume: auto (z-pass where the camera's
+    /// near rectangle cannot lie in it, else z-fail with caps, as DOOM 3 does), z-pass or
+    /// z-fail for every volume.
+    #[arg(long, value_parser = parse_volume_pass, value_name = "PASS")]
+    pub volume_pass: Option<render_core::volumes::VolumePassChoice>,
     /// `--shadow lispsm`: multiplies the warp's optimal n (Wimmer et al. 2004); below 1 warps
     /// harder, above 1 tends to a uniform map.
     #[arg(long, value_name = "SCALE")]
@@ -357,6 +362,9 @@ impl ViewArgs {
         if let Some(clamp) = self.volume_clamp {
             settings.volumes.clamp = clamp;
         }
+        if let Some(pass) = self.volume_pass {
+            settings.volumes.pass = pass;
+        }
         if let Some(scale) = self.lispsm_n {
             anyhow::ensure!(
                 scale.is_finite() && (0.01..=100.0).contains(&scale),
@@ -453,6 +461,10 @@ fn parse_setup(s: &str) -> Result<ShadowSetup, String> {
 }
 
 fn parse_volume_clamp(s: &str) -> Result<render_core::volumes::VolumeClamp, String> {
+    s.parse()
+}
+
+fn parse_volume_pass(s: &str) -> Result<render_core::volumes::VolumePassChoice, String> {
     s.parse()
 }
 

@@ -79,6 +79,8 @@ pub struct FrameReport {
     pub shadow_failure: Option<String>,
     /// Shadow volumes: fragments rasterised and stencil writes (when counted).
     pub volume_fill: Option<crate::technique::VolumeFill>,
+    /// Shadow volumes: how many were counted z-pass and z-fail.
+    pub volume_passes: Option<crate::technique::VolumePasses>,
 }
 
 impl FrameReport {
@@ -106,6 +108,7 @@ impl FrameReport {
         self.notes = shadows.notes;
         self.shadow_failure = shadows.failure;
         self.volume_fill = shadows.volume_fill;
+        self.volume_passes = shadows.volume_passes;
     }
 
     /// Takes a measured frame: error, and the oracle per view and in total.

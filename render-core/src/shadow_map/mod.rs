@@ -429,6 +429,7 @@ impl ShadowTechnique for MapTechnique {
             casters_rendered: None,
             stages: Vec::new(),
             volume_fill: None,
+            volume_passes: None,
             views,
             culled_frame_index,
             notes,

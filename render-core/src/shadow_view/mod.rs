@@ -15,7 +15,7 @@ mod volume_settings;
 pub use buffer::ViewBuffer;
 pub use gpu_data::ShadowViewGpu;
 pub use settings::{PcfKernel, ShadowSettings};
-pub use volume_settings::{VolumeClamp, VolumeSettings};
+pub use volume_settings::{VolumeClamp, VolumePassChoice, VolumeSettings};
 
 use crate::geom::LightFrustum;
 

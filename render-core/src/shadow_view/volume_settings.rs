@@ -38,6 +38,45 @@ impl std::str::FromStr for VolumeClamp {
     }
 }
 
+/// How the stencil counts each caster's volume.
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum VolumePassChoice {
+    /// Per caster, as DOOM 3 chooses: z-pass where the camera's near rectangle cannot lie
+    /// inside the volume, z-fail with caps where it can.
+    #[default]
+    Auto,
+    /// Every volume z-pass (Heidmann): wrong where the near plane cuts a volume.
+    ZPass,
+    /// Every volume z-fail with caps (Carmack; Everitt and Kilgard).
+    ZFail,
+}
+
+impl VolumePassChoice {
+    pub const ALL: [Self; 3] = [Self::Auto, Self::ZPass, Self::ZFail];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Auto => "auto",
+            Self::ZPass => "z-pass",
+            Self::ZFail => "z-fail",
+        }
+    }
+}
+
+impl std::str::FromStr for VolumePassChoice {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        Self::ALL
+            .into_iter()
+            .find(|c| c.name() == s)
+            .ok_or_else(|| format!("unknown volume pass '{s}' (available: auto, z-pass, z-fail)"))
+    }
+}
+
 /// What a user sets about shadow volumes.
 #[derive(
     Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
@@ -45,4 +84,5 @@ impl std::str::FromStr for VolumeClamp {
 #[serde(default)]
 pub struct VolumeSettings {
     pub clamp: VolumeClamp,
+    pub pass: VolumePassChoice,
 }

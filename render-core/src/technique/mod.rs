@@ -144,6 +144,8 @@ pub struct ShadowReport {
     pub stages: Vec<Stage>,
     /// Shadow volumes: the fill of the newest frame that counted it.
     pub volume_fill: Option<VolumeFill>,
+    /// Shadow volumes: how the newest frame's drawn volumes were counted.
+    pub volume_passes: Option<VolumePasses>,
     pub views: Vec<ViewReport>,
     /// For counts that come back from the GPU: the frame they belong to.
     pub culled_frame_index: Option<u64>,
@@ -160,8 +162,18 @@ pub struct ShadowReport {
 pub struct VolumeFill {
     /// Fragments the volume faces rasterise, depth test off.
     pub fragments: u64,
-    /// Of those, the ones behind the visible surface: z-fail's stencil writes.
+    /// Of those, the ones that write the stencil: behind the visible surface for a z-fail
+    /// volume, in front of it for a z-pass one.
     pub stencil_writes: u64,
+}
+
+/// How many of one frame's drawn volumes the stencil counted each way.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct VolumePasses {
+    /// Volumes the camera's near rectangle cannot lie in: no near caps needed.
+    pub z_pass: u32,
+    /// Volumes drawn z-fail with both caps.
+    pub z_fail: u32,
 }
 
 /// One view of the light's view inset: its map, mask and outcomes.

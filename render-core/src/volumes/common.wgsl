@@ -8,7 +8,8 @@ struct VolumeFrame {
     // culled caster.
     counts: vec4<u32>,
     // x: instances; y: bit 0 culling, bit 1 clamping (volumes/find.wgsl); z: the receiver
-    // grid's side in cells; w: unused.
+    // grid's side in cells; w: how volumes count (0: per caster, 1: all z-pass, 2: all
+    // z-fail).
     options: vec4<u32>,
     // The light's frame: xyz two axes across the light and the one it travels; w: where the
     // receiver grid starts along the first two, and the scene's nearest depth along the last.
@@ -17,6 +18,10 @@ struct VolumeFrame {
     travel: vec4<f32>,
     // x: the grid's cell size, metres; y, z, w: unused.
     cell: vec4<f32>,
+    // The camera's near rectangle in the light's frame (as `in_light` places points): its
+    // box, xyz.
+    near_lo: vec4<f32>,
+    near_hi: vec4<f32>,
 }
 
 // One caster: its mesh's edges and triangles, where its vertices start, and whether its
@@ -41,6 +46,9 @@ struct Edge {
 }
 
 const NO_FACE: u32 = 0xffffffffu;
+// A caster's reach with this bit (the float's sign) is counted z-pass (volumes/find.wgsl
+// `cull_casters`).
+const Z_PASS: u32 = 0x80000000u;
 // A record's high bit: extruded the other way round (negative multiplicity).
 const REVERSED: u32 = 0x80000000u;
 // Float32 per scene vertex: position, then normal (scene_gpu/gpu_data.rs Vertex).

@@ -1,10 +1,10 @@
 //! The fill the shadow volumes cost (Lloyd et al.'s measure): when measuring or showing the
 //! heat map, the frame's volume faces are drawn once more with the depth test off, and each
-//! fragment is counted in total, behind the visible surface (the stencil writes of z-fail)
-//! and per pixel (`fs_fill` in `draw.wgsl`). The totals travel with the culling counters;
+//! fragment is counted in total, where its volume's counting writes the stencil (behind the
+//! visible surface for z-fail, in front of it for z-pass) and per pixel (`fs_fill` in `draw.wgsl`). The totals travel with the culling counters;
 //! the per-pixel counts make the fill heat map (`fill_heat.wgsl`).
 
-use super::pipelines::{VolumePass, volume_pipeline};
+use super::pipelines::{VolumePass, VolumePipelines};
 use crate::gpu::{
     bind_group_layout, buffer_entry, depth_texture, draw_fullscreen, fullscreen_pipeline,
     pipeline_layout, storage, uniform, view_entry,
@@ -29,8 +29,7 @@ struct Counts {
 
 pub(super) struct Fill {
     layout: wgpu::BindGroupLayout,
-    quads: wgpu::RenderPipeline,
-    caps: wgpu::RenderPipeline,
+    pipelines: VolumePipelines,
     heat_layout: wgpu::BindGroupLayout,
     heat: wgpu::RenderPipeline,
     size_uniform: wgpu::Buffer,
@@ -38,8 +37,8 @@ pub(super) struct Fill {
 }
 
 impl Fill {
-    /// `layouts`: groups 0 to 2 of the volume draws; `module` holds `vs_quad`, `vs_cap` and
-    /// `fs_fill`.
+    /// `layouts`: groups 0 to 2 of the volume draws; `module` holds their vertex entries,
+    /// `fs_fill` and `fs_fill_pass`.
     pub fn new(
         device: &wgpu::Device,
         layouts: [&wgpu::BindGroupLayout; 3],
@@ -57,14 +56,12 @@ impl Fill {
             "VolumeFill::pipeline_layout",
             &[layouts[0], layouts[1], layouts[2], &layout],
         );
-        let pipeline = |entry: &str| {
-            volume_pipeline(
-                device,
-                (&pipeline_layout, module, entry),
-                (format, depth_clamped),
-                VolumePass::Fill,
-            )
-        };
+        let pipelines = VolumePipelines::new(
+            device,
+            (&pipeline_layout, module),
+            (format, depth_clamped),
+            VolumePass::Fill,
+        );
         let heat_layout = bind_group_layout(
             device,
             "VolumeFill::heat_layout",
@@ -85,8 +82,7 @@ impl Fill {
         );
         Self {
             layout,
-            quads: pipeline("vs_quad"),
-            caps: pipeline("vs_cap"),
+            pipelines,
             heat_layout,
             heat,
             size_uniform: device.create_buffer(&wgpu::BufferDescriptor {
@@ -152,10 +148,7 @@ impl Fill {
             pass.set_bind_group(1, draw.scene, &[]);
             pass.set_bind_group(2, draw.records, &[]);
             pass.set_bind_group(3, &group, &[]);
-            pass.set_pipeline(&self.quads);
-            pass.draw_indirect(draw.draws, 0);
-            pass.set_pipeline(&self.caps);
-            pass.draw_indirect(draw.draws, 16);
+            self.pipelines.draw(&mut pass, draw.draws);
         }
         encoder.copy_buffer_to_buffer(counts, 0, draw.counters, 8, 8);
     }

@@ -15,13 +15,16 @@ struct DrawArgs {
 
 @group(2) @binding(0) var<storage, read_write> quads: array<vec2<u32>>;
 @group(2) @binding(1) var<storage, read_write> caps: array<vec2<u32>>;
-@group(2) @binding(2) var<storage, read_write> draws: array<DrawArgs, 2>;
-// Per caster, how far its volume reaches along the light (metres, as bits; 0: not drawn).
+// z-fail quads and caps, z-pass quads and caps (volumes/pipelines.rs DRAWS).
+@group(2) @binding(2) var<storage, read_write> draws: array<DrawArgs, 4>;
+// Per caster, how far its volume reaches along the light (metres, as bits; 0: not drawn),
+// with Z_PASS set where the stencil counts it z-pass.
+// Z-fail records fill `quads` and `caps` from the start, z-pass records from the end.
 @group(2) @binding(3) var<storage, read_write> kept: array<u32>;
 // The visible receivers in the light's view: per grid cell, the deepest visible receiver
 // point (its depth past the scene's nearest, plus 1, as bits; 0: none).
 @group(2) @binding(4) var<storage, read_write> grid: array<atomic<u32>>;
-// 0: unused, 1: casters kept, 2, 3: fill (volumes/fill.rs).
+// 0: casters counted z-pass, 1: casters kept, 2, 3: fill (volumes/fill.rs).
 @group(2) @binding(5) var<storage, read_write> counters: array<atomic<u32>, 4>;
 // Per instance, the outcome code (the `casters` overlay).
 @group(2) @binding(6) var<storage, read_write> outcomes: array<u32>;
@@ -116,16 +119,43 @@ fn cull_casters(@builtin(global_invocation_id) id: vec3<u32>) {
     if (clamping && deepest < 1e29) {
         reach = min(reach, max(deepest - lo.z, 0.0) + 2.0 * pad + 1e-2);
     }
-    kept[ci] = select(0u, bitcast<u32>(reach), keep);
+    let z_pass = counts_z_pass(lo - pad, hi + pad, reach);
+    kept[ci] = select(0u, bitcast<u32>(reach) | select(0u, Z_PASS, z_pass), keep);
     outcomes[c.instance] = select(volume.counts.w, OUTCOME_RENDERED, keep);
     if (keep) {
         atomicAdd(&counters[1], 1u);
+        if (z_pass) {
+            atomicAdd(&counters[0], 1u);
+        }
     }
 }
 
+// Whether the stencil may count the volume of a caster whose box spans `lo` to `hi` in the
+// light's frame z-pass: DOOM 3's test, as boxes. The volume lies in the box's column across
+// the light, from its near side to `reach` past its far side; z-pass counts from the near
+// plane, so it is right wherever the camera's near rectangle cannot lie in that column.
+fn counts_z_pass(lo: vec3<f32>, hi: vec3<f32>, reach: f32) -> bool {
+    if (volume.options.w != 0u) {
+        return volume.options.w == 1u;
+    }
+    let near_lo = volume.near_lo.xyz;
+    let near_hi = volume.near_hi.xyz;
+    let apart = any(near_hi.xy < lo.xy) || any(near_lo.xy > hi.xy)
+        || near_hi.z < lo.z || near_lo.z > hi.z + reach;
+    return apart;
+}
+
+fn z_pass(caster: u32) -> bool {
+    return (kept[caster] & Z_PASS) != 0u;
+}
+
 fn append_quad(caster: u32, edge: u32, reversed: bool) {
-    let slot = atomicAdd(&draws[0].instance_count, 1u);
-    quads[slot] = vec2<u32>(caster, edge | select(0u, REVERSED, reversed));
+    let record = vec2<u32>(caster, edge | select(0u, REVERSED, reversed));
+    if (z_pass(caster)) {
+        quads[arrayLength(&quads) - 1u - atomicAdd(&draws[2].instance_count, 1u)] = record;
+    } else {
+        quads[atomicAdd(&draws[0].instance_count, 1u)] = record;
+    }
 }
 
 // One edge of one caster: its quad, as many times as its multiplicity.
@@ -168,21 +198,23 @@ fn find_caps(@builtin(global_invocation_id) id: vec3<u32>) {
     if (s == 0) {
         return;
     }
-    let slot = atomicAdd(&draws[1].instance_count, 1u);
-    caps[slot] = vec2<u32>(ci, t | select(0u, REVERSED, s < 0));
+    let record = vec2<u32>(ci, t | select(0u, REVERSED, s < 0));
+    if (z_pass(ci)) {
+        caps[arrayLength(&caps) - 1u - atomicAdd(&draws[3].instance_count, 1u)] = record;
+    } else {
+        caps[atomicAdd(&draws[1].instance_count, 1u)] = record;
+    }
 }
 
 // Before the passes above: no records.
 @compute @workgroup_size(1)
 fn reset_draws() {
-    draws[0].vertex_count = 6u;
-    atomicStore(&draws[0].instance_count, 0u);
-    draws[0].first_vertex = 0u;
-    draws[0].first_instance = 0u;
-    draws[1].vertex_count = 6u;
-    atomicStore(&draws[1].instance_count, 0u);
-    draws[1].first_vertex = 0u;
-    draws[1].first_instance = 0u;
+    for (var k = 0u; k < 4u; k++) {
+        draws[k].vertex_count = 6u;
+        atomicStore(&draws[k].instance_count, 0u);
+        draws[k].first_vertex = 0u;
+        draws[k].first_instance = 0u;
+    }
     for (var k = 0u; k < 4u; k++) {
         atomicStore(&counters[k], 0u);
     }

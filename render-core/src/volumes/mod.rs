@@ -7,8 +7,10 @@
 //!                        caps the volume; records appended for two indirect draws
 //! volume depth           the camera's visible surface again, into a depth-stencil target
 //!                        (the camera's vertex stage, so the depths are the prepass's)
-//! shadow volumes         quads and caps extruded past the scene, z-fail, two-sided stencil,
-//!                        depth clamped where the adapter can (nothing clipped at the far plane)
+//! shadow volumes         quads and caps extruded past the scene, two-sided stencil, depth
+//!                        clamped where the adapter can (nothing clipped at the far plane);
+//!                        z-pass where the camera's near rectangle cannot lie in a caster's
+//!                        volume (DOOM 3's test), else z-fail with caps
 //! light term             lit where the stencil at the point's pixel is 0 (light.wgsl)
 //! ```
 //!
@@ -29,8 +31,8 @@ use crate::gpu::{
 use crate::scene::Scene;
 use crate::scene_gpu::SceneGpu;
 use crate::shadow_view::ShadowView;
-pub use crate::shadow_view::{VolumeClamp, VolumeSettings};
-pub use crate::technique::VolumeFill;
+pub use crate::shadow_view::{VolumeClamp, VolumePassChoice, VolumeSettings};
+pub use crate::technique::{VolumeFill, VolumePasses};
 use crate::technique::{
     DrawInput, InsetSources, ShadowPasses, ShadowReport, ShadowTechnique, TechniqueInput,
 };
@@ -39,7 +41,7 @@ use fill::{Fill, FillDraw};
 pub(crate) use pipelines::shader_sources;
 use pipelines::{
     RECEIVER_GRID, VolumeFrameGpu, VolumePass, depth_pipeline, depth_stencil_pass, dispatch_size,
-    shader_source, volume_pipeline,
+    VolumePipelines, shader_source,
 };
 use scene::{SceneLayouts, SceneVolumes};
 
@@ -69,17 +71,16 @@ pub struct VolumeTechnique {
     silhouettes: wgpu::ComputePipeline,
     caps: wgpu::ComputePipeline,
     depth: wgpu::RenderPipeline,
-    quad_volumes: wgpu::RenderPipeline,
-    cap_volumes: wgpu::RenderPipeline,
+    volumes: VolumePipelines,
     uniforms: wgpu::Buffer,
     scene: Option<SceneVolumes>,
     target: Option<StencilTarget>,
     excluded: Vec<u32>,
     method: Method,
     /// The counters of the frames in flight, and the newest that came back: (frame, casters
-    /// kept).
+    /// kept, of which z-pass).
     readback: AsyncReadback,
-    latest: Option<(u64, u32)>,
+    latest: Option<(u64, u32, u32)>,
     /// Whether the frames in flight count fill, and the newest fill that came back.
     fill_counted: bool,
     latest_fill: Option<VolumeFill>,
@@ -164,14 +165,12 @@ impl VolumeTechnique {
             "Volumes::draw_pipeline_layout",
             &[frame_layout, &scene_layout, &draw_layout],
         );
-        let volume = |entry| {
-            volume_pipeline(
-                device,
-                (&draw_pipeline_layout, &draw_module, entry),
-                (format, depth_clamped),
-                VolumePass::Stencil,
-            )
-        };
+        let volumes = VolumePipelines::new(
+            device,
+            (&draw_pipeline_layout, &draw_module),
+            (format, depth_clamped),
+            VolumePass::Stencil,
+        );
         let fill = Fill::new(
             device,
             [frame_layout, &scene_layout, &draw_layout],
@@ -188,8 +187,7 @@ impl VolumeTechnique {
             silhouettes: find("find_silhouettes"),
             caps: find("find_caps"),
             depth,
-            quad_volumes: volume("vs_quad"),
-            cap_volumes: volume("vs_cap"),
+            volumes,
             uniforms: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("Volumes::uniforms"),
                 size: size_of::<VolumeFrameGpu>() as u64,
@@ -326,6 +324,21 @@ impl ShadowTechnique for VolumeTechnique {
         let (x, y, z) = (range(right), range(up), range(travel));
         let cell = ((x.1 - x.0).max(y.1 - y.0) / RECEIVER_GRID as f32).max(1e-3);
         let clamping = input.volumes.clamp == VolumeClamp::Continuous;
+        // The near rectangle's box in the light's frame, as `in_light` places points.
+        let near = input.camera.frustum_corners_world(
+            f64::from(input.aspect),
+            f64::from(input.camera.near_m),
+            f64::from(input.camera.near_m) * 2.0,
+        );
+        let origin = glam::Vec3::new(x.0, y.0, z.0);
+        let (near_lo, near_hi) = near[..4].iter().fold(
+            (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN)),
+            |(lo, hi), corner| {
+                let c = corner.as_vec3();
+                let p = glam::Vec3::new(c.dot(right), c.dot(up), c.dot(travel)) - origin;
+                (lo.min(p), hi.max(p))
+            },
+        );
         ctx.queue.write_buffer(
             &self.uniforms,
             0,
@@ -341,12 +354,18 @@ impl ShadowTechnique for VolumeTechnique {
                     scene.instances,
                     u32::from(self.method != Method::None) | (u32::from(clamping) << 1),
                     RECEIVER_GRID,
-                    0,
+                    match input.volumes.pass {
+                        VolumePassChoice::Auto => 0,
+                        VolumePassChoice::ZPass => 1,
+                        VolumePassChoice::ZFail => 2,
+                    },
                 ],
                 right: right.extend(x.0).to_array(),
                 up: up.extend(y.0).to_array(),
                 travel: travel.extend(z.0).to_array(),
                 cell: [cell, 0.0, 0.0, 0.0],
+                near_lo: near_lo.extend(0.0).to_array(),
+                near_hi: near_hi.extend(0.0).to_array(),
             }),
         );
         Vec::new()
@@ -438,10 +457,7 @@ impl ShadowTechnique for VolumeTechnique {
             pass.set_bind_group(0, draw.frame_group, &[]);
             pass.set_bind_group(1, &scene.scene_group, &[]);
             pass.set_bind_group(2, &scene.draw_group, &[]);
-            pass.set_pipeline(&self.quad_volumes);
-            pass.draw_indirect(&scene.draws, 0);
-            pass.set_pipeline(&self.cap_volumes);
-            pass.draw_indirect(&scene.draws, 16);
+            self.volumes.draw(&mut pass, &scene.draws);
         }
         draw.timer.end_pass(encoder, query);
         self.fill_counted = input.measure_fill;
@@ -474,7 +490,7 @@ impl ShadowTechnique for VolumeTechnique {
     fn collect(&mut self) -> ShadowReport {
         if let Some((frame, bytes)) = self.readback.take_latest() {
             let words: &[u32] = bytemuck::cast_slice(&bytes);
-            self.latest = Some((frame, words[1]));
+            self.latest = Some((frame, words[1], words[0]));
             self.latest_fill = self.fill_counted.then(|| VolumeFill {
                 fragments: u64::from(words[2]),
                 stencil_writes: u64::from(words[3]),
@@ -483,7 +499,7 @@ impl ShadowTechnique for VolumeTechnique {
         let Some(scene) = self.scene.as_ref() else {
             return ShadowReport::default();
         };
-        let kept = self.latest.map(|(_, kept)| kept);
+        let kept = self.latest.map(|(_, kept, _)| kept);
         let mut stages = vec![Stage::new("scene casters", scene.casters)];
         if self.method != Method::None {
             stages.push(Stage::new(
@@ -505,15 +521,19 @@ impl ShadowTechnique for VolumeTechnique {
                 _ => kept.unwrap_or(scene.casters),
             }),
             stages,
-            culled_frame_index: self.latest.map(|(frame, _)| frame),
+            culled_frame_index: self.latest.map(|(frame, ..)| frame),
             volume_fill: self.latest_fill,
+            volume_passes: self.latest.map(|(_, kept, z_pass)| VolumePasses {
+                z_pass,
+                z_fail: kept - z_pass,
+            }),
             notes,
             ..ShadowReport::default()
         }
     }
 
     fn has_results_of(&self, frame_index: u64) -> bool {
-        self.latest.is_some_and(|(frame, _)| frame >= frame_index)
+        self.latest.is_some_and(|(frame, ..)| frame >= frame_index)
     }
 
     fn draw_overlay(

@@ -35,6 +35,8 @@ pub(super) struct VolumeFrameGpu {
     pub up: [f32; 4],
     pub travel: [f32; 4],
     pub cell: [f32; 4],
+    pub near_lo: [f32; 4],
+    pub near_hi: [f32; 4],
 }
 
 /// Cells per side of the grid of visible receiver points in the light's view.
@@ -87,32 +89,110 @@ pub(super) fn depth_pipeline(
 /// What a pipeline over the volume faces does.
 #[derive(Clone, Copy, PartialEq, Eq)]
 pub(super) enum VolumePass {
-    /// Both sides, z-fail: behind the visible surface a back face counts +1 and a front face
-    /// -1; nothing written but the stencil.
+    /// Both sides, nothing written but the stencil, counted as the draw's [`Counting`].
     Stencil,
     /// The depth test off, every fragment counted by `fs_fill` (`fill.rs`).
     Fill,
 }
 
+/// Where a volume's faces count in the stencil.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(super) enum Counting {
+    /// Behind the visible surface a back face counts +1 and a front face -1 (caps drawn).
+    ZFail,
+    /// In front of it a front face counts +1 and a back face -1.
+    ZPass,
+}
+
+/// One draw of the volume faces: its vertex entry, how it counts, whether its depth is
+/// clamped (nothing clipped at the far plane) and which of the indirect arguments it draws
+/// (16 bytes each, `volumes/find.wgsl` `draws`: z-fail quads and caps, z-pass quads and caps).
+struct VolumeDraw {
+    entry: &'static str,
+    counting: Counting,
+    clamped: bool,
+    args: u64,
+}
+
+/// Near caps are the casters' own triangles: clipped at the near plane as the camera's
+/// passes clip them, so each lands at exactly the visible surface's depth (a clamped
+/// triangle that crosses the near plane interpolates other depths there). The extruded
+/// faces are depth clamped where the adapter can.
+const DRAWS: [VolumeDraw; 6] = [
+    VolumeDraw::new("vs_quad", Counting::ZFail, true, 0),
+    VolumeDraw::new("vs_near_cap", Counting::ZFail, false, 1),
+    VolumeDraw::new("vs_far_cap", Counting::ZFail, true, 1),
+    VolumeDraw::new("vs_quad_pass", Counting::ZPass, true, 2),
+    VolumeDraw::new("vs_near_cap_pass", Counting::ZPass, false, 3),
+    VolumeDraw::new("vs_far_cap_pass", Counting::ZPass, true, 3),
+];
+
+impl VolumeDraw {
+    const fn new(entry: &'static str, counting: Counting, clamped: bool, args: u64) -> Self {
+        Self {
+            entry,
+            counting,
+            clamped,
+            args,
+        }
+    }
+}
+
+/// The pipelines of one kind, one per draw of the volume faces.
+pub(super) struct VolumePipelines([wgpu::RenderPipeline; DRAWS.len()]);
+
+impl VolumePipelines {
+    /// `depth_clamped`: the adapter clamps depth (`DEPTH_CLIP_CONTROL`).
+    pub fn new(
+        device: &wgpu::Device,
+        (layout, module): (&wgpu::PipelineLayout, &wgpu::ShaderModule),
+        (format, depth_clamped): (wgpu::TextureFormat, bool),
+        kind: VolumePass,
+    ) -> Self {
+        Self(DRAWS.each_ref().map(|draw| {
+            volume_pipeline(
+                device,
+                (layout, module, draw.entry),
+                (format, depth_clamped && draw.clamped),
+                (kind, draw.counting),
+            )
+        }))
+    }
+
+    /// Draws every record of `draws` (the indirect arguments).
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, draws: &wgpu::Buffer) {
+        for (draw, pipeline) in DRAWS.iter().zip(&self.0) {
+            pass.set_pipeline(pipeline);
+            pass.draw_indirect(draws, draw.args * 16);
+        }
+    }
+}
+
 /// A pipeline drawing the volume faces from vertex entry `entry` of `module`.
-pub(super) fn volume_pipeline(
+fn volume_pipeline(
     device: &wgpu::Device,
     (layout, module, entry): (&wgpu::PipelineLayout, &wgpu::ShaderModule, &str),
-    (format, depth_clamped): (wgpu::TextureFormat, bool),
-    kind: VolumePass,
+    (format, unclipped_depth): (wgpu::TextureFormat, bool),
+    (kind, counting): (VolumePass, Counting),
 ) -> wgpu::RenderPipeline {
-    let face = |depth_fail_op| wgpu::StencilFaceState {
+    use wgpu::StencilOperation::{DecrementWrap, IncrementWrap, Keep};
+    // (depth fail, depth pass) operations of the front and the back faces.
+    let face = |(depth_fail_op, pass_op)| wgpu::StencilFaceState {
         compare: wgpu::CompareFunction::Always,
-        fail_op: wgpu::StencilOperation::Keep,
+        fail_op: Keep,
         depth_fail_op,
-        pass_op: wgpu::StencilOperation::Keep,
+        pass_op,
+    };
+    let (front, back) = match counting {
+        Counting::ZFail => ((DecrementWrap, Keep), (IncrementWrap, Keep)),
+        Counting::ZPass => ((Keep, IncrementWrap), (Keep, DecrementWrap)),
     };
     let (depth_compare, stencil, fragment) = match kind {
         VolumePass::Stencil => (
             wgpu::CompareFunction::Greater,
             wgpu::StencilState {
-                front: face(wgpu::StencilOperation::DecrementWrap),
-                back: face(wgpu::StencilOperation::IncrementWrap),
+                front: face(front),
+                back: face(back),
                 read_mask: 0xff,
                 write_mask: 0xff,
             },
@@ -123,7 +203,10 @@ pub(super) fn volume_pipeline(
             wgpu::StencilState::default(),
             Some(wgpu::FragmentState {
                 module,
-                entry_point: Some("fs_fill"),
+                entry_point: Some(match counting {
+                    Counting::ZFail => "fs_fill",
+                    Counting::ZPass => "fs_fill_pass",
+                }),
                 compilation_options: wgpu::PipelineCompilationOptions::default(),
                 targets: &[],
             }),
@@ -140,7 +223,7 @@ pub(super) fn volume_pipeline(
         },
         primitive: wgpu::PrimitiveState {
             cull_mode: None,
-            unclipped_depth: depth_clamped,
+            unclipped_depth,
             ..Default::default()
         },
         depth_stencil: Some(wgpu::DepthStencilState {

@@ -137,7 +137,7 @@ impl SceneVolumes {
                 mapped_at_creation: false,
             })
         };
-        let draws = storage_buffer("Volumes::draws", 32, wgpu::BufferUsages::INDIRECT);
+        let draws = storage_buffer("Volumes::draws", 64, wgpu::BufferUsages::INDIRECT);
         let kept = storage_buffer(
             "Volumes::kept",
             u64::from(casters.len() as u32) * 4,

@@ -7,7 +7,7 @@ use render_core::cascades::{
 };
 use render_core::frame::{FrameReport, FrameSettings, ShadowSetup};
 use render_core::shadow_view::DepthMeasure;
-use render_core::volumes::VolumeClamp;
+use render_core::volumes::{VolumeClamp, VolumePassChoice};
 
 use super::grid;
 use crate::format::length;
@@ -16,12 +16,16 @@ use crate::theme;
 const SETUP_HELP: &str = "single: one map fitted to the view. lispsm: one map warped by a \
     perspective in light space (Wimmer et al.), finer near the camera. cascades: the view \
     frustum cut along its depth, one map per slice (Engel), so near shadows get fine texels. \
-    volumes: stencil shadow volumes, exact per pixel and without a map; every caster's volume \
-    is drawn (Lloyd's culling and clamping are to come)";
+    volumes: stencil shadow volumes, exact per pixel and without a map (Crow; Lloyd's culling \
+    and clamping with any method but none)";
 const CLAMP_HELP: &str = "How far each shadow volume reaches along the light. none: past the \
     scene. continuous: only to the deepest visible receiver point under the caster (Lloyd's \
     clamping), so no volume fills the empty space below. The method none draws every volume; \
     any other culls those with no visible receiver point under them";
+const PASS_HELP: &str = "How the stencil counts each shadow volume. auto: z-pass (counted in \
+    front of the surface, no caps) where the camera's near rectangle cannot lie in the volume, \
+    z-fail with caps where it can, as DOOM 3 chooses. z-pass: every volume, wrong where the \
+    near plane cuts one (the camera in a shadow). z-fail: every volume, always right";
 const COUNT_HELP: &str = "How many slices, each with its own map of the chosen resolution";
 const SPLIT_HELP: &str = "Where the slices end: uniform, logarithmic, practical (Zhang's blend \
     of the two), geometric (Engel: each far distance a ratio times the last), manual";
@@ -74,6 +78,16 @@ pub fn ui(ui: &mut egui::Ui, settings: &mut FrameSettings, report: Option<&Frame
                     .show_ui(ui, |ui| {
                         for clamp in VolumeClamp::ALL {
                             ui.selectable_value(&mut settings.volumes.clamp, clamp, clamp.name());
+                        }
+                    })
+                    .response
+            });
+            grid::labelled(ui, "Counting", PASS_HELP, |ui| {
+                egui::ComboBox::from_id_salt("volume_pass")
+                    .selected_text(settings.volumes.pass.name())
+                    .show_ui(ui, |ui| {
+                        for pass in VolumePassChoice::ALL {
+                            ui.selectable_value(&mut settings.volumes.pass, pass, pass.name());
                         }
                     })
                     .response

@@ -50,6 +50,28 @@ fn counts(ui: &mut egui::Ui, report: &FrameReport) {
                 thousands(c.casters_total.into())
             ),
         );
+        if let Some(passes) = report.volume_passes {
+            grid::row(
+                ui,
+                "Volumes z-pass / z-fail",
+                format!(
+                    "{} / {}",
+                    thousands(passes.z_pass.into()),
+                    thousands(passes.z_fail.into())
+                ),
+            );
+        }
+        if let Some(fill) = report.volume_fill {
+            grid::row(
+                ui,
+                "Volume fill (stencil writes)",
+                format!(
+                    "{} ({})",
+                    thousands(fill.fragments),
+                    thousands(fill.stencil_writes)
+                ),
+            );
+        }
         if let Some(oracle) = c.casters_oracle {
             grid::row(ui, "Oracle casters", thousands(oracle.into()));
             let tightness = report
