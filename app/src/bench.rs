@@ -165,6 +165,20 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
                 (format!("clamp {}", clamp.name()), s)
             })
             .collect(),
+        Some(Sweep::Slices) => [1, 2, 4, 8, 16, 32]
+            .into_iter()
+            .map(|slices| {
+                let mut s = FrameSettings {
+                    setup: ShadowSetup::Volumes,
+                    ..base
+                };
+                if !matches!(s.volumes.clamp, VolumeClamp::Discrete) {
+                    s.volumes.clamp = VolumeClamp::Conservative;
+                }
+                s.volumes.slices = slices;
+                (format!("{slices} slices"), s)
+            })
+            .collect(),
         Some(Sweep::Setups) => ShadowSetup::ALL
             .into_iter()
             .map(|setup| (setup.name().to_owned(), FrameSettings { setup, ..base }))

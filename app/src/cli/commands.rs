@@ -142,6 +142,9 @@ pub enum Sweep {
     Lambda,
     /// Every shadow setup (single, lispsm, cascades, volumes), with the other flags.
     Setups,
-    /// Shadow volumes with each clamping (none, continuous).
+    /// Shadow volumes with each clamping (none, continuous, discrete, conservative).
     Clamp,
+    /// Shadow volumes with conservative discrete clamping over 1, 2, 4, 8, 16 and 32 slices
+    /// (Lloyd's Figure 9); `--volume-clamp discrete` for the image-precision test.
+    Slices,
 }

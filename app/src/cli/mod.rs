@@ -190,8 +190,10 @@ pub struct ViewArgs {
     /// The manual split's distances between cascades, metres, increasing: d1,d2,...
     #[arg(long, value_name = "D1,D2,...")]
     pub splits: Option<String>,
-    /// `--shadow volumes`: how far each volume reaches along the light: none (past the scene)
-    /// or continuous (to the furthest visible receiver box it overlaps, Lloyd's clamping).
+    /// `--shadow volumes`: how far each volume reaches along the light: none (past the scene),
+    /// continuous (across the visible receiver points under it, Lloyd's clamping), discrete
+    /// (per slice of the view, an image-precision test) or conservative (discrete, never
+    /// losing an occupied interval).
     #[arg(long, value_parser = parse_volume_clamp, value_name = "CLAMP")]
     pub volume_clamp: Option<render_core::volumes::VolumeClamp>,
     /// `--shadow volumes`: how the stencil counts each volume: auto (z-pass where the camera's
@@ -199,6 +201,9 @@ pub struct ViewArgs {
     /// z-fail for every volume.
     #[arg(long, value_parser = parse_volume_pass, value_name = "PASS")]
     pub volume_pass: Option<render_core::volumes::VolumePassChoice>,
+    /// `--volume-clamp discrete|conservative`: the view's slices (Lloyd's K), 1 to 32.
+    #[arg(long, value_name = "K")]
+    pub volume_slices: Option<u32>,
     /// `--shadow lispsm`: multiplies the warp's optimal n (Wimmer et al. 2004); below 1 warps
     /// harder, above 1 tends to a uniform map.
     #[arg(long, value_name = "SCALE")]
@@ -364,6 +369,13 @@ impl ViewArgs {
         }
         if let Some(pass) = self.volume_pass {
             settings.volumes.pass = pass;
+        }
+        if let Some(slices) = self.volume_slices {
+            let most = render_core::volumes::VolumeSettings::MAX_SLICES;
+            if !(1..=most).contains(&slices) {
+                bail!("--volume-slices {slices} is outside 1 to {most}");
+            }
+            settings.volumes.slices = slices;
         }
         if let Some(scale) = self.lispsm_n {
             anyhow::ensure!(

@@ -9,20 +9,45 @@
 pub enum VolumeClamp {
     /// Past the scene's far side: the standard volume.
     None,
-    /// Only to the far side of the furthest visible receiver box it overlaps in the light's
-    /// view (Lloyd's continuous clamping, with one interval per caster): no volume crosses
-    /// the empty space below the receivers.
+    /// Only across the depths of the visible receiver points under the caster's box in the
+    /// light's view (Lloyd's continuous clamping, 3.2.1, one interval per caster): no volume
+    /// crosses the empty space above or below the receivers.
     #[default]
     Continuous,
+    /// The view cut into `slices` strips; per strip the receiver points under the box give
+    /// an occupied interval, and the volume is drawn only across those (Lloyd's discrete
+    /// clamping, 3.2.2): an image-precision test of the cells whose centres the box covers,
+    /// which can lose an interval whose receivers lie near the box's edge.
+    Discrete,
+    /// Discrete clamping with every cell the box touches (Lloyd's conservative variant,
+    /// 3.2.3): never loses an occupied interval.
+    Conservative,
 }
 
 impl VolumeClamp {
-    pub const ALL: [Self; 2] = [Self::None, Self::Continuous];
+    pub const ALL: [Self; 4] = [
+        Self::None,
+        Self::Continuous,
+        Self::Discrete,
+        Self::Conservative,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
             Self::None => "none",
             Self::Continuous => "continuous",
+            Self::Discrete => "discrete",
+            Self::Conservative => "conservative",
+        }
+    }
+
+    /// The strips of the view this clamping tells receivers apart by.
+    pub fn slices(self, settings: &VolumeSettings) -> u32 {
+        match self {
+            Self::None | Self::Continuous => 1,
+            Self::Discrete | Self::Conservative => {
+                settings.slices.clamp(1, VolumeSettings::MAX_SLICES)
+            }
         }
     }
 }
@@ -34,7 +59,12 @@ impl std::str::FromStr for VolumeClamp {
         Self::ALL
             .into_iter()
             .find(|c| c.name() == s)
-            .ok_or_else(|| format!("unknown volume clamping '{s}' (available: none, continuous)"))
+            .ok_or_else(|| {
+                format!(
+                    "unknown volume clamping '{s}' (available: none, continuous, discrete, \
+                     conservative)"
+                )
+            })
     }
 }
 
@@ -78,11 +108,25 @@ impl std::str::FromStr for VolumePassChoice {
 }
 
 /// What a user sets about shadow volumes.
-#[derive(
-    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
-)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 #[serde(default)]
 pub struct VolumeSettings {
     pub clamp: VolumeClamp,
     pub pass: VolumePassChoice,
+    /// Discrete clamping's strips of the view (Lloyd's K), 1 to [`Self::MAX_SLICES`].
+    pub slices: u32,
+}
+
+impl VolumeSettings {
+    pub const MAX_SLICES: u32 = 32;
+}
+
+impl Default for VolumeSettings {
+    fn default() -> Self {
+        Self {
+            clamp: VolumeClamp::default(),
+            pass: VolumePassChoice::default(),
+            slices: 8,
+        }
+    }
 }

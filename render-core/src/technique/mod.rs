@@ -174,6 +174,8 @@ pub struct VolumePasses {
     pub z_pass: u32,
     /// Volumes drawn z-fail with both caps.
     pub z_fail: u32,
+    /// Intervals drawn over all volumes (clamping draws a volume in up to four).
+    pub intervals: u32,
 }
 
 /// One view of the light's view inset: its map, mask and outcomes.

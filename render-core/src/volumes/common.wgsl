@@ -22,7 +22,21 @@ struct VolumeFrame {
     // box, xyz.
     near_lo: vec4<f32>,
     near_hi: vec4<f32>,
+    // The slices' direction in the picture: a pixel's strip coordinate is
+    // dot(ndc, xy) / z, from -1 to 1 (volumes/find.wgsl `slice_of`); w: the camera's far
+    // plane, metres.
+    slicing: vec4<f32>,
+    // x: the slices (1 to MAX_SLICES); y, z, w: unused.
+    slices: vec4<u32>,
 }
+
+// Discrete clamping's most slices, and the most intervals a caster's volume is drawn in.
+// Keep in sync with volumes/pipelines.rs.
+const MAX_SLICES: u32 = 32u;
+const MAX_INTERVALS: u32 = 4u;
+// A record's caster word: the caster, and its interval from this bit on.
+const INTERVAL_SHIFT: u32 = 28u;
+const CASTER_BITS: u32 = 0x0fffffffu;
 
 // One caster: its mesh's edges and triangles, where its vertices start, and whether its
 // mesh is closed. Keep in sync with volumes/mod.rs (CasterGpu).
@@ -46,9 +60,13 @@ struct Edge {
 }
 
 const NO_FACE: u32 = 0xffffffffu;
-// A caster's reach with this bit (the float's sign) is counted z-pass (volumes/find.wgsl
+// A caster's interval count with this bit is counted z-pass (volumes/find.wgsl
 // `cull_casters`).
 const Z_PASS: u32 = 0x80000000u;
+// ... and with this one, its box reaches past the camera's far plane: its near caps are
+// depth clamped too, or the far plane would clip them and not the rest of its volume.
+const PAST_FAR: u32 = 0x40000000u;
+const COUNT_BITS: u32 = 0x3fffffffu;
 // A record's high bit: extruded the other way round (negative multiplicity).
 const REVERSED: u32 = 0x80000000u;
 // Float32 per scene vertex: position, then normal (scene_gpu/gpu_data.rs Vertex).

@@ -7,12 +7,20 @@
 
 @group(2) @binding(0) var<storage, read> quad_records: array<vec2<u32>>;
 @group(2) @binding(1) var<storage, read> cap_records: array<vec2<u32>>;
-// Per caster, how far its volume reaches along the light, negative where counted z-pass
-// (volumes/find.wgsl `cull_casters`).
-@group(2) @binding(2) var<storage, read> reach: array<f32>;
+// Per caster, MAX_INTERVALS intervals of its volume: extrusion distances along the light
+// where it starts and ends (volumes/find.wgsl `cull_casters`).
+@group(2) @binding(2) var<storage, read> intervals: array<vec2<f32>>;
+// Per caster, its interval count and flags (volumes/find.wgsl `kept`).
+@group(2) @binding(3) var<storage, read> kept: array<u32>;
 
-fn extruded(p: vec3<f32>, caster: u32) -> vec3<f32> {
-    return p - volume.to_light.xyz * abs(reach[caster]);
+// A record's interval: the record's caster word holds the caster and the interval's index.
+fn interval_of(caster_word: u32) -> vec2<f32> {
+    let caster = caster_word & CASTER_BITS;
+    return intervals[caster * MAX_INTERVALS + (caster_word >> INTERVAL_SHIFT)];
+}
+
+fn extruded(p: vec3<f32>, distance: f32) -> vec3<f32> {
+    return p - volume.to_light.xyz * distance;
 }
 
 // Z-pass records fill the record buffers from their end.
@@ -31,9 +39,11 @@ fn on_screen(p: vec3<f32>) -> VolumeOut {
     return VolumeOut(frame.clip_from_world * vec4<f32>(p, 1.0));
 }
 
-// A silhouette quad, wound outwards: the edge as its lit triangle winds it, (b, a, a', b').
+// A silhouette quad across one interval, wound outwards: the edge as its lit triangle winds
+// it, (b, a, a', b'), from the interval's start to its end.
 fn quad(v: u32, record: vec2<u32>) -> VolumeOut {
-    let c = casters[record.x];
+    let c = casters[record.x & CASTER_BITS];
+    let span = interval_of(record.x);
     let e = edges[record.y & ~REVERSED];
     var a = world_vertex(c, e.a);
     var b = world_vertex(c, e.b);
@@ -42,7 +52,12 @@ fn quad(v: u32, record: vec2<u32>) -> VolumeOut {
         a = b;
         b = t;
     }
-    let corners = array<vec3<f32>, 4>(b, a, extruded(a, record.x), extruded(b, record.x));
+    let corners = array<vec3<f32>, 4>(
+        extruded(b, span.x),
+        extruded(a, span.x),
+        extruded(a, span.y),
+        extruded(b, span.y),
+    );
     let order = array<u32, 6>(0u, 1u, 2u, 0u, 2u, 3u);
     return on_screen(corners[order[v]]);
 }
@@ -57,15 +72,21 @@ fn vs_quad_pass(@builtin(vertex_index) v: u32, @builtin(instance_index) r: u32) 
     return quad(v, quad_records[from_end(r, arrayLength(&quad_records))]);
 }
 
-// A casting triangle's caps, drawn by two pipelines (volumes/pipelines.rs): the near cap as
-// the triangle faces the sun (vertices 0 to 2, clipped at the near plane like the camera's
-// passes), and the far one moved along the light and wound the other way (3 to 5, depth
-// clamped). Each pipeline collapses the other's three vertices to nothing.
-fn cap(v: u32, record: vec2<u32>, near: bool) -> VolumeOut {
-    if ((v < 3u) != near) {
+// A casting triangle's caps across one interval, drawn by two pipelines
+// (volumes/pipelines.rs). Vertices 0 to 2: where the interval starts at the caster, the near
+// cap, the triangle itself as it faces the sun (clipped at the near plane like the camera's
+// passes, unless the caster reaches past the far plane, then depth clamped); where it starts
+// further on, the triangle moved there (depth clamped). Vertices 3 to 5: the triangle moved
+// to where the interval ends, wound the other way (depth clamped). Each pipeline collapses
+// the vertices it does not draw.
+fn cap(v: u32, record: vec2<u32>, clipped: bool) -> VolumeOut {
+    let span = interval_of(record.x);
+    let near_cap = v < 3u && span.x == 0.0;
+    let near_clipped = (kept[record.x & CASTER_BITS] & PAST_FAR) == 0u;
+    if (clipped != (near_cap && near_clipped)) {
         return nothing();
     }
-    let c = casters[record.x];
+    let c = casters[record.x & CASTER_BITS];
     var p = triangle(c, record.y & ~REVERSED);
     if ((record.y & REVERSED) != 0u) {
         let t = p[1];
@@ -73,10 +94,10 @@ fn cap(v: u32, record: vec2<u32>, near: bool) -> VolumeOut {
         p[2] = t;
     }
     if (v < 3u) {
-        return on_screen(p[v]);
+        return on_screen(extruded(p[v], span.x));
     }
     let far = array<u32, 3>(0u, 2u, 1u);
-    return on_screen(extruded(p[far[v - 3u]], record.x));
+    return on_screen(extruded(p[far[v - 3u]], span.y));
 }
 
 fn nothing() -> VolumeOut {
@@ -103,7 +124,7 @@ fn cap_from_end(r: u32) -> vec2<u32> {
 @vertex
 fn vs_near_cap_pass(@builtin(vertex_index) v: u32, @builtin(instance_index) r: u32) -> VolumeOut {
     let record = cap_from_end(r);
-    if (casters[record.x].closed != 0u) {
+    if (casters[record.x & CASTER_BITS].closed != 0u) {
         return nothing();
     }
     return cap(v, record, true);

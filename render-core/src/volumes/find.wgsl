@@ -17,20 +17,23 @@ struct DrawArgs {
 @group(2) @binding(1) var<storage, read_write> caps: array<vec2<u32>>;
 // z-fail quads and caps, z-pass quads and caps (volumes/pipelines.rs DRAWS).
 @group(2) @binding(2) var<storage, read_write> draws: array<DrawArgs, 4>;
-// Per caster, how far its volume reaches along the light (metres, as bits; 0: not drawn),
-// with Z_PASS set where the stencil counts it z-pass.
+// Per caster, how many intervals of its volume are drawn (0: none), with Z_PASS set where
+// the stencil counts it z-pass; and the intervals, MAX_INTERVALS per caster (common.wgsl).
 // Z-fail records fill `quads` and `caps` from the start, z-pass records from the end.
 @group(2) @binding(3) var<storage, read_write> kept: array<u32>;
-// The visible receivers in the light's view: per grid cell, the deepest visible receiver
-// point (its depth past the scene's nearest, plus 1, as bits; 0: none).
-@group(2) @binding(4) var<storage, read_write> grid: array<atomic<u32>>;
+@group(2) @binding(4) var<storage, read_write> intervals: array<vec2<f32>>;
+// The visible receivers in the light's view: per slice of the view and grid cell, the
+// shallowest and the deepest visible receiver point (depth past the scene's nearest, plus 1,
+// as bits; the shallowest stored inverted so both grow; 0: none).
+@group(2) @binding(5) var<storage, read_write> grid: array<atomic<u32>>;
 // 0: casters counted z-pass, 1: casters kept, 2, 3: fill (volumes/fill.rs).
-@group(2) @binding(5) var<storage, read_write> counters: array<atomic<u32>, 4>;
+// 4: intervals drawn.
+@group(2) @binding(6) var<storage, read_write> counters: array<atomic<u32>, 8>;
 // Per instance, the outcome code (the `casters` overlay).
-@group(2) @binding(6) var<storage, read_write> outcomes: array<u32>;
+@group(2) @binding(7) var<storage, read_write> outcomes: array<u32>;
 // The camera's visible surface: object id + 1 (0: sky) and world position (view/targets.rs).
-@group(2) @binding(7) var surface_ids: texture_2d<u32>;
-@group(2) @binding(8) var surface_positions: texture_2d<f32>;
+@group(2) @binding(8) var surface_ids: texture_2d<u32>;
+@group(2) @binding(9) var surface_positions: texture_2d<f32>;
 
 // A point in the light's frame: across (x, y) and depth past the scene's nearest (z).
 fn in_light(p: vec3<f32>) -> vec3<f32> {
@@ -45,8 +48,27 @@ fn cell_of(p: vec2<f32>) -> vec2<i32> {
     return vec2<i32>(floor(p / volume.cell.x));
 }
 
+// The strip of the view (Lloyd's slice between two planes through the eye) that pixel
+// `pixel` of a view of `size` lies in: planes through the eye that hold the axis across both
+// the light and the view direction cut the picture into parallel strips of equal width.
+fn slice_of(pixel: vec2<u32>, size: vec2<u32>) -> u32 {
+    let k = volume.slices.x;
+    let ndc = vec2<f32>(
+        2.0 * (f32(pixel.x) + 0.5) / f32(size.x) - 1.0,
+        1.0 - 2.0 * (f32(pixel.y) + 0.5) / f32(size.y),
+    );
+    let u = dot(ndc, volume.slicing.xy) / max(volume.slicing.z, 1e-6);
+    return min(u32(max((u * 0.5 + 0.5) * f32(k), 0.0)), k - 1u);
+}
+
+fn grid_word(slice: u32, cell: vec2<i32>, deepest: bool) -> u32 {
+    let side = i32(volume.options.z);
+    return (slice * volume.options.z * volume.options.z + u32(cell.y * side + cell.x)) * 2u
+        + select(0u, 1u, deepest);
+}
+
 // Lloyd's potential shadow receivers, exactly: every visible receiver pixel marks the grid
-// cell under it with its depth along the light.
+// cell under it, in its slice, with its depth along the light.
 @compute @workgroup_size(8, 8)
 fn mark_receivers(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = textureDimensions(surface_ids);
@@ -60,19 +82,25 @@ fn mark_receivers(@builtin(global_invocation_id) id: vec3<u32>) {
     let p = in_light(textureLoad(surface_positions, vec2<i32>(id.xy), 0).xyz);
     let side = i32(volume.options.z);
     let cell = clamp(cell_of(p.xy), vec2<i32>(0), vec2<i32>(side - 1));
-    atomicMax(&grid[u32(cell.y * side + cell.x)], bitcast<u32>(max(p.z, 0.0) + 1.0));
+    let slice = slice_of(id.xy, size);
+    let bits = bitcast<u32>(max(p.z, 0.0) + 1.0);
+    atomicMax(&grid[grid_word(slice, cell, false)], ~bits);
+    atomicMax(&grid[grid_word(slice, cell, true)], bits);
 }
 
 // The cells a caster's box covers in the light's view, at most this many before its volume
 // is kept whole.
 const MAX_CELLS: i32 = 4096;
 
-// A caster's volume (its box across the light, from its nearest depth on) can hold a visible
-// receiver point only where the grid marks one under it, no nearer than the box: else it is
-// not drawn (culling, options.y bit 0). With clamping (bit 1) it reaches only to the deepest
-// such point. Conservative: the box holds the caster, the volume lies inside its box's
-// extrusion, every vertex lies at least as deep as the box's near side, and each cell keeps
-// the deepest point in it. Writes the volume's reach along the light (metres, as bits).
+// A caster's volume lies in its box's column across the light, from the box's nearest depth
+// on. Per slice, the visible receiver points under the box that are no nearer than it give
+// an occupied depth interval (culling, options.y bit 0: no interval, no volume); with
+// clamping (bit 1) the volume is drawn only across the union of those intervals, merged to
+// at most MAX_INTERVALS, else from the caster to past the scene. Bit 2: only the cells whose
+// centres the box covers (discrete clamping's image-precision test), else every cell it
+// touches (conservative). Conservative otherwise: each cell keeps the shallowest and deepest
+// point in it, and an interval [a, b] becomes extrusions from a past the box's far side to b
+// past its near side, so every vertex's volume covers it.
 @compute @workgroup_size(64)
 fn cull_casters(@builtin(global_invocation_id) id: vec3<u32>) {
     let ci = id.x + id.y * 65535u * 64u;
@@ -82,6 +110,7 @@ fn cull_casters(@builtin(global_invocation_id) id: vec3<u32>) {
     let c = casters[ci];
     let culling = (volume.options.y & 1u) != 0u;
     let clamping = (volume.options.y & 2u) != 0u;
+    let centres = (volume.options.y & 4u) != 0u;
     let b = bounds[c.instance];
     var lo = vec3<f32>(1e30);
     var hi = vec3<f32>(-1e30);
@@ -98,36 +127,175 @@ fn cull_casters(@builtin(global_invocation_id) id: vec3<u32>) {
     // Rounded outwards by a millimetre and a bit of the box.
     let pad = 1e-3 + length(hi - lo) * 1e-5;
     let side = i32(volume.options.z);
-    let first = clamp(cell_of(lo.xy - pad), vec2<i32>(0), vec2<i32>(side - 1));
-    let last = clamp(cell_of(hi.xy + pad), vec2<i32>(0), vec2<i32>(side - 1));
-    let span = last - first + 1;
-    var deepest = -1.0;
-    if (span.x * span.y > MAX_CELLS) {
-        deepest = 1e30;
-    } else if (culling || clamping) {
-        for (var y = first.y; y <= last.y; y++) {
-            for (var x = first.x; x <= last.x; x++) {
-                let bits = atomicLoad(&grid[u32(y * side + x)]);
-                if (bits != 0u) {
-                    deepest = max(deepest, bitcast<f32>(bits) - 1.0);
+    var first = clamp(cell_of(lo.xy - pad), vec2<i32>(0), vec2<i32>(side - 1));
+    var last = clamp(cell_of(hi.xy + pad), vec2<i32>(0), vec2<i32>(side - 1));
+    if (centres) {
+        // Cells whose centre lies in the box.
+        first = clamp(vec2<i32>(ceil(lo.xy / volume.cell.x - 0.5)), vec2<i32>(0), vec2<i32>(side));
+        last = clamp(vec2<i32>(floor(hi.xy / volume.cell.x - 0.5)), vec2<i32>(-1), vec2<i32>(side - 1));
+    }
+    let span = max(last - first + 1, vec2<i32>(0));
+    let whole = vec2<f32>(0.0, volume.to_light.w);
+    var found: array<vec2<f32>, MAX_SLICES>;
+    var n = 0u;
+    if (span.x * span.y > MAX_CELLS || (!culling && !clamping)) {
+        found[0] = vec2<f32>(lo.z, 1e30);
+        n = 1u;
+    } else {
+        for (var slice = 0u; slice < volume.slices.x; slice++) {
+            var near = 1e30;
+            var deep = -1.0;
+            for (var y = first.y; y <= last.y; y++) {
+                for (var x = first.x; x <= last.x; x++) {
+                    let cell = vec2<i32>(x, y);
+                    let deepest = atomicLoad(&grid[grid_word(slice, cell, true)]);
+                    if (deepest == 0u || bitcast<f32>(deepest) - 1.0 + pad < lo.z) {
+                        continue;
+                    }
+                    let shallowest = ~atomicLoad(&grid[grid_word(slice, cell, false)]);
+                    near = min(near, bitcast<f32>(shallowest) - 1.0);
+                    deep = max(deep, bitcast<f32>(deepest) - 1.0);
                 }
+            }
+            if (deep >= 0.0) {
+                found[n] = vec2<f32>(max(near, lo.z), deep);
+                n++;
             }
         }
     }
-    let keep = !culling || deepest + pad >= max(lo.z, 0.0);
-    var reach = volume.to_light.w;
-    if (clamping && deepest < 1e29) {
-        reach = min(reach, max(deepest - lo.z, 0.0) + 2.0 * pad + 1e-2);
+    let keep = !culling || n > 0u;
+    var count = 0u;
+    if (keep && clamping && n > 0u) {
+        count = merged_intervals(ci, &found, n, array<vec3<f32>, 3>(lo, hi, vec3<f32>(pad)));
+    } else if (keep) {
+        // Not clamped, or clamped without culling where no receiver lies under the box: the
+        // whole volume, or a centimetre of it.
+        intervals[ci * MAX_INTERVALS] = select(whole, vec2<f32>(0.0, 1e-2), clamping);
+        count = 1u;
+    }
+    var reach = 0.0;
+    for (var r = 0u; r < count; r++) {
+        reach = max(reach, intervals[ci * MAX_INTERVALS + r].y);
     }
     let z_pass = counts_z_pass(lo - pad, hi + pad, reach);
-    kept[ci] = select(0u, bitcast<u32>(reach) | select(0u, Z_PASS, z_pass), keep);
-    outcomes[c.instance] = select(volume.counts.w, OUTCOME_RENDERED, keep);
-    if (keep) {
+    kept[ci] = count | select(0u, Z_PASS, z_pass && count > 0u)
+        | select(0u, PAST_FAR, past_far(b));
+    outcomes[c.instance] = select(volume.counts.w, OUTCOME_RENDERED, count > 0u);
+    if (count > 0u) {
         atomicAdd(&counters[1], 1u);
+        atomicAdd(&counters[4], count);
         if (z_pass) {
             atomicAdd(&counters[0], 1u);
         }
     }
+}
+
+// A point of the light's frame (as `in_light` gives it) in world space.
+fn from_light(p: vec3<f32>) -> vec3<f32> {
+    return volume.right.xyz * (p.x + volume.right.w) + volume.up.xyz * (p.y + volume.up.w)
+        + volume.travel.xyz * (p.z + volume.travel.w);
+}
+
+// The pixels of the picture's box around the caster's box column (`lo`, `hi` across the
+// light) between depths `near` and `far` along it; a column that reaches behind the eye
+// counts as the whole picture.
+fn column_pixels(lo: vec2<f32>, hi: vec2<f32>, near: f32, far: f32) -> f32 {
+    let size = vec2<f32>(textureDimensions(surface_ids));
+    var a = vec2<f32>(1e30);
+    var b = vec2<f32>(-1e30);
+    for (var k = 0u; k < 8u; k++) {
+        let p = vec3<f32>(
+            select(lo.x, hi.x, (k & 1u) != 0u),
+            select(lo.y, hi.y, (k & 2u) != 0u),
+            select(near, far, (k & 4u) != 0u),
+        );
+        let clip = frame.clip_from_world * vec4<f32>(from_light(p), 1.0);
+        if (clip.w <= 0.0) {
+            return size.x * size.y;
+        }
+        let ndc = clamp(clip.xy / clip.w, vec2<f32>(-1.0), vec2<f32>(1.0));
+        a = min(a, ndc);
+        b = max(b, ndc);
+    }
+    let extent = (b - a) * 0.5 * size;
+    return extent.x * extent.y;
+}
+
+// Sorts the `n` occupied depth intervals in `found` by their start and merges those that
+// overlap or touch, then those whose gap costs fewer pixels than the two caps that would
+// bound it (Lloyd's V > R rule, with the caps' fill as the cost of a new interval, in
+// picture boxes), then the ones with the smallest gaps until at most MAX_INTERVALS are
+// left, and writes them as extrusion distances for caster `ci` (`box`: the caster's box in
+// the light's frame, lo and hi, and its padding). Returns how many.
+fn merged_intervals(
+    ci: u32,
+    found: ptr<function, array<vec2<f32>, MAX_SLICES>>,
+    n: u32,
+    box: array<vec3<f32>, 3>,
+) -> u32 {
+    let lo = box[0];
+    let hi = box[1];
+    let pad = box[2].x;
+    for (var i = 1u; i < n; i++) {
+        let item = (*found)[i];
+        var j = i;
+        while (j > 0u && (*found)[j - 1u].x > item.x) {
+            (*found)[j] = (*found)[j - 1u];
+            j--;
+        }
+        (*found)[j] = item;
+    }
+    var m = 0u;
+    for (var i = 0u; i < n; i++) {
+        let next = (*found)[i];
+        var merge = m > 0u && next.x <= (*found)[m - 1u].y + 2.0 * pad;
+        if (m > 0u && !merge) {
+            let end = (*found)[m - 1u].y;
+            let gap = column_pixels(lo.xy, hi.xy, end, next.x);
+            let caps = column_pixels(lo.xy, hi.xy, end, end) + column_pixels(lo.xy, hi.xy, next.x, next.x);
+            merge = gap <= caps;
+        }
+        if (merge) {
+            (*found)[m - 1u].y = max((*found)[m - 1u].y, next.y);
+        } else {
+            (*found)[m] = next;
+            m++;
+        }
+    }
+    while (m > MAX_INTERVALS) {
+        var smallest = 0u;
+        for (var i = 1u; i + 1u < m; i++) {
+            if ((*found)[i + 1u].x - (*found)[i].y < (*found)[smallest + 1u].x - (*found)[smallest].y) {
+                smallest = i;
+            }
+        }
+        (*found)[smallest].y = (*found)[smallest + 1u].y;
+        for (var i = smallest + 1u; i + 1u < m; i++) {
+            (*found)[i] = (*found)[i + 1u];
+        }
+        m--;
+    }
+    for (var i = 0u; i < m; i++) {
+        let depths = (*found)[i];
+        let start = max(depths.x - hi.z - pad, 0.0);
+        let end = min(depths.y - lo.z + 2.0 * pad + 1e-2, volume.to_light.w);
+        intervals[ci * MAX_INTERVALS + i] = vec2<f32>(select(start, 0.0, start < 1e-2), end);
+    }
+    return m;
+}
+
+// Whether a box reaches past the camera's far plane.
+fn past_far(b: InstanceBounds) -> bool {
+    var far = -1e30;
+    for (var k = 0u; k < 8u; k++) {
+        let corner = vec3<f32>(
+            select(b.min.x, b.max.x, (k & 1u) != 0u),
+            select(b.min.y, b.max.y, (k & 2u) != 0u),
+            select(b.min.z, b.max.z, (k & 4u) != 0u),
+        );
+        far = max(far, (frame.clip_from_world * vec4<f32>(corner, 1.0)).w);
+    }
+    return far >= volume.slicing.w * 0.999;
 }
 
 // Whether the stencil may count the volume of a caster whose box spans `lo` to `hi` in the
@@ -140,17 +308,16 @@ fn counts_z_pass(lo: vec3<f32>, hi: vec3<f32>, reach: f32) -> bool {
     }
     let near_lo = volume.near_lo.xyz;
     let near_hi = volume.near_hi.xyz;
-    let apart = any(near_hi.xy < lo.xy) || any(near_lo.xy > hi.xy)
-        || near_hi.z < lo.z || near_lo.z > hi.z + reach;
-    return apart;
+    return any(near_hi.xy < lo.xy) || any(near_lo.xy > hi.xy) || near_hi.z < lo.z
+        || near_lo.z > hi.z + reach;
 }
 
 fn z_pass(caster: u32) -> bool {
     return (kept[caster] & Z_PASS) != 0u;
 }
 
-fn append_quad(caster: u32, edge: u32, reversed: bool) {
-    let record = vec2<u32>(caster, edge | select(0u, REVERSED, reversed));
+fn append_quad(caster: u32, interval: u32, edge: u32, reversed: bool) {
+    let record = vec2<u32>(caster | (interval << INTERVAL_SHIFT), edge | select(0u, REVERSED, reversed));
     if (z_pass(caster)) {
         quads[arrayLength(&quads) - 1u - atomicAdd(&draws[2].instance_count, 1u)] = record;
     } else {
@@ -158,7 +325,7 @@ fn append_quad(caster: u32, edge: u32, reversed: bool) {
     }
 }
 
-// One edge of one caster: its quad, as many times as its multiplicity.
+// One edge of one caster: its quad per interval, as many times as its multiplicity.
 @compute @workgroup_size(64)
 fn find_silhouettes(@builtin(global_invocation_id) id: vec3<u32>) {
     let item = id.x + id.y * 65535u * 64u;
@@ -166,7 +333,8 @@ fn find_silhouettes(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let ci = caster_of(item, false);
-    if (kept[ci] == 0u) {
+    let count = kept[ci] & COUNT_BITS;
+    if (count == 0u) {
         return;
     }
     let c = casters[ci];
@@ -176,12 +344,14 @@ fn find_silhouettes(@builtin(global_invocation_id) id: vec3<u32>) {
     if (e.opposite != NO_FACE) {
         m -= face_sign(c, e.opposite);
     }
-    for (var k = 0; k < abs(m); k++) {
-        append_quad(ci, edge, m < 0);
+    for (var r = 0u; r < count; r++) {
+        for (var k = 0; k < abs(m); k++) {
+            append_quad(ci, r, edge, m < 0);
+        }
     }
 }
 
-// One triangle of one caster: its caps when it casts.
+// One triangle of one caster: its caps per interval when it casts.
 @compute @workgroup_size(64)
 fn find_caps(@builtin(global_invocation_id) id: vec3<u32>) {
     let item = id.x + id.y * 65535u * 64u;
@@ -189,7 +359,8 @@ fn find_caps(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let ci = caster_of(item, true);
-    if (kept[ci] == 0u) {
+    let count = kept[ci] & COUNT_BITS;
+    if (count == 0u) {
         return;
     }
     let c = casters[ci];
@@ -198,11 +369,13 @@ fn find_caps(@builtin(global_invocation_id) id: vec3<u32>) {
     if (s == 0) {
         return;
     }
-    let record = vec2<u32>(ci, t | select(0u, REVERSED, s < 0));
-    if (z_pass(ci)) {
-        caps[arrayLength(&caps) - 1u - atomicAdd(&draws[3].instance_count, 1u)] = record;
-    } else {
-        caps[atomicAdd(&draws[1].instance_count, 1u)] = record;
+    for (var r = 0u; r < count; r++) {
+        let record = vec2<u32>(ci | (r << INTERVAL_SHIFT), t | select(0u, REVERSED, s < 0));
+        if (z_pass(ci)) {
+            caps[arrayLength(&caps) - 1u - atomicAdd(&draws[3].instance_count, 1u)] = record;
+        } else {
+            caps[atomicAdd(&draws[1].instance_count, 1u)] = record;
+        }
     }
 }
 
@@ -210,12 +383,13 @@ fn find_caps(@builtin(global_invocation_id) id: vec3<u32>) {
 @compute @workgroup_size(1)
 fn reset_draws() {
     for (var k = 0u; k < 4u; k++) {
+        // Two triangles: a quad's, or a cap record's start and end (draw.wgsl).
         draws[k].vertex_count = 6u;
         atomicStore(&draws[k].instance_count, 0u);
         draws[k].first_vertex = 0u;
         draws[k].first_instance = 0u;
     }
-    for (var k = 0u; k < 4u; k++) {
+    for (var k = 0u; k < 8u; k++) {
         atomicStore(&counters[k], 0u);
     }
 }

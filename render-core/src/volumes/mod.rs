@@ -77,10 +77,12 @@ pub struct VolumeTechnique {
     target: Option<StencilTarget>,
     excluded: Vec<u32>,
     method: Method,
+    /// The slices of the view this frame's receivers are told apart by.
+    slices: u32,
     /// The counters of the frames in flight, and the newest that came back: (frame, casters
-    /// kept, of which z-pass).
+    /// kept, of which z-pass, intervals drawn).
     readback: AsyncReadback,
-    latest: Option<(u64, u32, u32)>,
+    latest: Option<(u64, u32, u32, u32)>,
     /// Whether the frames in flight count fill, and the newest fill that came back.
     fill_counted: bool,
     latest_fill: Option<VolumeFill>,
@@ -123,6 +125,7 @@ impl VolumeTechnique {
                 storage(false),
                 storage(false),
                 storage(false),
+                storage(false),
                 texture(
                     wgpu::TextureSampleType::Uint,
                     wgpu::TextureViewDimension::D2,
@@ -137,7 +140,7 @@ impl VolumeTechnique {
             device,
             "Volumes::draw_layout",
             wgpu::ShaderStages::VERTEX,
-            &[storage(true), storage(true), storage(true)],
+            &[storage(true), storage(true), storage(true), storage(true)],
         );
         let light_layout = bind_group_layout(
             device,
@@ -202,7 +205,8 @@ impl VolumeTechnique {
             target: None,
             excluded: Vec::new(),
             method: Method::None,
-            readback: AsyncReadback::new(device, "Volumes::counters_readback", 16, 3),
+            slices: 1,
+            readback: AsyncReadback::new(device, "Volumes::counters_readback", 32, 3),
             latest: None,
             fill_counted: false,
             latest_fill: None,
@@ -323,7 +327,9 @@ impl ShadowTechnique for VolumeTechnique {
         };
         let (x, y, z) = (range(right), range(up), range(travel));
         let cell = ((x.1 - x.0).max(y.1 - y.0) / RECEIVER_GRID as f32).max(1e-3);
-        let clamping = input.volumes.clamp == VolumeClamp::Continuous;
+        let clamp = input.volumes.clamp;
+        self.slices = clamp.slices(&input.volumes);
+        let slicing = slicing(input.camera, input.aspect, to_light);
         // The near rectangle's box in the light's frame, as `in_light` places points.
         let near = input.camera.frustum_corners_world(
             f64::from(input.aspect),
@@ -352,7 +358,9 @@ impl ShadowTechnique for VolumeTechnique {
                 ],
                 options: [
                     scene.instances,
-                    u32::from(self.method != Method::None) | (u32::from(clamping) << 1),
+                    u32::from(self.method != Method::None)
+                        | (u32::from(clamp != VolumeClamp::None) << 1)
+                        | (u32::from(clamp == VolumeClamp::Discrete) << 2),
                     RECEIVER_GRID,
                     match input.volumes.pass {
                         VolumePassChoice::Auto => 0,
@@ -366,6 +374,8 @@ impl ShadowTechnique for VolumeTechnique {
                 cell: [cell, 0.0, 0.0, 0.0],
                 near_lo: near_lo.extend(0.0).to_array(),
                 near_hi: near_hi.extend(0.0).to_array(),
+                slicing,
+                slices: [self.slices, 0, 0, 0],
             }),
         );
         Vec::new()
@@ -392,14 +402,15 @@ impl ShadowTechnique for VolumeTechnique {
                     buffer_entry(1, &scene.caps),
                     buffer_entry(2, &scene.draws),
                     buffer_entry(3, &scene.kept),
-                    buffer_entry(4, &scene.grid),
-                    buffer_entry(5, &scene.counters),
-                    buffer_entry(6, &scene.outcomes),
-                    view_entry(7, &draw.targets.ids_view),
-                    view_entry(8, &draw.targets.positions_view),
+                    buffer_entry(4, &scene.intervals),
+                    buffer_entry(5, &scene.grid),
+                    buffer_entry(6, &scene.counters),
+                    buffer_entry(7, &scene.outcomes),
+                    view_entry(8, &draw.targets.ids_view),
+                    view_entry(9, &draw.targets.positions_view),
                 ],
             });
-        encoder.clear_buffer(&scene.grid, 0, None);
+        encoder.clear_buffer(&scene.grid, 0, Some(scene::grid_bytes(self.slices)));
         let query = draw
             .timer
             .begin_scope(pass_label::VOLUME_SILHOUETTES, encoder);
@@ -490,7 +501,7 @@ impl ShadowTechnique for VolumeTechnique {
     fn collect(&mut self) -> ShadowReport {
         if let Some((frame, bytes)) = self.readback.take_latest() {
             let words: &[u32] = bytemuck::cast_slice(&bytes);
-            self.latest = Some((frame, words[1], words[0]));
+            self.latest = Some((frame, words[1], words[0], words[4]));
             self.latest_fill = self.fill_counted.then(|| VolumeFill {
                 fragments: u64::from(words[2]),
                 stencil_writes: u64::from(words[3]),
@@ -499,7 +510,7 @@ impl ShadowTechnique for VolumeTechnique {
         let Some(scene) = self.scene.as_ref() else {
             return ShadowReport::default();
         };
-        let kept = self.latest.map(|(_, kept, _)| kept);
+        let kept = self.latest.map(|(_, kept, ..)| kept);
         let mut stages = vec![Stage::new("scene casters", scene.casters)];
         if self.method != Method::None {
             stages.push(Stage::new(
@@ -523,9 +534,10 @@ impl ShadowTechnique for VolumeTechnique {
             stages,
             culled_frame_index: self.latest.map(|(frame, ..)| frame),
             volume_fill: self.latest_fill,
-            volume_passes: self.latest.map(|(_, kept, z_pass)| VolumePasses {
+            volume_passes: self.latest.map(|(_, kept, z_pass, intervals)| VolumePasses {
                 z_pass,
                 z_fail: kept - z_pass,
+                intervals,
             }),
             notes,
             ..ShadowReport::default()
@@ -557,4 +569,26 @@ impl ShadowTechnique for VolumeTechnique {
         self.excluded = instances.to_vec();
         self.excluded.sort_unstable();
     }
+}
+
+/// Discrete clamping's slices in the picture (`slicing` in `volumes/common.wgsl`): planes
+/// through the eye that hold the axis across both the light and the view direction, so each
+/// meets the picture in a line along that axis and the slices are parallel strips (Lloyd
+/// 3.2.2). Returns the strip coordinate's weights on the NDC axes and its half-range, then
+/// the far plane.
+fn slicing(camera: &crate::geom::Camera, aspect: f32, to_light: glam::Vec3) -> [f32; 4] {
+    let forward = camera.forward.normalize_or(glam::Vec3::NEG_Z);
+    let (right, up) = camera.basis();
+    // Across the light and the view; looking along the light, any axis of the picture.
+    let axis = to_light.cross(forward).try_normalize().unwrap_or(right);
+    // The strips run along `axis`: their coordinate is along the picture's other axis.
+    let across = axis.cross(forward).normalize_or(up);
+    let tan_y = (camera.fov_y_rad * 0.5).tan();
+    let weights = glam::Vec2::new(across.dot(right) * tan_y * aspect, across.dot(up) * tan_y);
+    [
+        weights.x,
+        weights.y,
+        weights.x.abs() + weights.y.abs(),
+        camera.far_m,
+    ]
 }

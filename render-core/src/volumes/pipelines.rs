@@ -37,7 +37,15 @@ pub(super) struct VolumeFrameGpu {
     pub cell: [f32; 4],
     pub near_lo: [f32; 4],
     pub near_hi: [f32; 4],
+    pub slicing: [f32; 4],
+    pub slices: [u32; 4],
 }
+
+/// The most intervals a caster's volume is drawn in (`MAX_INTERVALS` in
+/// `volumes/common.wgsl`).
+pub(super) const MAX_INTERVALS: u32 = 4;
+/// Discrete clamping's most slices (`MAX_SLICES` in `volumes/common.wgsl`).
+pub(super) const MAX_SLICES: u32 = crate::shadow_view::VolumeSettings::MAX_SLICES;
 
 /// Cells per side of the grid of visible receiver points in the light's view.
 pub(super) const RECEIVER_GRID: u32 = 256;
@@ -115,9 +123,10 @@ struct VolumeDraw {
 }
 
 /// Near caps are the casters' own triangles: clipped at the near plane as the camera's
-/// passes clip them, so each lands at exactly the visible surface's depth (a clamped
-/// triangle that crosses the near plane interpolates other depths there). The extruded
-/// faces are depth clamped where the adapter can.
+/// passes clip them (a clamped triangle that crosses the near plane interpolates other
+/// depths there), and pushed back by [`CAP_BIAS`] so a lit surface they lie on counts them
+/// behind itself, outside the volume, whatever the rounding. The extruded faces are depth
+/// clamped where the adapter can.
 const DRAWS: [VolumeDraw; 6] = [
     VolumeDraw::new("vs_quad", Counting::ZFail, true, 0),
     VolumeDraw::new("vs_near_cap", Counting::ZFail, false, 1),
@@ -138,6 +147,14 @@ impl VolumeDraw {
     }
 }
 
+/// Caps' depth bias: towards the far plane (reversed depth: negative), a few units and twice
+/// the triangle's depth slope, so that a cap on a lit face seen edge-on still lies behind it.
+const CAP_BIAS: wgpu::DepthBiasState = wgpu::DepthBiasState {
+    constant: -4,
+    slope_scale: -2.0,
+    clamp: 0.0,
+};
+
 /// The pipelines of one kind, one per draw of the volume faces.
 pub(super) struct VolumePipelines([wgpu::RenderPipeline; DRAWS.len()]);
 
@@ -154,7 +171,7 @@ impl VolumePipelines {
                 device,
                 (layout, module, draw.entry),
                 (format, depth_clamped && draw.clamped),
-                (kind, draw.counting),
+                (kind, draw.counting, draw.args % 2 == 1),
             )
         }))
     }
@@ -173,7 +190,7 @@ fn volume_pipeline(
     device: &wgpu::Device,
     (layout, module, entry): (&wgpu::PipelineLayout, &wgpu::ShaderModule, &str),
     (format, unclipped_depth): (wgpu::TextureFormat, bool),
-    (kind, counting): (VolumePass, Counting),
+    (kind, counting, cap): (VolumePass, Counting, bool),
 ) -> wgpu::RenderPipeline {
     use wgpu::StencilOperation::{DecrementWrap, IncrementWrap, Keep};
     // (depth fail, depth pass) operations of the front and the back faces.
@@ -231,7 +248,11 @@ fn volume_pipeline(
             depth_write_enabled: Some(false),
             depth_compare: Some(depth_compare),
             stencil,
-            bias: wgpu::DepthBiasState::default(),
+            bias: if cap {
+                CAP_BIAS
+            } else {
+                wgpu::DepthBiasState::default()
+            },
         }),
         multisample: wgpu::MultisampleState::default(),
         fragment,

@@ -6,6 +6,7 @@ use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
 use super::edges::{Edge, mesh_edges};
+use super::pipelines::{MAX_INTERVALS, MAX_SLICES, RECEIVER_GRID};
 use crate::culling::codes::{OUTCOME_NOT_CASTER, OUTCOME_RENDERED};
 use crate::gpu::buffer_entry;
 use crate::scene::Scene;
@@ -40,6 +41,7 @@ pub(super) struct SceneVolumes {
     pub caps: wgpu::Buffer,
     pub draws: wgpu::Buffer,
     pub kept: wgpu::Buffer,
+    pub intervals: wgpu::Buffer,
     pub grid: wgpu::Buffer,
     pub counters: wgpu::Buffer,
     pub outcomes: wgpu::Buffer,
@@ -117,8 +119,8 @@ impl SceneVolumes {
             &keep(bytemuck::cast_slice(&casters).to_vec()),
             wgpu::BufferUsages::STORAGE,
         );
-        // A quad at most twice per edge (an open mesh's edge between a lit and an unlit
-        // triangle), a cap pair per triangle.
+        // Per interval, a quad at most twice per edge (an open mesh's edge between a lit and
+        // an unlit triangle) and a cap record per triangle.
         let record_buffer = |label: &str, records: u32| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -127,8 +129,14 @@ impl SceneVolumes {
                 mapped_at_creation: false,
             })
         };
-        let quads = record_buffer("Volumes::quads", edge_items.saturating_mul(2));
-        let caps = record_buffer("Volumes::caps", triangle_items);
+        let quads = record_buffer(
+            "Volumes::quads",
+            edge_items.saturating_mul(2 * MAX_INTERVALS),
+        );
+        let caps = record_buffer(
+            "Volumes::caps",
+            triangle_items.saturating_mul(MAX_INTERVALS),
+        );
         let storage_buffer = |label: &str, size: u64, usage: wgpu::BufferUsages| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -143,14 +151,19 @@ impl SceneVolumes {
             u64::from(casters.len() as u32) * 4,
             wgpu::BufferUsages::empty(),
         );
+        let intervals = storage_buffer(
+            "Volumes::intervals",
+            u64::from(casters.len() as u32) * u64::from(MAX_INTERVALS) * 8,
+            wgpu::BufferUsages::empty(),
+        );
         let grid = storage_buffer(
             "Volumes::receiver_grid",
-            u64::from(super::pipelines::RECEIVER_GRID * super::pipelines::RECEIVER_GRID) * 4,
+            grid_bytes(MAX_SLICES),
             wgpu::BufferUsages::COPY_DST,
         );
         let counters = storage_buffer(
             "Volumes::counters",
-            16,
+            32,
             wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
         );
         let scene_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -171,7 +184,8 @@ impl SceneVolumes {
             entries: &[
                 buffer_entry(0, &quads),
                 buffer_entry(1, &caps),
-                buffer_entry(2, &kept),
+                buffer_entry(2, &intervals),
+                buffer_entry(3, &kept),
             ],
         });
         Self {
@@ -188,6 +202,7 @@ impl SceneVolumes {
             caps,
             draws,
             kept,
+            intervals,
             grid,
             counters,
             outcomes: init(
@@ -198,4 +213,9 @@ impl SceneVolumes {
             instances: scene.instances.len() as u32,
         }
     }
+}
+
+/// Bytes of the receiver grid's first `slices` slices: two words per cell.
+pub(super) fn grid_bytes(slices: u32) -> u64 {
+    u64::from(slices) * u64::from(RECEIVER_GRID * RECEIVER_GRID) * 8
 }

@@ -18,10 +18,15 @@ const SETUP_HELP: &str = "single: one map fitted to the view. lispsm: one map wa
     frustum cut along its depth, one map per slice (Engel), so near shadows get fine texels. \
     volumes: stencil shadow volumes, exact per pixel and without a map (Crow; Lloyd's culling \
     and clamping with any method but none)";
-const CLAMP_HELP: &str = "How far each shadow volume reaches along the light. none: past the \
-    scene. continuous: only to the deepest visible receiver point under the caster (Lloyd's \
-    clamping), so no volume fills the empty space below. The method none draws every volume; \
-    any other culls those with no visible receiver point under them";
+const CLAMP_HELP: &str = "Where each shadow volume is drawn along the light. none: from the \
+    caster to past the scene. continuous: only across the depths of the visible receiver \
+    points under the caster (Lloyd's clamping), so no volume fills the empty space around \
+    them. discrete: the view cut into slices, and per slice an interval, up to four per \
+    volume; its test samples cell centres and can lose a shadow. conservative: discrete \
+    clamping that never does. The method none draws every volume; any other culls those with \
+    no visible receiver point under them";
+const SLICES_HELP: &str = "Discrete clamping's slices: strips of the view between planes \
+    through the eye (Lloyd's K). More slices find more empty space between receivers";
 const PASS_HELP: &str = "How the stencil counts each shadow volume. auto: z-pass (counted in \
     front of the surface, no caps) where the camera's near rectangle cannot lie in the volume, \
     z-fail with caps where it can, as DOOM 3 chooses. z-pass: every volume, wrong where the \
@@ -82,6 +87,17 @@ pub fn ui(ui: &mut egui::Ui, settings: &mut FrameSettings, report: Option<&Frame
                     })
                     .response
             });
+            if matches!(
+                settings.volumes.clamp,
+                VolumeClamp::Discrete | VolumeClamp::Conservative
+            ) {
+                grid::labelled(ui, "Slices", SLICES_HELP, |ui| {
+                    ui.add(egui::Slider::new(
+                        &mut settings.volumes.slices,
+                        1..=render_core::volumes::VolumeSettings::MAX_SLICES,
+                    ))
+                });
+            }
             grid::labelled(ui, "Counting", PASS_HELP, |ui| {
                 egui::ComboBox::from_id_salt("volume_pass")
                     .selected_text(settings.volumes.pass.name())
