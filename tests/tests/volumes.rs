@@ -231,8 +231,7 @@ fn auto_counts_a_volume_z_pass_only_where_the_near_rectangle_is_outside_it() {
     assert_eq!(differing(&auto, &z_fail), 0);
     let wrong = differing(&z_pass, &z_fail);
     assert!(wrong > 1_000, "z-pass differs at {wrong}");
-    let (error, shadowed, _, _) =
-        against_truth(&scene, &beside, &counting(VolumePassChoice::Auto));
+    let (error, shadowed, _, _) = against_truth(&scene, &beside, &counting(VolumePassChoice::Auto));
     assert!(shadowed > 1_000, "{shadowed}");
     // Near caps are clipped at the near plane as the camera's passes are, so the box's lit
     // face seen edge-on keeps its light (clamped, they interpolated other depths there).
@@ -406,7 +405,6 @@ fn culling_and_clamping_by_the_visible_receivers_change_no_pixel() {
     );
 }
 
-
 /// A caster high above the edge of a platform: the visible receiver points under it lie on
 /// the platform and, 8 m further along the light, on the ground beside it.
 fn caster_over_a_platform_edge() -> (Scene, Camera) {
@@ -475,8 +473,7 @@ fn discrete_clamping_skips_the_empty_space_between_receivers_and_changes_no_pixe
     assert_eq!(differing(&continuous, &standard), 0);
     let one_passes = one.volume_passes.expect("counted");
     assert_eq!(
-        one_passes.intervals,
-        one.counts.casters_rendered,
+        one_passes.intervals, one.counts.casters_rendered,
         "continuous clamping draws one interval per volume"
     );
     for slices in [4, 8, 32] {
@@ -501,4 +498,3 @@ fn discrete_clamping_skips_the_empty_space_between_receivers_and_changes_no_pixe
         );
     }
 }
-

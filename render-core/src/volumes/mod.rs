@@ -18,12 +18,11 @@
 
 pub mod edges;
 mod fill;
+mod frame;
 mod pipelines;
 mod scene;
 
-use crate::culling::codes::culled_code;
-use crate::culling::{CasterOutcome, Method, Stage, StageKind};
-use crate::geom::basis_for_direction;
+use crate::culling::{CasterOutcome, Method, Stage};
 use crate::gpu::{
     AsyncReadback, GpuContext, bind_group_layout, buffer_entry, compute_pipeline, pass_label,
     pipeline_layout, shader_module, storage, texture, uniform, view_entry,
@@ -32,16 +31,16 @@ use crate::scene::Scene;
 use crate::scene_gpu::SceneGpu;
 use crate::shadow_view::ShadowView;
 pub use crate::shadow_view::{VolumeClamp, VolumePassChoice, VolumeSettings};
-pub use crate::technique::{VolumeFill, VolumePasses};
 use crate::technique::{
     DrawInput, InsetSources, ShadowPasses, ShadowReport, ShadowTechnique, TechniqueInput,
 };
+pub use crate::technique::{VolumeFill, VolumePasses};
 use fill::{Fill, FillDraw};
 #[cfg(test)]
 pub(crate) use pipelines::shader_sources;
 use pipelines::{
-    RECEIVER_GRID, VolumeFrameGpu, VolumePass, depth_pipeline, depth_stencil_pass, dispatch_size,
-    VolumePipelines, shader_source,
+    VolumeFrameGpu, VolumePass, VolumePipelines, depth_pipeline, depth_stencil_pass, dispatch_size,
+    shader_source,
 };
 use scene::{SceneLayouts, SceneVolumes};
 
@@ -302,82 +301,11 @@ impl ShadowTechnique for VolumeTechnique {
     fn prepare(&mut self, ctx: &GpuContext, input: &TechniqueInput<'_>) -> Vec<ShadowView> {
         self.ensure_scene(ctx, input.scene, input.scene_gpu);
         self.method = self.effective_method(input.method);
-        let bounds = input.scene.bounds();
-        let reach = if bounds.is_empty() {
-            1.0
-        } else {
-            bounds.extent().length() * 1.01 + 1.0
-        };
-        let to_light = input.direction_to_sun.normalize_or(glam::Vec3::Y);
         let scene = self.scene.as_ref().expect("ensured above");
-        // The receiver grid covers the scene across the light.
-        let travel = -to_light;
-        let (right, up) = basis_for_direction(travel.as_dvec3());
-        let (right, up) = (right.as_vec3(), up.as_vec3());
-        let corners = if bounds.is_empty() {
-            [glam::Vec3::ZERO; 8]
-        } else {
-            bounds.corners()
-        };
-        let range = |axis: glam::Vec3| {
-            corners
-                .iter()
-                .map(|c| c.dot(axis))
-                .fold((f32::MAX, f32::MIN), |(lo, hi), d| (lo.min(d), hi.max(d)))
-        };
-        let (x, y, z) = (range(right), range(up), range(travel));
-        let cell = ((x.1 - x.0).max(y.1 - y.0) / RECEIVER_GRID as f32).max(1e-3);
-        let clamp = input.volumes.clamp;
-        self.slices = clamp.slices(&input.volumes);
-        let slicing = slicing(input.camera, input.aspect, to_light);
-        // The near rectangle's box in the light's frame, as `in_light` places points.
-        let near = input.camera.frustum_corners_world(
-            f64::from(input.aspect),
-            f64::from(input.camera.near_m),
-            f64::from(input.camera.near_m) * 2.0,
-        );
-        let origin = glam::Vec3::new(x.0, y.0, z.0);
-        let (near_lo, near_hi) = near[..4].iter().fold(
-            (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN)),
-            |(lo, hi), corner| {
-                let c = corner.as_vec3();
-                let p = glam::Vec3::new(c.dot(right), c.dot(up), c.dot(travel)) - origin;
-                (lo.min(p), hi.max(p))
-            },
-        );
-        ctx.queue.write_buffer(
-            &self.uniforms,
-            0,
-            bytemuck::bytes_of(&VolumeFrameGpu {
-                to_light: to_light.extend(reach).to_array(),
-                counts: [
-                    scene.edge_items,
-                    scene.triangle_items,
-                    scene.casters,
-                    culled_code(StageKind::ReceiverMask),
-                ],
-                options: [
-                    scene.instances,
-                    u32::from(self.method != Method::None)
-                        | (u32::from(clamp != VolumeClamp::None) << 1)
-                        | (u32::from(clamp == VolumeClamp::Discrete) << 2),
-                    RECEIVER_GRID,
-                    match input.volumes.pass {
-                        VolumePassChoice::Auto => 0,
-                        VolumePassChoice::ZPass => 1,
-                        VolumePassChoice::ZFail => 2,
-                    },
-                ],
-                right: right.extend(x.0).to_array(),
-                up: up.extend(y.0).to_array(),
-                travel: travel.extend(z.0).to_array(),
-                cell: [cell, 0.0, 0.0, 0.0],
-                near_lo: near_lo.extend(0.0).to_array(),
-                near_hi: near_hi.extend(0.0).to_array(),
-                slicing,
-                slices: [self.slices, 0, 0, 0],
-            }),
-        );
+        self.slices = input.volumes.clamp.slices(&input.volumes);
+        let uniforms = frame::uniforms(input, scene, self.method, self.slices);
+        ctx.queue
+            .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&uniforms));
         Vec::new()
     }
 
@@ -534,11 +462,13 @@ impl ShadowTechnique for VolumeTechnique {
             stages,
             culled_frame_index: self.latest.map(|(frame, ..)| frame),
             volume_fill: self.latest_fill,
-            volume_passes: self.latest.map(|(_, kept, z_pass, intervals)| VolumePasses {
-                z_pass,
-                z_fail: kept - z_pass,
-                intervals,
-            }),
+            volume_passes: self
+                .latest
+                .map(|(_, kept, z_pass, intervals)| VolumePasses {
+                    z_pass,
+                    z_fail: kept - z_pass,
+                    intervals,
+                }),
             notes,
             ..ShadowReport::default()
         }
@@ -569,26 +499,4 @@ impl ShadowTechnique for VolumeTechnique {
         self.excluded = instances.to_vec();
         self.excluded.sort_unstable();
     }
-}
-
-/// Discrete clamping's slices in the picture (`slicing` in `volumes/common.wgsl`): planes
-/// through the eye that hold the axis across both the light and the view direction, so each
-/// meets the picture in a line along that axis and the slices are parallel strips (Lloyd
-/// 3.2.2). Returns the strip coordinate's weights on the NDC axes and its half-range, then
-/// the far plane.
-fn slicing(camera: &crate::geom::Camera, aspect: f32, to_light: glam::Vec3) -> [f32; 4] {
-    let forward = camera.forward.normalize_or(glam::Vec3::NEG_Z);
-    let (right, up) = camera.basis();
-    // Across the light and the view; looking along the light, any axis of the picture.
-    let axis = to_light.cross(forward).try_normalize().unwrap_or(right);
-    // The strips run along `axis`: their coordinate is along the picture's other axis.
-    let across = axis.cross(forward).normalize_or(up);
-    let tan_y = (camera.fov_y_rad * 0.5).tan();
-    let weights = glam::Vec2::new(across.dot(right) * tan_y * aspect, across.dot(up) * tan_y);
-    [
-        weights.x,
-        weights.y,
-        weights.x.abs() + weights.y.abs(),
-        camera.far_m,
-    ]
 }

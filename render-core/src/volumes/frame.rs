@@ -1,0 +1,114 @@
+//! The volume passes' uniforms for one frame (`VolumeFrame` in `volumes/common.wgsl`): the
+//! light's frame and the receiver grid over the scene, the camera's near rectangle in it (for
+//! the z-pass test), the options, and discrete clamping's slices of the picture.
+
+use glam::Vec3;
+
+use super::pipelines::{RECEIVER_GRID, VolumeFrameGpu};
+use super::scene::SceneVolumes;
+use crate::culling::codes::culled_code;
+use crate::culling::{Method, StageKind};
+use crate::geom::{Camera, basis_for_direction};
+use crate::shadow_view::{VolumeClamp, VolumePassChoice};
+use crate::technique::TechniqueInput;
+
+/// This frame's uniforms: `method` the effective one, `slices` the clamping's.
+pub(super) fn uniforms(
+    input: &TechniqueInput<'_>,
+    scene: &SceneVolumes,
+    method: Method,
+    slices: u32,
+) -> VolumeFrameGpu {
+    let bounds = input.scene.bounds();
+    let reach = if bounds.is_empty() {
+        1.0
+    } else {
+        bounds.extent().length() * 1.01 + 1.0
+    };
+    let to_light = input.direction_to_sun.normalize_or(Vec3::Y);
+    // The receiver grid covers the scene across the light.
+    let travel = -to_light;
+    let (right, up) = basis_for_direction(travel.as_dvec3());
+    let (right, up) = (right.as_vec3(), up.as_vec3());
+    let corners = if bounds.is_empty() {
+        [Vec3::ZERO; 8]
+    } else {
+        bounds.corners()
+    };
+    let range = |axis: Vec3| {
+        corners
+            .iter()
+            .map(|c| c.dot(axis))
+            .fold((f32::MAX, f32::MIN), |(lo, hi), d| (lo.min(d), hi.max(d)))
+    };
+    let (x, y, z) = (range(right), range(up), range(travel));
+    let cell = ((x.1 - x.0).max(y.1 - y.0) / RECEIVER_GRID as f32).max(1e-3);
+    let clamp = input.volumes.clamp;
+    let slicing = slicing(input.camera, input.aspect, to_light);
+    // The near rectangle's box in the light's frame, as `in_light` places points.
+    let near = input.camera.frustum_corners_world(
+        f64::from(input.aspect),
+        f64::from(input.camera.near_m),
+        f64::from(input.camera.near_m) * 2.0,
+    );
+    let origin = Vec3::new(x.0, y.0, z.0);
+    let (near_lo, near_hi) = near[..4].iter().fold(
+        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+        |(lo, hi), corner| {
+            let c = corner.as_vec3();
+            let p = Vec3::new(c.dot(right), c.dot(up), c.dot(travel)) - origin;
+            (lo.min(p), hi.max(p))
+        },
+    );
+    VolumeFrameGpu {
+        to_light: to_light.extend(reach).to_array(),
+        counts: [
+            scene.edge_items,
+            scene.triangle_items,
+            scene.casters,
+            culled_code(StageKind::ReceiverMask),
+        ],
+        options: [
+            scene.instances,
+            u32::from(method != Method::None)
+                | (u32::from(clamp != VolumeClamp::None) << 1)
+                | (u32::from(clamp == VolumeClamp::Discrete) << 2),
+            RECEIVER_GRID,
+            match input.volumes.pass {
+                VolumePassChoice::Auto => 0,
+                VolumePassChoice::ZPass => 1,
+                VolumePassChoice::ZFail => 2,
+            },
+        ],
+        right: right.extend(x.0).to_array(),
+        up: up.extend(y.0).to_array(),
+        travel: travel.extend(z.0).to_array(),
+        cell: [cell, 0.0, 0.0, 0.0],
+        near_lo: near_lo.extend(0.0).to_array(),
+        near_hi: near_hi.extend(0.0).to_array(),
+        slicing,
+        slices: [slices, 0, 0, 0],
+    }
+}
+
+/// Discrete clamping's slices in the picture (`slicing` in `volumes/common.wgsl`): planes
+/// through the eye that hold the axis across both the light and the view direction, so each
+/// meets the picture in a line along that axis and the slices are parallel strips (Lloyd
+/// 3.2.2). Returns the strip coordinate's weights on the NDC axes and its half-range, then
+/// the far plane.
+fn slicing(camera: &Camera, aspect: f32, to_light: Vec3) -> [f32; 4] {
+    let forward = camera.forward.normalize_or(Vec3::NEG_Z);
+    let (right, up) = camera.basis();
+    // Across the light and the view; looking along the light, any axis of the picture.
+    let axis = to_light.cross(forward).try_normalize().unwrap_or(right);
+    // The strips run along `axis`: their coordinate is along the picture's other axis.
+    let across = axis.cross(forward).normalize_or(up);
+    let tan_y = (camera.fov_y_rad * 0.5).tan();
+    let weights = glam::Vec2::new(across.dot(right) * tan_y * aspect, across.dot(up) * tan_y);
+    [
+        weights.x,
+        weights.y,
+        weights.x.abs() + weights.y.abs(),
+        camera.far_m,
+    ]
+}
