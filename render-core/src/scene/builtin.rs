@@ -26,6 +26,11 @@ pub const BUILTIN_SCENES: &[BuiltinScene] = &[
         description: "the city generator on 4 x 4 blocks: a few hundred objects, for tests",
     },
     BuiltinScene {
+        name: "robots",
+        description: "a walled hall of 120 walking robots under a low sun (Lloyd et al.'s \
+                      robot scene): about 70K triangles, high occlusion",
+    },
+    BuiltinScene {
         name: "boxes",
         description: "a 40 m ground plane and five boxes of known sizes (the same for every seed)",
     },
@@ -38,6 +43,7 @@ pub fn load_builtin(name: &str, seed: u64) -> Option<Scene> {
         "city" => Some(build_city(scene_name, &CityParams::full(seed))),
         "city-small" => Some(build_city(scene_name, &CityParams::small(seed))),
         "boxes" => Some(boxes_scene(scene_name)),
+        "robots" => Some(super::robots::robots_scene(scene_name, seed)),
         _ => None,
     }
 }

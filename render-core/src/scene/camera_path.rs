@@ -77,6 +77,7 @@ impl CameraPath {
         match scene.name.as_str() {
             "builtin:city" => Self::city_streets(&CityParams::full(0)),
             "builtin:city-small" => Self::city_streets(&CityParams::small(0)),
+            "builtin:robots" => super::robots::robots_walk(),
             _ => Self::orbit(&scene.bounds()),
         }
     }

@@ -8,6 +8,7 @@ mod city;
 mod gltf_import;
 mod model;
 mod motion;
+mod robots;
 mod units;
 
 pub use builtin::{BUILTIN_SCENES, BuiltinScene, load_builtin};

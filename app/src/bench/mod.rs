@@ -2,7 +2,7 @@
 //! sweeping shadow-map size (Bittner's Table 4), sun elevation (Bittner's Figure 7), cascade
 //! counts, split schemes or the practical split's lambda.
 
-use std::fmt::Write as _;
+mod table;
 
 use anyhow::Context as _;
 use render_core::cascades::{MAX_CASCADES, SplitScheme};
@@ -15,6 +15,7 @@ use render_core::volumes::VolumeClamp;
 
 use crate::cli::{BenchArgs, Sweep, parse_methods};
 use crate::headless::Session;
+use table::{format_csv, format_passes, format_table};
 
 /// Medians of one method's measured frames under one setting.
 #[derive(Clone, Debug)]
@@ -46,6 +47,11 @@ struct BenchRow {
     undersampling: (Option<f64>, Option<f64>),
     /// Shadow volumes' fill, millions of fragments: the median frame's and the worst.
     fill_m: (Option<f64>, Option<f64>),
+    /// Each measured frame's fill, fragments (shadow volumes).
+    fill_frames: Vec<u64>,
+    /// The first setting's baseline fill over this row's, frame by frame: the mean and the
+    /// largest ratio (Lloyd's average and peak savings).
+    fill_saved: Option<(f64, f64)>,
     /// Baseline GPU frame time / this method's, under the same setting.
     speed_up: Option<f64>,
     /// Median GPU ms per pass label (and depth: steps inside a pass are 1), in frame order.
@@ -236,6 +242,7 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
                 .map(|(b, m)| b / m.max(1e-9));
         }
     }
+    set_fill_saved(&mut rows, baseline.name());
     print!("{}", format_table(&rows, baseline.name()));
     if args.passes {
         print!("\nGPU ms per pass (median)\n{}", format_passes(&rows));
@@ -246,6 +253,33 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
         eprintln!("wrote {}", csv.display());
     }
     Ok(())
+}
+
+/// Per row, the fill the first setting's baseline row draws over the row's own, frame by
+/// frame (the same path, so frame k is the same view): its mean and its peak.
+fn set_fill_saved(rows: &mut [BenchRow], baseline: &str) {
+    let Some(first) = rows.first().map(|r| r.setting.clone()) else {
+        return;
+    };
+    let Some(reference) = rows
+        .iter()
+        .find(|r| r.setting == first && r.method == baseline)
+        .map(|r| r.fill_frames.clone())
+    else {
+        return;
+    };
+    for row in rows.iter_mut() {
+        let ratios: Vec<f64> = reference
+            .iter()
+            .zip(&row.fill_frames)
+            .filter(|(_, own)| **own > 0)
+            .map(|(base, own)| *base as f64 / *own as f64)
+            .collect();
+        if !ratios.is_empty() && ratios.len() == row.fill_frames.len() {
+            let mean = ratios.iter().sum::<f64>() / ratios.len() as f64;
+            row.fill_saved = Some((mean, ratios.iter().copied().fold(0.0, f64::max)));
+        }
+    }
 }
 
 /// `--baseline`, or when that method is not among those run, the first one.
@@ -372,6 +406,11 @@ fn summarise(setting: &str, method: &str, reports: &[(f64, FrameReport)]) -> Ben
                 .filter_map(|(_, r)| r.volume_fill.map(|f| f.fragments as f64 / 1e6))
                 .reduce(f64::max),
         ),
+        fill_frames: reports
+            .iter()
+            .filter_map(|(_, r)| r.volume_fill.map(|f| f.fragments))
+            .collect(),
+        fill_saved: None,
         speed_up: None,
         passes: median_passes(reports),
     }
@@ -400,170 +439,6 @@ fn median_passes(reports: &[(f64, FrameReport)]) -> Vec<(String, u32, f64)> {
             median(times).map(|ms| (label, depth, ms))
         })
         .collect()
-}
-
-/// One column per method (and setting), one row per pass label; steps indented under their pass.
-fn format_passes(rows: &[BenchRow]) -> String {
-    let mut labels: Vec<(&str, u32)> = Vec::new();
-    for (label, depth, _) in rows.iter().flat_map(|r| &r.passes) {
-        if !labels.contains(&(label.as_str(), *depth)) {
-            labels.push((label, *depth));
-        }
-    }
-    let header = std::iter::once("pass".to_owned()).chain(rows.iter().map(|r| {
-        if r.setting.is_empty() {
-            r.method.clone()
-        } else {
-            format!("{} {}", r.setting, r.method)
-        }
-    }));
-    let lines: Vec<Vec<String>> = std::iter::once(header.collect())
-        .chain(labels.iter().map(|&(label, depth)| {
-            let name = format!("{}{label}", "  ".repeat(depth as usize));
-            std::iter::once(name)
-                .chain(rows.iter().map(|r| {
-                    r.passes
-                        .iter()
-                        .find(|(l, d, _)| l == label && *d == depth)
-                        .map_or_else(|| "-".into(), |(_, _, ms)| format!("{ms:.2}"))
-                }))
-                .collect()
-        }))
-        .collect();
-    aligned(&lines, 1)
-}
-
-const COLUMNS: [&str; 19] = [
-    "setting",
-    "method",
-    "frames",
-    "frame ms",
-    "GPU frame ms",
-    "shadow pass ms",
-    "mask+cull ms",
-    "casters drawn",
-    "oracle",
-    "tightness",
-    "shadow triangles",
-    "error px (max)",
-    "exact err px",
-    "exact err %",
-    "flicker move/turn",
-    "under p50",
-    "under p95",
-    "fill M (max)",
-    "speed-up",
-];
-
-fn row_cells(r: &BenchRow) -> [String; 19] {
-    let opt =
-        |v: Option<f64>, digits: usize| v.map_or_else(|| "n/a".into(), |v| format!("{v:.digits$}"));
-    [
-        r.setting.clone(),
-        r.method.clone(),
-        r.frames.to_string(),
-        format!("{:.2}", r.frame_ms),
-        opt(r.gpu_frame_ms, 2),
-        opt(r.shadow_pass_ms, 2),
-        r.culling_ms
-            .map_or_else(|| "-".into(), |v| format!("{v:.2}")),
-        format!("{:.0}", r.casters_drawn),
-        format!("{:.0}", r.casters_oracle),
-        opt(r.tightness, 2),
-        format!("{:.0}", r.shadow_triangles),
-        r.error_px_max.to_string(),
-        opt(r.exact_error.0, 0),
-        opt(r.exact_error.1, 2),
-        r.flicker
-            .map_or_else(|| "-".into(), |(m, t)| format!("{m}/{t}")),
-        opt(r.undersampling.0, 2),
-        opt(r.undersampling.1, 2),
-        match r.fill_m {
-            (Some(median), Some(max)) => format!("{median:.1} ({max:.1})"),
-            _ => "-".into(),
-        },
-        opt(r.speed_up, 2),
-    ]
-}
-
-/// An aligned table; the setting column only when sweeping. Speed-up is against `baseline`.
-fn format_table(rows: &[BenchRow], baseline: &str) -> String {
-    let skip = usize::from(rows.iter().all(|r| r.setting.is_empty()));
-    let mut header = COLUMNS.map(str::to_owned);
-    header[18] = format!("speed-up vs {baseline}");
-    let lines: Vec<Vec<String>> = std::iter::once(header.to_vec())
-        .chain(rows.iter().map(|r| row_cells(r).to_vec()))
-        .map(|l| l[skip..].to_vec())
-        .collect();
-    aligned(&lines, 2 - skip)
-}
-
-/// The cells padded to their column's width: the first `left` columns left-aligned, the
-/// others right-aligned.
-fn aligned(lines: &[Vec<String>], left: usize) -> String {
-    let widths: Vec<usize> = (0..lines[0].len())
-        .map(|c| {
-            lines
-                .iter()
-                .map(|l| l[c].chars().count())
-                .max()
-                .unwrap_or(0)
-        })
-        .collect();
-    let mut out = String::new();
-    for line in lines {
-        let padded: Vec<String> = line
-            .iter()
-            .zip(&widths)
-            .enumerate()
-            .map(|(c, (cell, &w))| {
-                let pad = " ".repeat(w - cell.chars().count());
-                if c < left {
-                    format!("{cell}{pad}")
-                } else {
-                    format!("{pad}{cell}")
-                }
-            })
-            .collect();
-        let _ = writeln!(out, "{}", padded.join("  ").trim_end());
-    }
-    out
-}
-
-fn format_csv(rows: &[BenchRow]) -> String {
-    let mut out = String::from(
-        "setting,method,frames,frame_ms,gpu_frame_ms,shadow_pass_ms,casters_drawn,casters_oracle,tightness,shadow_triangles,error_px_max,casters_total,speed_up,culling_ms,undersampling_p50,undersampling_p95,exact_error_px,exact_error_percent,flicker_moved_px,flicker_turned_px,fill_mfragments,fill_mfragments_max\n",
-    );
-    let opt = |v: Option<f64>| v.map_or_else(String::new, |v| format!("{v:.4}"));
-    for r in rows {
-        let _ = writeln!(
-            out,
-            "{},{},{},{:.4},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-            r.setting,
-            r.method,
-            r.frames,
-            r.frame_ms,
-            opt(r.gpu_frame_ms),
-            opt(r.shadow_pass_ms),
-            r.casters_drawn,
-            r.casters_oracle,
-            opt(r.tightness),
-            r.shadow_triangles,
-            r.error_px_max,
-            r.casters_total,
-            opt(r.speed_up),
-            opt(r.culling_ms),
-            opt(r.undersampling.0),
-            opt(r.undersampling.1),
-            opt(r.exact_error.0),
-            opt(r.exact_error.1),
-            r.flicker.map_or_else(String::new, |f| f.0.to_string()),
-            r.flicker.map_or_else(String::new, |f| f.1.to_string()),
-            opt(r.fill_m.0),
-            opt(r.fill_m.1)
-        );
-    }
-    out
 }
 
 #[cfg(test)]

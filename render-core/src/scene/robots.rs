@@ -1,0 +1,195 @@
+//! `robots`: a walled hall of walking robots under a low sun, like the robot scene of Lloyd et
+//! al.'s CC shadow volumes (their Figure 6: about 96K polygons, high occlusion). The walls and
+//! the crowd hide most of the floor from the sun and most robots from the camera, so most
+//! shadow volumes cross space no visible receiver occupies. Deterministic from the seed: the
+//! robots' colours and where along its row each one starts.
+
+use glam::{Mat4, Vec3};
+
+use super::builtin::{MeshBuilder, unit_ground_quad};
+use super::city::SplitMix64;
+use super::{CameraPath, Instance, Mesh, Mobility, Motion, PathKey, Scene, Sun};
+
+/// The hall's floor, metres: x from `-HALL_X` to `HALL_X`, z from `-HALL_Z` to `HALL_Z`.
+const HALL_X: f32 = 30.0;
+const HALL_Z: f32 = 20.0;
+const WALL_HEIGHT_M: f32 = 7.0;
+const WALL_THICKNESS_M: f32 = 0.6;
+/// Rows of robots along x, and robots per row.
+const ROWS: u32 = 10;
+const PER_ROW: u32 = 12;
+/// Sides of the robots' limbs and heads.
+const SIDES: u32 = 24;
+const WALK_M_PER_S: f32 = 1.2;
+
+const ROBOT_PAINT: [[f32; 4]; 4] = [
+    [0.75, 0.72, 0.68, 1.0],
+    [0.80, 0.55, 0.20, 1.0],
+    [0.35, 0.45, 0.60, 1.0],
+    [0.55, 0.58, 0.55, 1.0],
+];
+
+/// One robot, about 1.9 m tall, facing +x, standing on the origin: legs, body, arms, head and
+/// antenna, each a closed solid.
+fn robot_mesh() -> Mesh {
+    let mut b = MeshBuilder::default();
+    for z in [-0.18, 0.18] {
+        b.cylinder(Vec3::new(0.0, 0.0, z), Vec3::Y * 0.85, 0.11, SIDES);
+    }
+    b.cuboid(Vec3::new(-0.2, 0.85, -0.32), Vec3::new(0.2, 1.5, 0.32), true);
+    for z in [-0.42, 0.42] {
+        b.cylinder(Vec3::new(0.05, 0.75, z), Vec3::Y * 0.7, 0.08, SIDES);
+    }
+    b.cylinder(Vec3::new(0.0, 1.5, 0.0), Vec3::Y * 0.3, 0.17, SIDES);
+    b.cylinder(Vec3::new(0.0, 1.8, 0.0), Vec3::Y * 0.12, 0.02, SIDES);
+    b.build("robot")
+}
+
+/// A closed box between `min` and `max` (the walls).
+fn wall_mesh(name: &str, min: Vec3, max: Vec3) -> Mesh {
+    let mut b = MeshBuilder::default();
+    b.cuboid(min, max, true);
+    b.build(name)
+}
+
+/// The robot hall from `seed`.
+pub(super) fn robots_scene(name: String, seed: u64) -> Scene {
+    let mut rng = SplitMix64::new(seed);
+    let (hx, hz, t, h) = (HALL_X, HALL_Z, WALL_THICKNESS_M, WALL_HEIGHT_M);
+    let mut meshes = vec![unit_ground_quad("floor"), robot_mesh()];
+    let floor_size = Vec3::new(2.0 * (hx + t), 1.0, 2.0 * (hz + t));
+    let mut instances = vec![
+        Instance::new("floor", 0, &meshes[0], Mat4::from_scale(floor_size))
+            .with_color([0.50, 0.50, 0.48, 1.0]),
+    ];
+    let walls = [
+        ("wall_north", Vec3::new(-hx - t, 0.0, hz), Vec3::new(hx + t, h, hz + t)),
+        ("wall_south", Vec3::new(-hx - t, 0.0, -hz - t), Vec3::new(hx + t, h, -hz)),
+        ("wall_east", Vec3::new(hx, 0.0, -hz), Vec3::new(hx + t, h, hz)),
+        ("wall_west", Vec3::new(-hx - t, 0.0, -hz), Vec3::new(-hx, h, hz)),
+    ];
+    for (wall, min, max) in walls {
+        let mesh = meshes.len() as u32;
+        meshes.push(wall_mesh(wall, min, max));
+        instances.push(
+            Instance::new(wall, mesh, &meshes[mesh as usize], Mat4::IDENTITY)
+                .with_color([0.62, 0.58, 0.52, 1.0]),
+        );
+    }
+    let mut motions = Vec::new();
+    let row_gap = 2.0 * hz / (ROWS + 1) as f32;
+    let length = 2.0 * hx - 2.0;
+    for row in 0..ROWS {
+        let z = -hz + row_gap * (row + 1) as f32;
+        // Rows walk in turn east and west.
+        let (start, direction) = if row % 2 == 0 {
+            (Vec3::new(-hx + 1.0, 0.0, z), Vec3::X)
+        } else {
+            (Vec3::new(hx - 1.0, 0.0, z), Vec3::NEG_X)
+        };
+        let jitter = rng.range_f32(0.0, length / PER_ROW as f32);
+        for k in 0..PER_ROW {
+            let motion = Motion {
+                instance: instances.len() as u32,
+                start,
+                direction,
+                length_m: length,
+                offset_m: (jitter + length * k as f32 / PER_ROW as f32) % length,
+                speed_m_per_s: WALK_M_PER_S,
+            };
+            let paint = ROBOT_PAINT[rng.below(ROBOT_PAINT.len())];
+            instances.push(
+                Instance::new(
+                    format!("robot_{row}_{k}"),
+                    1,
+                    &meshes[1],
+                    motion.world_from_local(0.0),
+                )
+                .with_color(paint)
+                .with_mobility(Mobility::Dynamic),
+            );
+            motions.push(motion);
+        }
+    }
+    let mut scene = Scene::new(
+        name,
+        meshes,
+        instances,
+        Sun::from_azimuth_elevation_deg(25.0, 14.0),
+    );
+    scene.motions = motions;
+    scene
+}
+
+/// A walk through the hall at eye height between the rows, then along the sunny wall.
+pub(super) fn robots_walk() -> CameraPath {
+    let at = |x: f32, z: f32| Vec3::new(x, 1.7, z);
+    let gap = 2.0 * HALL_Z / (ROWS + 1) as f32;
+    let aisle = -HALL_Z + gap * 5.5;
+    let keys = vec![
+        PathKey {
+            eye: at(-HALL_X + 2.0, aisle),
+            target: at(0.0, aisle - 3.0),
+        },
+        PathKey {
+            eye: at(-8.0, aisle),
+            target: at(10.0, aisle + 4.0),
+        },
+        PathKey {
+            eye: at(8.0, aisle - gap * 2.0),
+            target: at(HALL_X, aisle - gap * 5.0),
+        },
+        PathKey {
+            eye: Vec3::new(HALL_X - 3.0, 5.0, -HALL_Z + 3.0),
+            target: at(-10.0, 5.0),
+        },
+    ];
+    CameraPath::new("robots walk", keys).expect("four keys")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::builtin::tests::assert_winding_matches_normals;
+    use super::*;
+
+    #[test]
+    fn the_hall_holds_its_robots_walking_and_about_lloyds_polygons() {
+        let scene = robots_scene("builtin:robots".into(), 7);
+        assert_eq!(scene.motions.len(), (ROWS * PER_ROW) as usize);
+        assert_eq!(scene.instances.len(), 5 + (ROWS * PER_ROW) as usize);
+        let triangles: usize = scene
+            .instances
+            .iter()
+            .map(|i| scene.meshes[i.mesh as usize].indices.len() / 3)
+            .sum();
+        assert!(
+            (50_000..150_000).contains(&triangles),
+            "{triangles} triangles"
+        );
+        for mesh in &scene.meshes {
+            assert_winding_matches_normals(mesh);
+        }
+        // Every robot stays inside the walls as it walks.
+        let mut moved = scene.clone();
+        for time in [0.0, 7.5, 31.0] {
+            moved.animate(time);
+            for i in &moved.instances[5..] {
+                let b = i.aabb_in_world;
+                assert!(
+                    b.min.x > -HALL_X && b.max.x < HALL_X && b.min.z > -HALL_Z && b.max.z < HALL_Z,
+                    "{} at {time} s: {b:?}",
+                    i.name
+                );
+            }
+        }
+        let again = robots_scene("builtin:robots".into(), 7);
+        assert_eq!(again.instances[9].world_from_local, scene.instances[9].world_from_local);
+    }
+
+    #[test]
+    fn the_walk_stays_inside_the_hall() {
+        for key in robots_walk().keys() {
+            assert!(key.eye.x.abs() < HALL_X && key.eye.z.abs() < HALL_Z, "{key:?}");
+        }
+    }
+}
