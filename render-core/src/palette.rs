@@ -34,6 +34,8 @@ pub const MASK_FRAGMENT: Swatch = swatch("MASK_FRAGMENT", [1.0, 0.12, 0.1]);
 /// [`FILL_HIGH_COUNT`] and more.
 pub const FILL_LOW: Swatch = swatch("FILL_LOW", [0.1, 0.3, 1.0]);
 pub const FILL_HIGH: Swatch = swatch("FILL_HIGH", [1.0, 0.9, 0.1]);
+/// The shadow volumes drawn over the view, translucent (Lloyd et al.'s Figure 1).
+pub const VOLUME: Swatch = swatch("VOLUME", [1.0, 0.85, 0.1]);
 /// Volume fragments on one pixel that the fill heat map shows as [`FILL_HIGH`].
 pub const FILL_HIGH_COUNT: u32 = 1024;
 
@@ -49,7 +51,7 @@ pub const VIEWS: [Swatch; 8] = [
     swatch("VIEW_7", [0.6, 0.6, 0.6]),
 ];
 
-const ALL: [Swatch; 15] = [
+const ALL: [Swatch; 16] = [
     RENDERED,
     EXCLUDED,
     CULLED_LIGHT_FRUSTUM,
@@ -65,6 +67,7 @@ const ALL: [Swatch; 15] = [
     MASK_FRAGMENT,
     FILL_LOW,
     FILL_HIGH,
+    VOLUME,
 ];
 
 pub(crate) const WGSL_PATH: &str = "palette.wgsl";

@@ -12,7 +12,9 @@ use render_core::metrics::ShadowError;
 use render_core::scene::{Instance, Mesh, Scene, Sun, load_builtin};
 use render_core::truth::{SurfacePoint, TruthCache};
 use render_core::volumes::{VolumeClamp, VolumePassChoice};
-use shadowlab_tests::{box_mesh, box_on_plane, city_small_street_camera, expected_shadow, gpu};
+use shadowlab_tests::{
+    box_mesh, box_on_plane, city_small_street_camera, expected_shadow, gpu, render,
+};
 
 const BOX: Vec3 = Vec3::new(2.0, 3.0, 1.5);
 const SIZE: (u32, u32) = (320, 240);
@@ -497,4 +499,35 @@ fn discrete_clamping_skips_the_empty_space_between_receivers_and_changes_no_pixe
             "{slices} slices: fill {fill} against continuous {one_fill}"
         );
     }
+}
+
+#[test]
+fn the_volumes_overlay_tints_the_shadowed_ground_seen_through_its_volume() {
+    let scene = box_on_plane(20.0, BOX, 0.0, sun());
+    let camera = Camera::look_at(
+        Vec3::new(-6.0, 9.0, 8.0),
+        Vec3::new(-1.0, 0.0, 0.0),
+        60f32.to_radians(),
+        0.1,
+        200.0,
+    );
+    let plain = volumes(sun());
+    let mut shown = plain;
+    shown.overlays.volumes = true;
+    let (_, without) = render(&scene, &camera, &plain, SIZE.0, SIZE.1);
+    let (_, with) = render(&scene, &camera, &shown, SIZE.0, SIZE.1);
+    let (mut shadowed, mut tinted, mut sky_changed) = (0, 0, 0);
+    for (i, (a, b)) in without.color.pixels().zip(with.color.pixels()).enumerate() {
+        let yellower = b[0] > a[0] && b[1] > a[1] && b[2] <= a[2];
+        if without.ids[i] == 0 {
+            sky_changed += usize::from(a != b);
+        } else if without.ids[i] == 1 && without.shadow[i] == 0 {
+            // Ground in the box's shadow: the ray to it crosses the volume above the ground.
+            shadowed += 1;
+            tinted += usize::from(yellower);
+        }
+    }
+    assert!(shadowed > 1_000, "{shadowed}");
+    assert!(tinted * 10 >= shadowed * 9, "{tinted} of {shadowed} tinted");
+    assert_eq!(sky_changed, 0, "no volume lies in front of the sky here");
 }

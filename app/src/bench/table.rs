@@ -85,8 +85,10 @@ fn row_cells(r: &BenchRow) -> [String; 20] {
             (Some(median), Some(max)) => format!("{median:.1} ({max:.1})"),
             _ => "-".into(),
         },
-        r.fill_saved
-            .map_or_else(|| "-".into(), |(mean, peak)| format!("{mean:.1}x/{peak:.1}x")),
+        r.fill_saved.map_or_else(
+            || "-".into(),
+            |(mean, peak)| format!("{mean:.1}x/{peak:.1}x"),
+        ),
         opt(r.speed_up, 2),
     ]
 }
@@ -172,4 +174,3 @@ pub(super) fn format_csv(rows: &[BenchRow]) -> String {
     }
     out
 }
-

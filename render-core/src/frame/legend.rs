@@ -110,6 +110,15 @@ pub fn legend(settings: &FrameSettings) -> Vec<LegendGroup> {
             ],
         });
     }
+    if overlays.volumes && settings.setup == super::ShadowSetup::Volumes {
+        groups.push(LegendGroup {
+            title: "Shadow volumes",
+            entries: vec![entry(
+                crate::palette::VOLUME,
+                "volume faces in front of the surface (brighter: more layers)",
+            )],
+        });
+    }
     if overlays.light_view {
         let bits = settings.method.gpu_bits().unwrap_or(0);
         let mut entries = vec![
@@ -158,6 +167,7 @@ mod tests {
             casters: true,
             cascades: false,
             fill: false,
+            volumes: false,
             inset_view: 0,
         };
         settings.method = Method::Frag;

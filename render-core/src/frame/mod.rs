@@ -428,10 +428,14 @@ impl FrameRenderer {
         if settings.overlays.error && settings.measure {
             self.heat_map.draw(&ctx.device, encoder, targets);
         }
-        if settings.overlays.fill {
+        let own = crate::technique::TechniqueOverlays {
+            fill: settings.overlays.fill,
+            volumes: settings.overlays.volumes,
+        };
+        if own.fill || own.volumes {
             self.techniques
                 .active()
-                .draw_overlay(&ctx.device, encoder, targets);
+                .draw_overlay(&ctx.device, encoder, targets, own);
         }
         let last_view = self.views.count().saturating_sub(1);
         if let Some(sources) = self

@@ -26,13 +26,22 @@ pub struct Overlays {
     pub cascades: bool,
     /// Shadow volumes: how many volume fragments each pixel took (the fill heat map).
     pub fill: bool,
+    /// Shadow volumes: the volumes themselves, translucent yellow in front of the surface.
+    pub volumes: bool,
     /// Which shadow view (cascade) the light-view inset shows; the last one when there are
     /// fewer.
     pub inset_view: u32,
 }
 
 impl Overlays {
-    pub const NAMES: [&'static str; 5] = ["light-view", "error", "casters", "cascades", "fill"];
+    pub const NAMES: [&'static str; 6] = [
+        "light-view",
+        "error",
+        "casters",
+        "cascades",
+        "fill",
+        "volumes",
+    ];
 
     /// Turns on the overlay called `name`.
     pub fn enable(&mut self, name: &str) -> Result<(), String> {
@@ -42,6 +51,7 @@ impl Overlays {
             "casters" => self.casters = true,
             "cascades" => self.cascades = true,
             "fill" => self.fill = true,
+            "volumes" => self.volumes = true,
             _ => {
                 return Err(format!(
                     "unknown overlay '{name}' (available: {})",

@@ -36,7 +36,11 @@ fn robot_mesh() -> Mesh {
     for z in [-0.18, 0.18] {
         b.cylinder(Vec3::new(0.0, 0.0, z), Vec3::Y * 0.85, 0.11, SIDES);
     }
-    b.cuboid(Vec3::new(-0.2, 0.85, -0.32), Vec3::new(0.2, 1.5, 0.32), true);
+    b.cuboid(
+        Vec3::new(-0.2, 0.85, -0.32),
+        Vec3::new(0.2, 1.5, 0.32),
+        true,
+    );
     for z in [-0.42, 0.42] {
         b.cylinder(Vec3::new(0.05, 0.75, z), Vec3::Y * 0.7, 0.08, SIDES);
     }
@@ -63,10 +67,26 @@ pub(super) fn robots_scene(name: String, seed: u64) -> Scene {
             .with_color([0.50, 0.50, 0.48, 1.0]),
     ];
     let walls = [
-        ("wall_north", Vec3::new(-hx - t, 0.0, hz), Vec3::new(hx + t, h, hz + t)),
-        ("wall_south", Vec3::new(-hx - t, 0.0, -hz - t), Vec3::new(hx + t, h, -hz)),
-        ("wall_east", Vec3::new(hx, 0.0, -hz), Vec3::new(hx + t, h, hz)),
-        ("wall_west", Vec3::new(-hx - t, 0.0, -hz), Vec3::new(-hx, h, hz)),
+        (
+            "wall_north",
+            Vec3::new(-hx - t, 0.0, hz),
+            Vec3::new(hx + t, h, hz + t),
+        ),
+        (
+            "wall_south",
+            Vec3::new(-hx - t, 0.0, -hz - t),
+            Vec3::new(hx + t, h, -hz),
+        ),
+        (
+            "wall_east",
+            Vec3::new(hx, 0.0, -hz),
+            Vec3::new(hx + t, h, hz),
+        ),
+        (
+            "wall_west",
+            Vec3::new(-hx - t, 0.0, -hz),
+            Vec3::new(-hx, h, hz),
+        ),
     ];
     for (wall, min, max) in walls {
         let mesh = meshes.len() as u32;
@@ -183,13 +203,19 @@ mod tests {
             }
         }
         let again = robots_scene("builtin:robots".into(), 7);
-        assert_eq!(again.instances[9].world_from_local, scene.instances[9].world_from_local);
+        assert_eq!(
+            again.instances[9].world_from_local,
+            scene.instances[9].world_from_local
+        );
     }
 
     #[test]
     fn the_walk_stays_inside_the_hall() {
         for key in robots_walk().keys() {
-            assert!(key.eye.x.abs() < HALL_X && key.eye.z.abs() < HALL_Z, "{key:?}");
+            assert!(
+                key.eye.x.abs() < HALL_X && key.eye.z.abs() < HALL_Z,
+                "{key:?}"
+            );
         }
     }
 }

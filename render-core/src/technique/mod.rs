@@ -157,6 +157,15 @@ pub struct ShadowReport {
     pub cpu_culling_ms: f64,
 }
 
+/// The overlays a technique draws itself.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct TechniqueOverlays {
+    /// Shadow volumes' fill heat map.
+    pub fill: bool,
+    /// The shadow volumes, translucent.
+    pub volumes: bool,
+}
+
 /// Fragments and stencil writes of one frame's volumes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 pub struct VolumeFill {
@@ -238,13 +247,14 @@ pub trait ShadowTechnique {
     /// Whether frame `frame_index`'s counts and outcomes have come back (or need not).
     fn has_results_of(&self, frame_index: u64) -> bool;
 
-    /// Draws the technique's own overlay over the colour target (shadow volumes: the fill
-    /// heat map, when the frame counted fill).
+    /// Draws the technique's own overlays that are on over the colour target (shadow volumes:
+    /// the fill heat map, when the frame counted fill, and the volumes themselves).
     fn draw_overlay(
         &self,
         _device: &wgpu::Device,
         _encoder: &mut wgpu::CommandEncoder,
         _targets: &ViewTargets,
+        _overlays: TechniqueOverlays,
     ) {
     }
 

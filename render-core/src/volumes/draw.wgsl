@@ -4,6 +4,7 @@
 // volumes: front faces in front of it +1, back faces -1 (two-sided either way), so the
 // stencil holds how many volumes hold the visible point.
 #import volumes/common.wgsl
+#import palette.wgsl
 
 @group(2) @binding(0) var<storage, read> quad_records: array<vec2<u32>>;
 @group(2) @binding(1) var<storage, read> cap_records: array<vec2<u32>>;
@@ -165,4 +166,11 @@ fn fs_fill(@builtin(position) position: vec4<f32>) {
 @fragment
 fn fs_fill_pass(@builtin(position) position: vec4<f32>) {
     count_fill(position, true);
+}
+
+// The `volumes` overlay: each volume face in front of the visible surface, translucent
+// yellow (Lloyd et al.'s Figure 1), so overlapping layers grow brighter.
+@fragment
+fn fs_volume() -> @location(0) vec4<f32> {
+    return vec4<f32>(PALETTE_VOLUME, 0.12);
 }

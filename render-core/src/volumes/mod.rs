@@ -33,6 +33,7 @@ use crate::shadow_view::ShadowView;
 pub use crate::shadow_view::{VolumeClamp, VolumePassChoice, VolumeSettings};
 use crate::technique::{
     DrawInput, InsetSources, ShadowPasses, ShadowReport, ShadowTechnique, TechniqueInput,
+    TechniqueOverlays,
 };
 pub use crate::technique::{VolumeFill, VolumePasses};
 use fill::{Fill, FillDraw};
@@ -71,6 +72,9 @@ pub struct VolumeTechnique {
     caps: wgpu::ComputePipeline,
     depth: wgpu::RenderPipeline,
     volumes: VolumePipelines,
+    /// The `volumes` overlay's, and the frame group it draws with (the last frame's).
+    overlay: VolumePipelines,
+    frame_group: Option<wgpu::BindGroup>,
     uniforms: wgpu::Buffer,
     scene: Option<SceneVolumes>,
     target: Option<StencilTarget>,
@@ -173,6 +177,12 @@ impl VolumeTechnique {
             (format, depth_clamped),
             VolumePass::Stencil,
         );
+        let overlay = VolumePipelines::new(
+            device,
+            (&draw_pipeline_layout, &draw_module),
+            (format, depth_clamped),
+            VolumePass::Overlay,
+        );
         let fill = Fill::new(
             device,
             [frame_layout, &scene_layout, &draw_layout],
@@ -190,6 +200,8 @@ impl VolumeTechnique {
             caps: find("find_caps"),
             depth,
             volumes,
+            overlay,
+            frame_group: None,
             uniforms: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("Volumes::uniforms"),
                 size: size_of::<VolumeFrameGpu>() as u64,
@@ -399,6 +411,7 @@ impl ShadowTechnique for VolumeTechnique {
             self.volumes.draw(&mut pass, &scene.draws);
         }
         draw.timer.end_pass(encoder, query);
+        self.frame_group = Some(draw.frame_group.clone());
         self.fill_counted = input.measure_fill;
         if input.measure_fill {
             self.fill.draw(
@@ -483,8 +496,43 @@ impl ShadowTechnique for VolumeTechnique {
         device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,
         targets: &crate::view::ViewTargets,
+        overlays: TechniqueOverlays,
     ) {
-        self.fill.draw_heat(device, encoder, targets);
+        if overlays.fill {
+            self.fill.draw_heat(device, encoder, targets);
+        }
+        let (Some(scene), Some(target), Some(frame_group)) =
+            (&self.scene, &self.target, &self.frame_group)
+        else {
+            return;
+        };
+        if !overlays.volumes || target.size != (targets.width, targets.height) {
+            return;
+        }
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("Volumes::overlay"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &targets.color_view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &target.depth_stencil,
+                depth_ops: None,
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_bind_group(0, frame_group, &[]);
+        pass.set_bind_group(1, &scene.scene_group, &[]);
+        pass.set_bind_group(2, &scene.draw_group, &[]);
+        self.overlay.draw(&mut pass, &scene.draws);
     }
 
     fn inset(&self, _view: u32) -> Option<InsetSources<'_>> {

@@ -18,10 +18,17 @@ pub(crate) fn shader_sources() -> Vec<(String, String)> {
     shaders
 }
 
-/// A volume pass's shader, with culling's codes.
+/// A volume pass's shader, with culling's codes and the palette.
 pub(super) fn shader_source(path: &str) -> String {
     let codes = crate::culling::codes::wgsl();
-    crate::shaders::compose(path, &[(crate::culling::codes::WGSL_PATH, codes.as_str())])
+    let palette = crate::palette::wgsl();
+    crate::shaders::compose(
+        path,
+        &[
+            (crate::culling::codes::WGSL_PATH, codes.as_str()),
+            (crate::palette::WGSL_PATH, palette.as_str()),
+        ],
+    )
 }
 
 /// `VolumeFrame` in `volumes/common.wgsl`.
@@ -101,6 +108,9 @@ pub(super) enum VolumePass {
     Stencil,
     /// The depth test off, every fragment counted by `fs_fill` (`fill.rs`).
     Fill,
+    /// In front of the visible surface, translucent over the colour target (`fs_volume`,
+    /// the `volumes` overlay).
+    Overlay,
 }
 
 /// Where a volume's faces count in the stencil.
@@ -228,6 +238,16 @@ fn volume_pipeline(
                 targets: &[],
             }),
         ),
+        VolumePass::Overlay => (
+            wgpu::CompareFunction::Greater,
+            wgpu::StencilState::default(),
+            Some(wgpu::FragmentState {
+                module,
+                entry_point: Some("fs_volume"),
+                compilation_options: wgpu::PipelineCompilationOptions::default(),
+                targets: &OVERLAY_TARGET,
+            }),
+        ),
     };
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(entry),
@@ -270,6 +290,13 @@ pub(super) fn dispatch_size(items: u32) -> (u32, u32) {
         (ROW_GROUPS, groups.div_ceil(ROW_GROUPS))
     }
 }
+
+/// The `volumes` overlay's blend over the view.
+const OVERLAY_TARGET: [Option<wgpu::ColorTargetState>; 1] = [Some(wgpu::ColorTargetState {
+    format: crate::view::targets::COLOR_FORMAT,
+    blend: Some(wgpu::BlendState::ALPHA_BLENDING),
+    write_mask: wgpu::ColorWrites::ALL,
+})];
 
 /// A pass on the volumes' depth-stencil target: both cleared to `clear` (depth, stencil) or
 /// kept, both stored.

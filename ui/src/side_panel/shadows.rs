@@ -115,6 +115,11 @@ pub fn ui(ui: &mut egui::Ui, settings: &mut FrameSettings) {
                     "How many shadow-volume fragments each pixel took, depth test off: blue one, \
                  yellow a thousand and more",
                 );
+            ui.checkbox(&mut settings.overlays.volumes, "Show volumes")
+                .on_hover_text(
+                    "The shadow volumes in front of the surface, translucent yellow (Lloyd's \
+                 Figure 1): switch the clamping to see standard against clamped volumes",
+                );
         }
         ui.checkbox(&mut settings.measure, "Measure error and oracle")
             .on_hover_text(MEASURE_HELP);
