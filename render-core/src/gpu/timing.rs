@@ -36,6 +36,17 @@ pub mod pass_label {
         /// The texel-exact footprint test, both phases and the light-visible re-test.
         pub const FOOTPRINTS: &str = "footprint test";
     }
+
+    /// The steps of [`VOLUME_SILHOUETTES`], timed inside it.
+    pub mod volumes {
+        /// The visible receiver points marked into the grid along the light.
+        pub const RECEIVER_GRID: &str = "receiver grid";
+        /// Culling and clamping: each caster's occupied intervals (Lloyd's 3.1 and 3.2, on
+        /// the GPU here, where the paper spends CPU time).
+        pub const CULL_AND_CLAMP: &str = "cull + clamp";
+        /// Silhouette edges and caps as records for the draws.
+        pub const EDGES: &str = "edges + caps";
+    }
 }
 
 /// GPU time of one pass in one frame.

@@ -351,38 +351,48 @@ impl ShadowTechnique for VolumeTechnique {
                 ],
             });
         encoder.clear_buffer(&scene.grid, 0, Some(scene::grid_bytes(self.slices)));
-        let query = draw
+        let scope = draw
             .timer
-            .begin_scope(pass_label::VOLUME_SILHOUETTES, encoder);
-        {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("Volumes::silhouettes"),
-                timestamp_writes: None,
-            });
-            pass.set_bind_group(0, draw.frame_group, &[]);
-            pass.set_bind_group(1, &scene.scene_group, &[]);
-            pass.set_bind_group(2, &find_group, &[]);
-            pass.set_pipeline(&self.reset);
-            pass.dispatch_workgroups(1, 1, 1);
-            pass.set_pipeline(&self.receivers);
-            pass.dispatch_workgroups(
-                draw.targets.width.div_ceil(8),
-                draw.targets.height.div_ceil(8),
-                1,
-            );
-            for (pipeline, items) in [
-                (&self.cull, scene.casters),
-                (&self.silhouettes, scene.edge_items),
-                (&self.caps, scene.triangle_items),
-            ] {
-                if items > 0 {
-                    let (x, y) = dispatch_size(items);
-                    pass.set_pipeline(pipeline);
-                    pass.dispatch_workgroups(x, y, 1);
+            .open_scope(pass_label::VOLUME_SILHOUETTES, encoder);
+        let (width, height) = (draw.targets.width, draw.targets.height);
+        let steps: [(&str, &[(&wgpu::ComputePipeline, [u32; 2])]); 3] = [
+            (
+                pass_label::volumes::RECEIVER_GRID,
+                &[
+                    (&self.reset, [1, 1]),
+                    (&self.receivers, [width.div_ceil(8), height.div_ceil(8)]),
+                ],
+            ),
+            (
+                pass_label::volumes::CULL_AND_CLAMP,
+                &[(&self.cull, dispatch_groups(scene.casters))],
+            ),
+            (
+                pass_label::volumes::EDGES,
+                &[
+                    (&self.silhouettes, dispatch_groups(scene.edge_items)),
+                    (&self.caps, dispatch_groups(scene.triangle_items)),
+                ],
+            ),
+        ];
+        for (label, dispatches) in steps {
+            scope.step(label, encoder, |encoder| {
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some(label),
+                    timestamp_writes: None,
+                });
+                pass.set_bind_group(0, draw.frame_group, &[]);
+                pass.set_bind_group(1, &scene.scene_group, &[]);
+                pass.set_bind_group(2, &find_group, &[]);
+                for (pipeline, [x, y]) in dispatches {
+                    if x * y > 0 {
+                        pass.set_pipeline(pipeline);
+                        pass.dispatch_workgroups(*x, *y, 1);
+                    }
                 }
-            }
+            });
         }
-        draw.timer.end_pass(encoder, query);
+        scope.close(encoder);
         let query = draw.timer.begin_pass(pass_label::VOLUME_DEPTH, encoder);
         {
             let mut pass = depth_stencil_pass(
@@ -547,4 +557,13 @@ impl ShadowTechnique for VolumeTechnique {
         self.excluded = instances.to_vec();
         self.excluded.sort_unstable();
     }
+}
+
+/// Workgroups for `items` work items (none for none).
+fn dispatch_groups(items: u32) -> [u32; 2] {
+    if items == 0 {
+        return [0, 0];
+    }
+    let (x, y) = dispatch_size(items);
+    [x, y]
 }
