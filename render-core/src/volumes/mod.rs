@@ -355,7 +355,7 @@ impl ShadowTechnique for VolumeTechnique {
             .timer
             .open_scope(pass_label::VOLUME_SILHOUETTES, encoder);
         let (width, height) = (draw.targets.width, draw.targets.height);
-        let steps: [(&str, &[(&wgpu::ComputePipeline, [u32; 2])]); 3] = [
+        let steps: [(&str, &[Dispatch<'_>]); 3] = [
             (
                 pass_label::volumes::RECEIVER_GRID,
                 &[
@@ -558,6 +558,9 @@ impl ShadowTechnique for VolumeTechnique {
         self.excluded.sort_unstable();
     }
 }
+
+/// A compute pipeline and its workgroups, x and y.
+type Dispatch<'a> = (&'a wgpu::ComputePipeline, [u32; 2]);
 
 /// Workgroups for `items` work items (none for none).
 fn dispatch_groups(items: u32) -> [u32; 2] {
