@@ -407,6 +407,9 @@ fn culling_and_clamping_by_the_visible_receivers_change_no_pixel() {
     );
 }
 
+/// The caster's instance in [`caster_over_a_platform_edge`].
+const CASTER: u32 = 2;
+
 /// A caster high above the edge of a platform: the visible receiver points under it lie on
 /// the platform and, 8 m further along the light, on the ground beside it.
 fn caster_over_a_platform_edge() -> (Scene, Camera) {
@@ -465,13 +468,29 @@ fn discrete_clamping_skips_the_empty_space_between_receivers_and_changes_no_pixe
         settings.overlays.fill = true;
         let (error, shadowed, renderer, report) = against_truth(&scene, &camera, &settings);
         let light = renderer.light_at(gpu(), &exact.points).expect("read back");
-        (error, shadowed, light, report)
+        let intervals = renderer
+            .read_volume_intervals(gpu(), CASTER)
+            .expect("read back")
+            .expect("a caster's volume");
+        (error, shadowed, light, report, intervals)
     };
-    let (error, shadowed, standard, _) = run(VolumeClamp::None, 1);
+    let (error, shadowed, standard, _, whole) = run(VolumeClamp::None, 1);
+    assert_eq!(whole.len(), 1, "{whole:?}");
+    assert!(
+        whole[0][0] == 0.0 && whole[0][1] > 40.0,
+        "past the scene: {whole:?}"
+    );
     assert!(shadowed > 500, "{shadowed}");
     let wrong = error.missing_shadow_px + error.extra_shadow_px;
     assert!(wrong * 10_000 <= error.visible_px, "{error:?}");
-    let (_, _, continuous, one) = run(VolumeClamp::Continuous, 1);
+    let (_, _, continuous, one, clamped) = run(VolumeClamp::Continuous, 1);
+    // From the caster (its own top receives) to just past the ground, about 18.3 m below
+    // its underside along the light, instead of past the scene.
+    assert_eq!(clamped.len(), 1, "{clamped:?}");
+    assert!(
+        clamped[0][0] == 0.0 && (18.0..22.0).contains(&clamped[0][1]),
+        "{clamped:?}"
+    );
     assert_eq!(differing(&continuous, &standard), 0);
     let one_passes = one.volume_passes.expect("counted");
     assert_eq!(
@@ -479,7 +498,18 @@ fn discrete_clamping_skips_the_empty_space_between_receivers_and_changes_no_pixe
         "continuous clamping draws one interval per volume"
     );
     for slices in [4, 8, 32] {
-        let (_, _, discrete, report) = run(VolumeClamp::Conservative, slices);
+        let (_, _, discrete, report, spans) = run(VolumeClamp::Conservative, slices);
+        // The caster's own top, the platform 9.75 to 10.75 m below its faces (9.9 to 10.9 m
+        // along the light at 80 degrees) and the ground 18 to 19 m below (18.3 to 19.3 m).
+        let covers = |span: [f32; 2], from: f32, to: f32| span[0] <= from && span[1] >= to;
+        assert!(
+            spans.len() == 3
+                && spans[0][0] == 0.0
+                && covers(spans[1], 9.9, 10.9)
+                && covers(spans[2], 18.3, 19.3)
+                && spans.windows(2).all(|w| w[0][1] < w[1][0]),
+            "{slices} slices: {spans:?}"
+        );
         assert_eq!(
             differing(&discrete, &standard),
             0,

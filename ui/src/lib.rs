@@ -20,7 +20,7 @@ use render_core::frame::FrameReport;
 use render_core::scene::SceneFacts;
 
 /// The object the user clicked in the 3D view, and what happened to it.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Selection {
     /// The glTF node name (with a chunk suffix for split objects).
     pub name: String,
@@ -32,6 +32,9 @@ pub struct Selection {
     pub shadow_map: String,
     /// In the oracle set when the click happened (only when measuring).
     pub oracle: Option<bool>,
+    /// With shadow volumes, where its volume was drawn when the click happened: each
+    /// interval's start and end, metres along the light from the caster (empty: culled).
+    pub volume_intervals: Option<Vec<[f32; 2]>>,
 }
 
 /// Where screenshots go and what they show.

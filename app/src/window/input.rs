@@ -111,7 +111,19 @@ impl Running {
                         .then(|| self.renderer.read_oracle(&self.ctx, &self.scene_gpu).ok())
                         .flatten()
                         .and_then(|flags| flags.get(instance as usize).copied());
-                    (instance, oracle)
+                    let volume_intervals = self
+                        .renderer
+                        .read_volume_intervals(&self.ctx, instance)
+                        .unwrap_or_else(|e| {
+                            self.message =
+                                Some(format!("Could not read the volume's intervals: {e}"));
+                            None
+                        });
+                    Selected {
+                        instance,
+                        oracle,
+                        volume_intervals,
+                    }
                 });
             }
             Ok(None) => {}
@@ -123,7 +135,11 @@ impl Running {
 
     /// The selected object as the panel shows it, from the last frame's outcome.
     pub(super) fn selection(&self) -> Option<ui::Selection> {
-        let (instance, oracle) = self.selected?;
+        let Selected {
+            instance,
+            oracle,
+            volume_intervals,
+        } = self.selected.clone()?;
         let inst = self.scene.instances.get(instance as usize)?;
         let stages = self
             .last_report
@@ -141,6 +157,7 @@ impl Running {
             visible: true,
             shadow_map: outcome.describe(stages),
             oracle,
+            volume_intervals,
         })
     }
 
@@ -149,4 +166,13 @@ impl Running {
         self.cursor_px
             .is_some_and(|p| self.view_rect.contains(egui::pos2(p.x / ppp, p.y / ppp)))
     }
+}
+
+/// The clicked instance and what was read about it at the click: whether it was in the
+/// oracle set (when measuring) and its shadow volume's intervals (with shadow volumes).
+#[derive(Clone, Debug)]
+pub(super) struct Selected {
+    pub instance: u32,
+    pub oracle: Option<bool>,
+    pub volume_intervals: Option<Vec<[f32; 2]>>,
 }

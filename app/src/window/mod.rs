@@ -22,6 +22,7 @@ use std::time::Instant;
 
 use anyhow::Context as _;
 use glam::Vec2;
+use input::Selected;
 use render_core::frame::compare::CompareAll;
 use render_core::frame::{FrameRenderer, FrameReport, FrameSettings, SceneGpu};
 use render_core::gpu::GpuContext;
@@ -140,7 +141,7 @@ struct Running {
     /// Where a left click started (window pixels), to tell a click from a drag.
     click_start: Option<Vec2>,
     /// The clicked instance and, when measuring, whether it was in the oracle set then.
-    selected: Option<(u32, Option<bool>)>,
+    selected: Option<Selected>,
     screenshot_requested: bool,
     frames_presented: u64,
     exit_after_frames: Option<u64>,

@@ -128,6 +128,20 @@ impl FrameRenderer {
             .collect()
     }
 
+    /// The last frame's intervals of `instance`'s shadow volume (metres along the light from
+    /// the caster; empty when culled), with shadow volumes the frame's setup; `None` otherwise
+    /// or for a non-caster. Blocks: for a click, tests and reports.
+    pub fn read_volume_intervals(
+        &self,
+        ctx: &GpuContext,
+        instance: u32,
+    ) -> Result<Option<Vec<[f32; 2]>>, GpuError> {
+        if self.techniques.active != super::techniques::Family::Volumes {
+            return Ok(None);
+        }
+        self.techniques.volumes().read_intervals(ctx, instance)
+    }
+
     /// The oracle flag of every instance from the last measured frame (in any view's oracle).
     /// Blocks: for tests and reports, never the window loop.
     pub fn read_oracle(

@@ -78,6 +78,10 @@ impl Techniques {
         }
     }
 
+    pub fn volumes(&self) -> &VolumeTechnique {
+        &self.volumes
+    }
+
     pub fn active(&self) -> &dyn ShadowTechnique {
         match self.active {
             Family::Maps => &self.maps,

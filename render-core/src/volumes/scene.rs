@@ -46,6 +46,8 @@ pub(super) struct SceneVolumes {
     pub counters: wgpu::Buffer,
     pub outcomes: wgpu::Buffer,
     pub instances: u32,
+    /// Per instance, its caster's index (`None`: not a caster).
+    pub caster_of: Vec<Option<u32>>,
 }
 
 /// The layouts the scene's groups are made for.
@@ -75,6 +77,7 @@ impl SceneVolumes {
         let mut casters = Vec::new();
         let (mut edge_items, mut triangle_items) = (0u32, 0u32);
         let mut outcomes = vec![OUTCOME_NOT_CASTER; scene.instances.len()];
+        let mut caster_of = vec![None; scene.instances.len()];
         for (i, instance) in (0u32..).zip(&scene.instances) {
             let range = scene_gpu.instance_ranges[i as usize];
             if !instance.casts_shadow || excluded.binary_search(&i).is_ok() || range.index_count < 3
@@ -83,6 +86,7 @@ impl SceneVolumes {
             }
             let (first_edge, edge_count, closed) = mesh_info[instance.mesh as usize];
             outcomes[i as usize] = OUTCOME_RENDERED;
+            caster_of[i as usize] = Some(casters.len() as u32);
             casters.push(CasterGpu {
                 instance: i,
                 first_edge,
@@ -149,12 +153,12 @@ impl SceneVolumes {
         let kept = storage_buffer(
             "Volumes::kept",
             u64::from(casters.len() as u32) * 4,
-            wgpu::BufferUsages::empty(),
+            wgpu::BufferUsages::COPY_SRC,
         );
         let intervals = storage_buffer(
             "Volumes::intervals",
             u64::from(casters.len() as u32) * u64::from(MAX_INTERVALS) * 8,
-            wgpu::BufferUsages::empty(),
+            wgpu::BufferUsages::COPY_SRC,
         );
         let grid = storage_buffer(
             "Volumes::receiver_grid",
@@ -211,6 +215,7 @@ impl SceneVolumes {
                 wgpu::BufferUsages::STORAGE,
             ),
             instances: scene.instances.len() as u32,
+            caster_of,
         }
     }
 }

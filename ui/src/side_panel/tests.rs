@@ -480,10 +480,13 @@ fn the_selected_object_says_why_it_was_culled() {
         visible: true,
         shadow_map: "light frustum".into(),
         oracle: Some(false),
+        volume_intervals: Some(vec![[0.0, 12.54], [30.06, 31.0]]),
     });
     let harness = harness(lab);
     harness.get_by_label("block_3_7/building_2");
     harness.get_by_label("Needed (oracle)");
+    harness.get_by_label("Volume intervals");
+    harness.get_by_label("0.0-12.5 m, 30.1-31.0 m");
     assert!(harness.query_all_by_label("light frustum").count() >= 1);
 }
 
@@ -645,6 +648,7 @@ fn window_on(tab: PanelTab, setup: impl FnOnce(&mut Lab)) -> Harness<'static, La
         visible: true,
         shadow_map: "light frustum".into(),
         oracle: Some(false),
+        volume_intervals: None,
     });
     // Every pass a measured GPU-culled frame times, the culling steps inside their scope.
     lab.report.gpu = [
