@@ -300,32 +300,11 @@ impl VolumeTechnique {
         ctx: &GpuContext,
         instance: u32,
     ) -> Result<Option<Vec<[f32; 2]>>, crate::gpu::GpuError> {
-        let Some(scene) = &self.scene else {
-            return Ok(None);
-        };
-        let Some(Some(caster)) = scene.caster_of.get(instance as usize).copied() else {
-            return Ok(None);
-        };
-        let kept: Vec<u32> = bytemuck::pod_collect_to_vec(&crate::gpu::read_buffer(
-            ctx,
-            &scene.kept,
-            u64::from(scene.casters) * 4,
-            "volume intervals",
-        )?);
-        let spans: Vec<[f32; 2]> = bytemuck::pod_collect_to_vec(&crate::gpu::read_buffer(
-            ctx,
-            &scene.intervals,
-            u64::from(scene.casters) * u64::from(pipelines::MAX_INTERVALS) * 8,
-            "volume intervals",
-        )?);
-        let count = (kept[caster as usize] & COUNT_BITS).min(pipelines::MAX_INTERVALS);
-        let first = (caster * pipelines::MAX_INTERVALS) as usize;
-        Ok(Some(spans[first..first + count as usize].to_vec()))
+        self.scene
+            .as_ref()
+            .map_or(Ok(None), |scene| scene.read_intervals(ctx, instance))
     }
 }
-
-/// The interval count's bits in a caster's `kept` word (`COUNT_BITS` in `common.wgsl`).
-const COUNT_BITS: u32 = 0x3fff_ffff;
 
 impl ShadowTechnique for VolumeTechnique {
     fn name(&self) -> &'static str {

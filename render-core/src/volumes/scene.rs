@@ -224,3 +224,34 @@ impl SceneVolumes {
 pub(super) fn grid_bytes(slices: u32) -> u64 {
     u64::from(slices) * u64::from(RECEIVER_GRID * RECEIVER_GRID) * 8
 }
+
+/// The interval count's bits in a caster's `kept` word (`COUNT_BITS` in `common.wgsl`).
+const COUNT_BITS: u32 = 0x3fff_ffff;
+
+impl SceneVolumes {
+    /// The last frame's intervals of `instance`'s volume (`None`: not a caster). Blocks.
+    pub fn read_intervals(
+        &self,
+        ctx: &crate::gpu::GpuContext,
+        instance: u32,
+    ) -> Result<Option<Vec<[f32; 2]>>, crate::gpu::GpuError> {
+        let Some(Some(caster)) = self.caster_of.get(instance as usize).copied() else {
+            return Ok(None);
+        };
+        let kept: Vec<u32> = bytemuck::pod_collect_to_vec(&crate::gpu::read_buffer(
+            ctx,
+            &self.kept,
+            u64::from(self.casters) * 4,
+            "volume intervals",
+        )?);
+        let spans: Vec<[f32; 2]> = bytemuck::pod_collect_to_vec(&crate::gpu::read_buffer(
+            ctx,
+            &self.intervals,
+            u64::from(self.casters) * u64::from(MAX_INTERVALS) * 8,
+            "volume intervals",
+        )?);
+        let count = (kept[caster as usize] & COUNT_BITS).min(MAX_INTERVALS);
+        let first = (caster * MAX_INTERVALS) as usize;
+        Ok(Some(spans[first..first + count as usize].to_vec()))
+    }
+}
