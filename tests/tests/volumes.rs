@@ -465,6 +465,9 @@ fn discrete_clamping_skips_the_empty_space_between_receivers_and_changes_no_pixe
         };
         settings.volumes.clamp = clamp;
         settings.volumes.slices = slices;
+        // Gaps split where they cost more pixels than their caps, whatever this device's
+        // vertices cost (the V > R rule is checked below).
+        settings.volumes.vertex_pixels = Some(0);
         settings.overlays.fill = true;
         let (error, shadowed, renderer, report) = against_truth(&scene, &camera, &settings);
         let light = renderer.light_at(gpu(), &exact.points).expect("read back");
@@ -560,4 +563,38 @@ fn the_volumes_overlay_tints_the_shadowed_ground_seen_through_its_volume() {
     assert!(shadowed > 1_000, "{shadowed}");
     assert!(tinted * 10 >= shadowed * 9, "{tinted} of {shadowed} tinted");
     assert_eq!(sky_changed, 0, "no volume lies in front of the sky here");
+}
+
+#[test]
+#[allow(
+    clippy::float_cmp,
+    reason = "a volume from its caster starts at exactly 0"
+)]
+fn the_v_over_r_rule_merges_gaps_whose_vertices_cost_more_than_their_pixels() {
+    let (scene, camera) = caster_over_a_platform_edge();
+    let spans = |vertex_pixels| {
+        let mut settings = FrameSettings {
+            method: Method::Bvol,
+            ..volumes(scene.sun)
+        };
+        settings.volumes.clamp = VolumeClamp::Conservative;
+        settings.volumes.vertex_pixels = Some(vertex_pixels);
+        let (error, _, renderer, _) = against_truth(&scene, &camera, &settings);
+        let spans = renderer
+            .read_volume_intervals(gpu(), CASTER)
+            .expect("read back")
+            .expect("a caster's volume");
+        (error, spans)
+    };
+    let (split_error, split) = spans(0);
+    assert_eq!(split.len(), 3, "{split:?}");
+    // A vertex worth a million pixels: no gap here is worth a new interval.
+    let (merged_error, merged) = spans(1_000_000);
+    assert_eq!(merged.len(), 1, "{merged:?}");
+    assert_eq!(merged[0][0], 0.0);
+    assert!(
+        (merged[0][1] - split[2][1]).abs() < 1e-4,
+        "{merged:?} {split:?}"
+    );
+    assert_eq!(merged_error, split_error, "merging changes no pixel");
 }

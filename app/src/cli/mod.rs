@@ -201,6 +201,11 @@ pub struct ViewArgs {
     /// z-fail for every volume.
     #[arg(long, value_parser = parse_volume_pass, value_name = "PASS")]
     pub volume_pass: Option<render_core::volumes::VolumePassChoice>,
+    /// Lloyd's V > R rule for clamped volumes: gap pixels a new interval's vertex is worth
+    /// (default: measured on this device at start-up; 0 splits at every gap dearer than its
+    /// caps).
+    #[arg(long, value_name = "PIXELS")]
+    pub volume_vertex_pixels: Option<u32>,
     /// `--volume-clamp discrete|conservative`: the view's slices (Lloyd's K), 1 to 32.
     #[arg(long, value_name = "K")]
     pub volume_slices: Option<u32>,
@@ -369,6 +374,9 @@ impl ViewArgs {
         }
         if let Some(pass) = self.volume_pass {
             settings.volumes.pass = pass;
+        }
+        if let Some(pixels) = self.volume_vertex_pixels {
+            settings.volumes.vertex_pixels = Some(pixels);
         }
         if let Some(slices) = self.volume_slices {
             let most = render_core::volumes::VolumeSettings::MAX_SLICES;

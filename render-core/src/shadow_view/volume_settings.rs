@@ -115,6 +115,10 @@ pub struct VolumeSettings {
     pub pass: VolumePassChoice,
     /// Discrete clamping's strips of the view (Lloyd's K), 1 to [`Self::MAX_SLICES`].
     pub slices: u32,
+    /// Lloyd's V > R rule: how many gap pixels a new interval's vertex is worth, or `None`
+    /// for the cost measured on this device at start-up (`0`: split at every gap that
+    /// costs more than its caps).
+    pub vertex_pixels: Option<u32>,
 }
 
 impl VolumeSettings {
@@ -127,6 +131,7 @@ impl Default for VolumeSettings {
             clamp: VolumeClamp::default(),
             pass: VolumePassChoice::default(),
             slices: 8,
+            vertex_pixels: None,
         }
     }
 }

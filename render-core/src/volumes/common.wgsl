@@ -16,7 +16,8 @@ struct VolumeFrame {
     right: vec4<f32>,
     up: vec4<f32>,
     travel: vec4<f32>,
-    // x: the grid's cell size, metres; y, z, w: unused.
+    // x: the grid's cell size, metres; y: pixels a volume vertex costs as much as
+    // (volumes/calibrate.rs); z, w: unused.
     cell: vec4<f32>,
     // The camera's near rectangle in the light's frame (as `in_light` places points): its
     // box, xyz.

@@ -221,10 +221,21 @@ fn column_pixels(lo: vec2<f32>, hi: vec2<f32>, near: f32, far: f32) -> f32 {
     return extent.x * extent.y;
 }
 
+// Lloyd's V for caster `ci`: the vertices a new interval adds, 2C + 2S, with C a cap's (the
+// lit half of its triangles) and S the silhouette's quads (about twice the square root of the
+// triangles, a closed mesh's silhouette loop).
+fn new_interval_vertices(ci: u32) -> f32 {
+    let end = select(volume.counts.y, casters[ci + 1u].triangle_start, ci + 1u < volume.counts.z);
+    let triangles = f32(end - casters[ci].triangle_start);
+    let cap = 1.5 * triangles;
+    let silhouette = 4.0 * 2.0 * sqrt(triangles);
+    return 2.0 * cap + 2.0 * silhouette;
+}
+
 // Sorts the `n` occupied depth intervals in `found` by their start and merges those that
-// overlap or touch, then those whose gap costs fewer pixels than the two caps that would
-// bound it (Lloyd's V > R rule, with the caps' fill as the cost of a new interval, in
-// picture boxes), then the ones with the smallest gaps until at most MAX_INTERVALS are
+// overlap or touch, then those whose gap costs fewer pixels than a new interval would: the
+// two caps that would bound it and its vertices at the calibrated pixels per vertex (Lloyd's
+// V > R rule; areas are picture boxes), then the ones with the smallest gaps until at most MAX_INTERVALS are
 // left, and writes them as extrusion distances for caster `ci` (`box`: the caster's box in
 // the light's frame, lo and hi, and its padding). Returns how many.
 fn merged_intervals(
@@ -253,7 +264,7 @@ fn merged_intervals(
             let end = (*found)[m - 1u].y;
             let gap = column_pixels(lo.xy, hi.xy, end, next.x);
             let caps = column_pixels(lo.xy, hi.xy, end, end) + column_pixels(lo.xy, hi.xy, next.x, next.x);
-            merge = gap <= caps;
+            merge = gap <= caps + new_interval_vertices(ci) * volume.cell.y;
         }
         if (merge) {
             (*found)[m - 1u].y = max((*found)[m - 1u].y, next.y);

@@ -12,12 +12,13 @@ use crate::geom::{Camera, basis_for_direction};
 use crate::shadow_view::{VolumeClamp, VolumePassChoice};
 use crate::technique::TechniqueInput;
 
-/// This frame's uniforms: `method` the effective one, `slices` the clamping's.
+/// This frame's uniforms: `method` the effective one, `slices` the clamping's, and the
+/// calibrated pixels per volume vertex.
 pub(super) fn uniforms(
     input: &TechniqueInput<'_>,
     scene: &SceneVolumes,
     method: Method,
-    slices: u32,
+    (slices, pixels_per_vertex): (u32, f32),
 ) -> VolumeFrameGpu {
     let bounds = input.scene.bounds();
     let reach = if bounds.is_empty() {
@@ -83,7 +84,7 @@ pub(super) fn uniforms(
         right: right.extend(x.0).to_array(),
         up: up.extend(y.0).to_array(),
         travel: travel.extend(z.0).to_array(),
-        cell: [cell, 0.0, 0.0, 0.0],
+        cell: [cell, pixels_per_vertex, 0.0, 0.0],
         near_lo: near_lo.extend(0.0).to_array(),
         near_hi: near_hi.extend(0.0).to_array(),
         slicing,

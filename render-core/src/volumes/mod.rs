@@ -16,6 +16,7 @@
 //!
 //! Every caster's volume is drawn; Lloyd's culling and clamping build on this.
 
+mod calibrate;
 pub mod edges;
 mod fill;
 mod frame;
@@ -82,6 +83,8 @@ pub struct VolumeTechnique {
     method: Method,
     /// The slices of the view this frame's receivers are told apart by.
     slices: u32,
+    /// What a volume vertex costs in pixels (`calibrate.rs`).
+    pixels_per_vertex: f32,
     /// The counters of the frames in flight, and the newest that came back: (frame, casters
     /// kept, of which z-pass, intervals drawn).
     readback: AsyncReadback,
@@ -217,6 +220,7 @@ impl VolumeTechnique {
             excluded: Vec::new(),
             method: Method::None,
             slices: 1,
+            pixels_per_vertex: calibrate::pixels_per_vertex(ctx, format),
             readback: AsyncReadback::new(device, "Volumes::counters_readback", 32, 3),
             latest: None,
             fill_counted: false,
@@ -330,7 +334,18 @@ impl ShadowTechnique for VolumeTechnique {
         self.method = self.effective_method(input.method);
         let scene = self.scene.as_ref().expect("ensured above");
         self.slices = input.volumes.clamp.slices(&input.volumes);
-        let uniforms = frame::uniforms(input, scene, self.method, self.slices);
+        let uniforms = frame::uniforms(
+            input,
+            scene,
+            self.method,
+            (
+                self.slices,
+                input
+                    .volumes
+                    .vertex_pixels
+                    .map_or(self.pixels_per_vertex, |p| p as f32),
+            ),
+        );
         ctx.queue
             .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&uniforms));
         Vec::new()
@@ -534,26 +549,7 @@ impl ShadowTechnique for VolumeTechnique {
         if !overlays.volumes || target.size != (targets.width, targets.height) {
             return;
         }
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("Volumes::overlay"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &targets.color_view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &target.depth_stencil,
-                depth_ops: None,
-                stencil_ops: None,
-            }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let mut pass = pipelines::overlay_pass(encoder, &targets.color_view, &target.depth_stencil);
         pass.set_bind_group(0, frame_group, &[]);
         pass.set_bind_group(1, &scene.scene_group, &[]);
         pass.set_bind_group(2, &scene.draw_group, &[]);
