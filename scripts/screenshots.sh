@@ -29,6 +29,9 @@ run shot builtin:city --size 1280x720 \
 run shot builtin:city --size 1280x720 \
     --eye=-330,3.5,8 --target=-200,12,8 --shadow volumes --method bvol --volume-clamp continuous \
     --overlay fill --out screenshots/city-fill-cc.png --stats screenshots/city-fill-cc.json
+run shot builtin:robots --size 1280x720 \
+    --eye=-28,1.7,0 --target=0,1.7,-3 --shadow volumes --method bvol --overlay volumes \
+    --out screenshots/robots-volumes.png --stats screenshots/robots-volumes.json
 if command -v xvfb-run >/dev/null 2>&1 || [ -n "${DISPLAY:-}" ]; then
     wrap=(); [ -z "${DISPLAY:-}" ] && wrap=(xvfb-run -a -s "-screen 0 1600x1000x24")
     shots=$(mktemp -d)

@@ -148,7 +148,7 @@ pub struct ViewArgs {
     #[arg(long, value_name = "N")]
     pub inset_view: Option<u32>,
     /// Overlay to draw (repeatable): light-view, error, casters, cascades, fill (shadow-volume
-    /// fill heat map).
+    /// fill heat map), volumes (the shadow volumes, translucent).
     #[arg(long, value_name = "NAME")]
     pub overlay: Vec<String>,
     /// PCF kernel: off, 2x2, 3x3, 5x5.
