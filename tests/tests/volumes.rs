@@ -97,6 +97,18 @@ fn check_ground_against_analytic(
     (shadowed, lit)
 }
 
+/// A scene of one instance per mesh, each moved by its offset and named after its mesh.
+fn scene_of(name: &str, sun: Sun, parts: Vec<(Mesh, Vec3)>) -> Scene {
+    let instances = (0..)
+        .zip(&parts)
+        .map(|(i, (mesh, at))| {
+            Instance::new(mesh.name.clone(), i, mesh, Mat4::from_translation(*at))
+        })
+        .collect();
+    let meshes = parts.into_iter().map(|(mesh, _)| mesh).collect();
+    Scene::new(name, meshes, instances, sun)
+}
+
 fn counting(pass: VolumePassChoice) -> FrameSettings {
     let mut settings = volumes(sun());
     settings.volumes.pass = pass;
@@ -128,6 +140,17 @@ fn differing(a: &[f32], b: &[f32]) -> usize {
     a.iter().zip(b).filter(|(a, b)| a != b).count()
 }
 
+/// Above and away from the box on its plane, its shadow in view.
+fn above_the_box() -> Camera {
+    Camera::look_at(
+        Vec3::new(-6.0, 9.0, 8.0),
+        Vec3::new(-1.0, 0.0, 0.0),
+        60f32.to_radians(),
+        0.1,
+        200.0,
+    )
+}
+
 /// A ground point behind the box, seen from the sun.
 fn behind() -> Vec3 {
     let to_sun = sun().direction_to_sun;
@@ -137,13 +160,7 @@ fn behind() -> Vec3 {
 #[test]
 fn the_volumes_of_a_box_give_its_exact_shadow() {
     let scene = box_on_plane(20.0, BOX, 0.0, sun());
-    let camera = Camera::look_at(
-        Vec3::new(-6.0, 9.0, 8.0),
-        Vec3::new(-1.0, 0.0, 0.0),
-        60f32.to_radians(),
-        0.1,
-        200.0,
-    );
+    let camera = above_the_box();
     let (error, shadowed, renderer, _) = against_truth(&scene, &camera, &volumes(sun()));
     assert!(shadowed > 1_000, "the view shows the shadow: {shadowed} px");
     let (in_shadow, lit) = check_ground_against_analytic(&scene, &camera, &renderer);
@@ -207,13 +224,7 @@ fn the_camera_inside_the_shadow_sees_it_correctly() {
 fn auto_counts_a_volume_z_pass_only_where_the_near_rectangle_is_outside_it() {
     let scene = box_on_plane(20.0, BOX, 0.0, sun());
     // Above and away from the box: its volume cannot hold the near rectangle.
-    let above = Camera::look_at(
-        Vec3::new(-6.0, 9.0, 8.0),
-        Vec3::new(-1.0, 0.0, 0.0),
-        60f32.to_radians(),
-        0.1,
-        200.0,
-    );
+    let above = above_the_box();
     let ([auto, z_fail, _], report) = light_by_counting(&scene, &above);
     let passes = report.volume_passes.expect("counted");
     assert!(passes.z_pass >= 1, "the box is counted z-pass: {passes:?}");
@@ -261,21 +272,14 @@ fn an_open_quad_lit_from_its_back_still_casts() {
         vec![0, 1, 2, 0, 2, 3],
     );
     assert!(quad.normals[0].y < 0.0, "the quad faces down");
-    let instances = vec![
-        Instance::new(
-            "ground",
-            0,
-            &ground,
-            Mat4::from_translation(Vec3::new(0.0, -0.5, 0.0)),
-        ),
-        Instance::new(
-            "roof",
-            1,
-            &quad,
-            Mat4::from_translation(Vec3::new(0.0, 2.0, 0.0)),
-        ),
-    ];
-    let scene = Scene::new("test:open-quad", vec![ground, quad], instances, sun);
+    let scene = scene_of(
+        "test:open-quad",
+        sun,
+        vec![
+            (ground, Vec3::new(0.0, -0.5, 0.0)),
+            (quad, Vec3::new(0.0, 2.0, 0.0)),
+        ],
+    );
     let camera = Camera::look_at(
         Vec3::new(-7.0, 8.0, 7.0),
         Vec3::new(-1.0, 0.0, 0.0),
@@ -417,31 +421,14 @@ fn caster_over_a_platform_edge() -> (Scene, Camera) {
     let ground = box_mesh("ground", Vec3::new(30.0, 0.5, 30.0));
     let platform = box_mesh("platform", Vec3::new(3.0, 0.25, 3.0));
     let caster = box_mesh("caster", Vec3::new(1.5, 0.5, 1.5));
-    let instances = vec![
-        Instance::new(
-            "ground",
-            0,
-            &ground,
-            Mat4::from_translation(Vec3::new(0.0, -0.5, 0.0)),
-        ),
-        Instance::new(
-            "platform",
-            1,
-            &platform,
-            Mat4::from_translation(Vec3::new(0.0, 8.0, 0.0)),
-        ),
-        Instance::new(
-            "caster",
-            2,
-            &caster,
-            Mat4::from_translation(Vec3::new(3.0, 18.5, 0.0)),
-        ),
-    ];
-    let scene = Scene::new(
+    let scene = scene_of(
         "test:platform-edge",
-        vec![ground, platform, caster],
-        instances,
         sun,
+        vec![
+            (ground, Vec3::new(0.0, -0.5, 0.0)),
+            (platform, Vec3::new(0.0, 8.0, 0.0)),
+            (caster, Vec3::new(3.0, 18.5, 0.0)),
+        ],
     );
     let camera = Camera::look_at(
         Vec3::new(25.0, 12.0, 4.0),
@@ -537,13 +524,7 @@ fn discrete_clamping_skips_the_empty_space_between_receivers_and_changes_no_pixe
 #[test]
 fn the_volumes_overlay_tints_the_shadowed_ground_seen_through_its_volume() {
     let scene = box_on_plane(20.0, BOX, 0.0, sun());
-    let camera = Camera::look_at(
-        Vec3::new(-6.0, 9.0, 8.0),
-        Vec3::new(-1.0, 0.0, 0.0),
-        60f32.to_radians(),
-        0.1,
-        200.0,
-    );
+    let camera = above_the_box();
     let plain = volumes(sun());
     let mut shown = plain;
     shown.overlays.volumes = true;

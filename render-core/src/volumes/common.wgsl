@@ -126,3 +126,12 @@ fn caster_of(item: u32, triangles: bool) -> u32 {
     return lo;
 }
 
+
+// Corner `k` (0 to 7) of box `b`: bit 0 picks x, bit 1 y, bit 2 z.
+fn box_corner(b: InstanceBounds, k: u32) -> vec3<f32> {
+    return vec3<f32>(
+        select(b.min.x, b.max.x, (k & 1u) != 0u),
+        select(b.min.y, b.max.y, (k & 2u) != 0u),
+        select(b.min.z, b.max.z, (k & 4u) != 0u),
+    );
+}

@@ -4,7 +4,7 @@
 //! visible surface for z-fail, in front of it for z-pass) and per pixel (`fs_fill` in `draw.wgsl`). The totals travel with the culling counters;
 //! the per-pixel counts make the fill heat map (`fill_heat.wgsl`).
 
-use super::pipelines::{VolumePass, VolumePipelines};
+use super::pipelines::{VolumePass, VolumePipelines, read_only_pass};
 use crate::gpu::{
     bind_group_layout, buffer_entry, depth_texture, draw_fullscreen, fullscreen_pipeline,
     pipeline_layout, storage, uniform, view_entry,
@@ -132,18 +132,7 @@ impl Fill {
             entries: &[buffer_entry(0, counts), view_entry(1, &targets.depth_view)],
         });
         {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("VolumeFill::draw"),
-                color_attachments: &[],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: depth_stencil,
-                    depth_ops: None,
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
+            let mut pass = read_only_pass(encoder, "VolumeFill::draw", None, depth_stencil);
             pass.set_bind_group(0, draw.frame, &[]);
             pass.set_bind_group(1, draw.scene, &[]);
             pass.set_bind_group(2, draw.records, &[]);

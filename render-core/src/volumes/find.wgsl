@@ -115,12 +115,7 @@ fn cull_casters(@builtin(global_invocation_id) id: vec3<u32>) {
     var lo = vec3<f32>(1e30);
     var hi = vec3<f32>(-1e30);
     for (var k = 0u; k < 8u; k++) {
-        let corner = vec3<f32>(
-            select(b.min.x, b.max.x, (k & 1u) != 0u),
-            select(b.min.y, b.max.y, (k & 2u) != 0u),
-            select(b.min.z, b.max.z, (k & 4u) != 0u),
-        );
-        let p = in_light(corner);
+        let p = in_light(box_corner(b, k));
         lo = min(lo, p);
         hi = max(hi, p);
     }
@@ -299,12 +294,7 @@ fn merged_intervals(
 fn past_far(b: InstanceBounds) -> bool {
     var far = -1e30;
     for (var k = 0u; k < 8u; k++) {
-        let corner = vec3<f32>(
-            select(b.min.x, b.max.x, (k & 1u) != 0u),
-            select(b.min.y, b.max.y, (k & 2u) != 0u),
-            select(b.min.z, b.max.z, (k & 4u) != 0u),
-        );
-        far = max(far, (frame.clip_from_world * vec4<f32>(corner, 1.0)).w);
+        far = max(far, (frame.clip_from_world * vec4<f32>(box_corner(b, k), 1.0)).w);
     }
     return far >= volume.slicing.w * 0.999;
 }

@@ -549,7 +549,12 @@ impl ShadowTechnique for VolumeTechnique {
         if !overlays.volumes || target.size != (targets.width, targets.height) {
             return;
         }
-        let mut pass = pipelines::overlay_pass(encoder, &targets.color_view, &target.depth_stencil);
+        let mut pass = pipelines::read_only_pass(
+            encoder,
+            "Volumes::overlay",
+            Some(&targets.color_view),
+            &target.depth_stencil,
+        );
         pass.set_bind_group(0, frame_group, &[]);
         pass.set_bind_group(1, &scene.scene_group, &[]);
         pass.set_bind_group(2, &scene.draw_group, &[]);

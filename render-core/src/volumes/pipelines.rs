@@ -331,23 +331,30 @@ pub(super) fn depth_stencil_pass<'e>(
     })
 }
 
-/// The `volumes` overlay's pass: over the colour target, tested against the volumes' depth.
-pub(super) fn overlay_pass<'e>(
+/// A pass that tests against the volumes' depth-stencil target without writing it: the fill
+/// count (no colour) and the `volumes` overlay (over the colour target).
+pub(super) fn read_only_pass<'e>(
     encoder: &'e mut wgpu::CommandEncoder,
-    color: &wgpu::TextureView,
+    label: &str,
+    color: Option<&wgpu::TextureView>,
     depth_stencil: &wgpu::TextureView,
 ) -> wgpu::RenderPass<'e> {
+    let color = color.map(|view| wgpu::RenderPassColorAttachment {
+        view,
+        depth_slice: None,
+        resolve_target: None,
+        ops: wgpu::Operations {
+            load: wgpu::LoadOp::Load,
+            store: wgpu::StoreOp::Store,
+        },
+    });
     encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some("Volumes::overlay"),
-        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-            view: color,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                load: wgpu::LoadOp::Load,
-                store: wgpu::StoreOp::Store,
-            },
-        })],
+        label: Some(label),
+        color_attachments: if color.is_some() {
+            std::slice::from_ref(&color)
+        } else {
+            &[]
+        },
         depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
             view: depth_stencil,
             depth_ops: None,
