@@ -325,6 +325,7 @@ pub fn stats_json(
         "scene": facts.name,
         "objects": facts.objects,
         "triangles": facts.triangles,
+        "lights": facts.lights,
         "method": settings.method.name(),
         "adapter": ctx.adapter_description(),
         "size": [report.width, report.height],

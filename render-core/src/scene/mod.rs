@@ -17,6 +17,9 @@ pub use camera_path::{CameraPath, PathError, PathKey};
 pub use chunking::{ChunkSettings, split_large_instances};
 pub use city::{CityParams, RectXz, build_city};
 pub use gltf_import::{ImportError, import_gltf, import_gltf_slice};
-pub use model::{Instance, Mesh, MeshId, Mobility, Scene, SceneFacts, Sun, compute_vertex_normals};
+pub use model::{
+    Instance, LightKind, Mesh, MeshId, Mobility, PunctualLight, Scene, SceneFacts, Sun,
+    compute_vertex_normals,
+};
 pub use motion::Motion;
 pub use units::{Units, in_metres, unit_note};

@@ -122,6 +122,35 @@ impl Instance {
     }
 }
 
+/// A point or spot light of the scene (glTF `KHR_lights_punctual`): where it is and how it
+/// shines, in metres, candela and linear RGB. The frame does not shade or shadow with these
+/// yet; the scene keeps them so the techniques that do can.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PunctualLight {
+    pub name: String,
+    pub position: Vec3,
+    pub kind: LightKind,
+    pub color: [f32; 3],
+    /// Candela.
+    pub intensity: f32,
+    /// Where its light ends, metres (`None`: nowhere, falling off with distance squared).
+    pub range: Option<f32>,
+}
+
+/// How a punctual light shines.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LightKind {
+    /// In every direction.
+    Point,
+    /// Along `direction` (unit), full inside `inner_cone_rad` and fading to none at
+    /// `outer_cone_rad` from it.
+    Spot {
+        direction: Vec3,
+        inner_cone_rad: f32,
+        outer_cone_rad: f32,
+    },
+}
+
 /// The sun: a directional light. `direction_to_sun` points from the scene towards the sun.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Sun {
@@ -168,6 +197,8 @@ pub struct Scene {
     pub sun: Sun,
     /// Scripted motion of dynamic instances (cars on their lanes); see [`Scene::animate`].
     pub motions: Vec<Motion>,
+    /// Point and spot lights, as the file has them.
+    pub lights: Vec<PunctualLight>,
     bounds: Aabb,
     bvh: Bvh,
 }
@@ -188,6 +219,7 @@ impl Scene {
             instances,
             sun,
             motions: Vec::new(),
+            lights: Vec::new(),
             bounds,
             bvh,
         }
@@ -257,6 +289,8 @@ pub struct SceneFacts {
     pub meshes: usize,
     pub triangles: usize,
     pub casters: usize,
+    /// Point and spot lights.
+    pub lights: usize,
     pub bounds_min_m: [f32; 3],
     pub bounds_max_m: [f32; 3],
 }
@@ -269,6 +303,7 @@ impl From<&Scene> for SceneFacts {
             meshes: scene.meshes.len(),
             triangles: scene.triangle_count(),
             casters: scene.caster_count(),
+            lights: scene.lights.len(),
             bounds_min_m: scene.bounds.min.to_array(),
             bounds_max_m: scene.bounds.max.to_array(),
         }

@@ -18,6 +18,14 @@ pub fn ui(
         grid::row(ui, "Meshes", thousands(facts.meshes as u64));
         grid::row(ui, "Triangles", thousands(facts.triangles as u64));
         grid::row(ui, "Casters", thousands(facts.casters as u64));
+        if facts.lights > 0 {
+            // Kept from the file; the view is lit and shadowed by the sun alone yet.
+            grid::row(
+                ui,
+                "Point / spot lights",
+                format!("{} (not shaded yet)", facts.lights),
+            );
+        }
         bounds_rows(ui, facts.bounds_min_m, facts.bounds_max_m);
         ui.label(egui::RichText::new("Units").color(crate::theme::MUTED));
         let builtin = facts.name.starts_with("builtin:");

@@ -61,3 +61,61 @@ fn a_light_shining_up_leaves_the_default_sun() {
     assert_eq!(scene.sun, Sun::default());
     assert_eq!(scene.instances.len(), 2, "the scene still loads");
 }
+
+#[test]
+#[allow(clippy::float_cmp, reason = "the file's numbers are read back unchanged")]
+fn point_and_spot_lights_are_kept_where_their_nodes_put_them() {
+    let mut document: Value = serde_json::from_slice(&two_boxes().embedded()).expect("JSON");
+    document["extensionsUsed"] = json!(["KHR_lights_punctual"]);
+    document["extensions"] = json!({"KHR_lights_punctual": {"lights": [
+        {"type": "point", "name": "lamp", "color": [1.0, 0.5, 0.25], "intensity": 40.0,
+         "range": 12.0},
+        {"type": "spot", "name": "torch", "intensity": 100.0,
+         "spot": {"innerConeAngle": 0.2, "outerConeAngle": 0.5}},
+    ]}});
+    let nodes = document["nodes"].as_array_mut().expect("nodes");
+    nodes.push(json!({"translation": [1.0, 4.0, -2.0],
+        "extensions": {"KHR_lights_punctual": {"light": 0}}}));
+    // Turned 90 degrees down about X: its -Z shines along -Y.
+    nodes.push(
+        json!({"translation": [0.0, 6.0, 0.0], "rotation": about_x(-90.0),
+        "extensions": {"KHR_lights_punctual": {"light": 1}}}),
+    );
+    let count = nodes.len();
+    let roots = document["scenes"][0]["nodes"]
+        .as_array_mut()
+        .expect("roots");
+    roots.push(json!(count - 2));
+    roots.push(json!(count - 1));
+    let scene = import_gltf_slice(
+        document.to_string().as_bytes(),
+        "lamps.gltf",
+        &no_chunking(),
+    )
+    .expect("loads");
+    assert_eq!(scene.lights.len(), 2, "{:?}", scene.lights);
+    let lamp = &scene.lights[0];
+    assert_eq!(lamp.name, "lamp");
+    assert!(lamp.position.abs_diff_eq(Vec3::new(1.0, 4.0, -2.0), 1e-5));
+    assert_eq!(lamp.kind, crate::scene::LightKind::Point);
+    assert_eq!(lamp.color, [1.0, 0.5, 0.25]);
+    assert_eq!((lamp.intensity, lamp.range), (40.0, Some(12.0)));
+    let torch = &scene.lights[1];
+    assert!(torch.position.abs_diff_eq(Vec3::new(0.0, 6.0, 0.0), 1e-5));
+    let crate::scene::LightKind::Spot {
+        direction,
+        inner_cone_rad,
+        outer_cone_rad,
+    } = torch.kind
+    else {
+        panic!("a spot: {torch:?}");
+    };
+    assert!(direction.abs_diff_eq(Vec3::NEG_Y, 1e-5), "{direction}");
+    assert_eq!((inner_cone_rad, outer_cone_rad), (0.2, 0.5));
+    assert_eq!(torch.range, None);
+    assert_eq!(
+        scene.sun,
+        Sun::default(),
+        "no directional light: the default sun"
+    );
+}

@@ -136,6 +136,7 @@ fn import_bytes(
         mut meshes,
         instances,
         sun,
+        lights,
         warnings,
     } = flatten_node_trees(&document, &buffers, path).map_err(|bad| ImportError::BadNode {
         path: path.to_owned(),
@@ -152,12 +153,14 @@ fn import_bytes(
         });
     }
     let instances = split_large_instances(&mut meshes, instances, &chunking);
-    Ok(Scene::new(
+    let mut scene = Scene::new(
         path.display().to_string(),
         meshes,
         instances,
         sun.unwrap_or_default(),
-    ))
+    );
+    scene.lights = lights;
+    Ok(scene)
 }
 
 #[cfg(test)]

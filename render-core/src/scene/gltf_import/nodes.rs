@@ -7,7 +7,7 @@ use std::path::Path;
 use glam::{Mat4, Vec3};
 use gltf::mesh::Mode;
 
-use super::super::{Instance, Mesh, MeshId, Sun};
+use super::super::{Instance, LightKind, Mesh, MeshId, PunctualLight, Sun};
 use super::primitives::read_triangle_mesh;
 
 /// Coordinates beyond this (in the file's units) are taken for an overflow: single precision
@@ -20,12 +20,13 @@ pub(super) struct BadNode {
     pub reason: String,
 }
 
-/// The meshes and instances of a document, the sun of its first directional light
-/// (`KHR_lights_punctual`), and a warning for each part skipped.
+/// The meshes and instances of a document, the sun of its first directional light and its
+/// point and spot lights (`KHR_lights_punctual`), and a warning for each part skipped.
 pub(super) struct Flattened {
     pub meshes: Vec<Mesh>,
     pub instances: Vec<Instance>,
     pub sun: Option<Sun>,
+    pub lights: Vec<PunctualLight>,
     pub warnings: Vec<String>,
 }
 
@@ -42,6 +43,7 @@ pub(super) fn flatten_node_trees(
         meshes: builder.meshes,
         instances: builder.instances,
         sun: builder.sun,
+        lights: builder.lights,
         warnings: builder.warnings,
     })
 }
@@ -56,6 +58,7 @@ struct SceneBuilder<'a> {
     instances: Vec<Instance>,
     /// The first directional light that shines down.
     sun: Option<Sun>,
+    lights: Vec<PunctualLight>,
     /// What was skipped or repaired, each naming the file.
     warnings: Vec<String>,
 }
@@ -69,6 +72,7 @@ impl<'a> SceneBuilder<'a> {
             mesh_ids: HashMap::new(),
             instances: Vec::new(),
             sun: None,
+            lights: Vec::new(),
             warnings: Vec::new(),
         }
     }
@@ -116,15 +120,40 @@ impl<'a> SceneBuilder<'a> {
     }
 
     /// The scene's sun from the first directional light (it shines along the node's -Z); one
-    /// that shines upwards is left out with a warning. Point and spot lights are not shadowed.
+    /// that shines upwards is left out with a warning. Point and spot lights are kept at the
+    /// node's origin (spots shining along its -Z), with a warning that only the sun is shaded.
     fn add_light(&mut self, node: &gltf::Node, world_from_local: Mat4) {
+        use gltf::khr_lights_punctual::Kind;
         let Some(light) = node.light() else { return };
         let file = self.path.display();
         let name = light.name().map_or_else(|| node_name(node), str::to_owned);
-        if !matches!(light.kind(), gltf::khr_lights_punctual::Kind::Directional) {
+        let kind = match light.kind() {
+            Kind::Directional => None,
+            Kind::Point => Some(LightKind::Point),
+            Kind::Spot {
+                inner_cone_angle,
+                outer_cone_angle,
+            } => Some(LightKind::Spot {
+                direction: world_from_local
+                    .transform_vector3(Vec3::NEG_Z)
+                    .normalize_or(Vec3::NEG_Y),
+                inner_cone_rad: inner_cone_angle,
+                outer_cone_rad: outer_cone_angle,
+            }),
+        };
+        if let Some(kind) = kind {
             self.warnings.push(format!(
-                "{file}: light '{name}' is not directional; only the sun casts shadows here"
+                "{file}: light '{name}' is a point or spot light; it is kept, but only the sun \
+                 lights and shadows the view yet"
             ));
+            self.lights.push(PunctualLight {
+                name,
+                position: world_from_local.transform_point3(Vec3::ZERO),
+                kind,
+                color: light.color(),
+                intensity: light.intensity(),
+                range: light.range(),
+            });
             return;
         }
         if self.sun.is_some() {
