@@ -63,7 +63,10 @@ fn a_light_shining_up_leaves_the_default_sun() {
 }
 
 #[test]
-#[allow(clippy::float_cmp, reason = "the file's numbers are read back unchanged")]
+#[allow(
+    clippy::float_cmp,
+    reason = "the file's numbers are read back unchanged"
+)]
 fn point_and_spot_lights_are_kept_where_their_nodes_put_them() {
     let mut document: Value = serde_json::from_slice(&two_boxes().embedded()).expect("JSON");
     document["extensionsUsed"] = json!(["KHR_lights_punctual"]);
