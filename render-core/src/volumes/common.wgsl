@@ -127,11 +127,11 @@ fn caster_of(item: u32, triangles: bool) -> u32 {
 }
 
 
-// Corner `k` (0 to 7) of box `b`: bit 0 picks x, bit 1 y, bit 2 z.
+// Corner `k` (0 to 7) of the box from `lo` to `hi`: bit 0 picks x, bit 1 y, bit 2 z.
+fn corner(lo: vec3<f32>, hi: vec3<f32>, k: u32) -> vec3<f32> {
+    return select(lo, hi, vec3<bool>((k & 1u) != 0u, (k & 2u) != 0u, (k & 4u) != 0u));
+}
+
 fn box_corner(b: InstanceBounds, k: u32) -> vec3<f32> {
-    return vec3<f32>(
-        select(b.min.x, b.max.x, (k & 1u) != 0u),
-        select(b.min.y, b.max.y, (k & 2u) != 0u),
-        select(b.min.z, b.max.z, (k & 4u) != 0u),
-    );
+    return corner(b.min, b.max, k);
 }

@@ -30,8 +30,9 @@ fn from_end(r: u32, length: u32) -> u32 {
 }
 
 // Invariant as the camera's vertex stage (view/camera_vertex.wgsl): a near cap, a caster's
-// own lit triangle, lands at exactly the visible surface's depth there, so the depth test
-// counts it behind the surface (z-fail: the point on a lit face is outside the volume).
+// own lit triangle, lands at the visible surface's depth there, and the caps' depth bias
+// (volumes/pipelines.rs) puts it just behind, so a point on a lit face is outside the
+// volume.
 struct VolumeOut {
     @builtin(position) @invariant clip: vec4<f32>,
 }

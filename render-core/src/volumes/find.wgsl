@@ -26,8 +26,9 @@ struct DrawArgs {
 // shallowest and the deepest visible receiver point (depth past the scene's nearest, plus 1,
 // as bits; the shallowest stored inverted so both grow; 0: none).
 @group(2) @binding(5) var<storage, read_write> grid: array<atomic<u32>>;
-// 0: casters counted z-pass, 1: casters kept, 2, 3: fill (volumes/fill.rs).
-// 4: intervals drawn.
+// 0: casters counted z-pass, 1: casters kept, 2, 3: fill (volumes/fill.rs), 4: intervals
+// drawn, 5, 6: edges and triangles of the intervals past each caster's first
+// (`within_room`).
 @group(2) @binding(6) var<storage, read_write> counters: array<atomic<u32>, 8>;
 // Per instance, the outcome code (the `casters` overlay).
 @group(2) @binding(7) var<storage, read_write> outcomes: array<u32>;
@@ -162,6 +163,7 @@ fn cull_casters(@builtin(global_invocation_id) id: vec3<u32>) {
     var count = 0u;
     if (keep && clamping && n > 0u) {
         count = merged_intervals(ci, &found, n, array<vec3<f32>, 3>(lo, hi, vec3<f32>(pad)));
+        count = within_room(ci, count);
     } else if (keep) {
         // Not clamped, or clamped without culling where no receiver lies under the box: the
         // whole volume, or a centimetre of it.
@@ -185,6 +187,30 @@ fn cull_casters(@builtin(global_invocation_id) id: vec3<u32>) {
     }
 }
 
+// The record buffers hold one interval of every caster and as many again: a caster's
+// intervals past its first take their room from that budget (counters 5 and 6: edges and
+// triangles taken). Where the room has run out, its intervals become one across them all.
+fn within_room(ci: u32, count: u32) -> u32 {
+    if (count <= 1u) {
+        return count;
+    }
+    let c = casters[ci];
+    let next = ci + 1u < volume.counts.z;
+    let edges = select(volume.counts.x, casters[ci + 1u].edge_start, next) - c.edge_start;
+    let triangles = select(volume.counts.y, casters[ci + 1u].triangle_start, next)
+        - c.triangle_start;
+    let extra = count - 1u;
+    let edges_before = atomicAdd(&counters[5], extra * edges);
+    let triangles_before = atomicAdd(&counters[6], extra * triangles);
+    if (edges_before + extra * edges <= volume.counts.x
+        && triangles_before + extra * triangles <= volume.counts.y) {
+        return count;
+    }
+    let first = ci * MAX_INTERVALS;
+    intervals[first] = vec2<f32>(intervals[first].x, intervals[first + extra].y);
+    return 1u;
+}
+
 // A point of the light's frame (as `in_light` gives it) in world space.
 fn from_light(p: vec3<f32>) -> vec3<f32> {
     return volume.right.xyz * (p.x + volume.right.w) + volume.up.xyz * (p.y + volume.up.w)
@@ -199,11 +225,7 @@ fn column_pixels(lo: vec2<f32>, hi: vec2<f32>, near: f32, far: f32) -> f32 {
     var a = vec2<f32>(1e30);
     var b = vec2<f32>(-1e30);
     for (var k = 0u; k < 8u; k++) {
-        let p = vec3<f32>(
-            select(lo.x, hi.x, (k & 1u) != 0u),
-            select(lo.y, hi.y, (k & 2u) != 0u),
-            select(near, far, (k & 4u) != 0u),
-        );
+        let p = corner(vec3<f32>(lo, near), vec3<f32>(hi, far), k);
         let clip = frame.clip_from_world * vec4<f32>(from_light(p), 1.0);
         if (clip.w <= 0.0) {
             return size.x * size.y;
@@ -230,8 +252,8 @@ fn new_interval_vertices(ci: u32) -> f32 {
 // Sorts the `n` occupied depth intervals in `found` by their start and merges those that
 // overlap or touch, then those whose gap costs fewer pixels than a new interval would: the
 // two caps that would bound it and its vertices at the calibrated pixels per vertex (Lloyd's
-// V > R rule; areas are picture boxes), then the ones with the smallest gaps until at most MAX_INTERVALS are
-// left, and writes them as extrusion distances for caster `ci` (`box`: the caster's box in
+// V > R rule; areas are picture boxes), then the ones with the smallest gaps until at most
+// MAX_INTERVALS are left, and writes them as extrusion distances for caster `ci` (`box`: the caster's box in
 // the light's frame, lo and hi, and its padding). Returns how many.
 fn merged_intervals(
     ci: u32,

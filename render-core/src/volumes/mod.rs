@@ -83,8 +83,7 @@ pub struct VolumeTechnique {
     method: Method,
     /// The slices of the view this frame's receivers are told apart by.
     slices: u32,
-    /// What a volume vertex costs in pixels (`calibrate.rs`).
-    pixels_per_vertex: f32,
+
     /// The counters of the frames in flight, and the newest that came back: (frame, casters
     /// kept, of which z-pass, intervals drawn).
     readback: AsyncReadback,
@@ -220,7 +219,6 @@ impl VolumeTechnique {
             excluded: Vec::new(),
             method: Method::None,
             slices: 1,
-            pixels_per_vertex: calibrate::pixels_per_vertex(ctx, format),
             readback: AsyncReadback::new(device, "Volumes::counters_readback", 32, 3),
             latest: None,
             fill_counted: false,
@@ -334,18 +332,14 @@ impl ShadowTechnique for VolumeTechnique {
         self.method = self.effective_method(input.method);
         let scene = self.scene.as_ref().expect("ensured above");
         self.slices = input.volumes.clamp.slices(&input.volumes);
-        let uniforms = frame::uniforms(
-            input,
-            scene,
-            self.method,
-            (
-                self.slices,
-                input
-                    .volumes
-                    .vertex_pixels
-                    .map_or(self.pixels_per_vertex, |p| p as f32),
-            ),
-        );
+        // What a vertex costs in pixels matters only to clamping; it is measured the first
+        // time a frame clamps without a user's figure (once per process, `calibrate.rs`).
+        let pixels_per_vertex = match (input.volumes.clamp, input.volumes.vertex_pixels) {
+            (_, Some(pixels)) => pixels as f32,
+            (VolumeClamp::None, None) => 0.0,
+            (_, None) => calibrate::pixels_per_vertex(ctx, self.format),
+        };
+        let uniforms = frame::uniforms(input, scene, self.method, (self.slices, pixels_per_vertex));
         ctx.queue
             .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&uniforms));
         Vec::new()

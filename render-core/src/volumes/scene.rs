@@ -124,7 +124,9 @@ impl SceneVolumes {
             wgpu::BufferUsages::STORAGE,
         );
         // Per interval, a quad at most twice per edge (an open mesh's edge between a lit and
-        // an unlit triangle) and a cap record per triangle.
+        // an unlit triangle) and a cap record per triangle: room for one interval of every
+        // caster and as many again, which casters with more intervals share (`within_room`
+        // in find.wgsl).
         let record_buffer = |label: &str, records: u32| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -133,14 +135,8 @@ impl SceneVolumes {
                 mapped_at_creation: false,
             })
         };
-        let quads = record_buffer(
-            "Volumes::quads",
-            edge_items.saturating_mul(2 * MAX_INTERVALS),
-        );
-        let caps = record_buffer(
-            "Volumes::caps",
-            triangle_items.saturating_mul(MAX_INTERVALS),
-        );
+        let quads = record_buffer("Volumes::quads", edge_items.saturating_mul(2 * 2));
+        let caps = record_buffer("Volumes::caps", triangle_items.saturating_mul(2));
         let storage_buffer = |label: &str, size: u64, usage: wgpu::BufferUsages| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
