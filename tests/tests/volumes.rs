@@ -331,6 +331,38 @@ fn a_city_street_in_volumes_is_all_but_exact_and_cc_volumes_fill_far_less() {
     assert!(f1 * 2 < f0, "CC fill {f1} against {f0}");
 }
 
+/// Clamped volumes start just above the receivers under them; a street seen at a grazing
+/// angle once pushed such caps behind the road by the near caps' depth bias (two pixels
+/// here, 16 on the full city's street).
+#[test]
+fn cc_volumes_equal_standard_ones_pixel_for_pixel_down_a_grazing_street() {
+    let scene = load_builtin("city-small", 0).expect("city-small");
+    let camera = Camera::look_at(
+        Vec3::new(-45.0, 2.0, 10.0),
+        Vec3::new(60.0, 4.0, 10.0),
+        60f32.to_radians(),
+        0.1,
+        2000.0,
+    );
+    let mut truth = TruthCache::default();
+    let exact = truth.exact(&scene, &camera, SIZE, scene.sun.direction_to_sun);
+    let light = |method, clamp| {
+        let mut settings = FrameSettings {
+            method,
+            ..volumes(scene.sun)
+        };
+        settings.volumes.clamp = clamp;
+        let (_, _, renderer, _) = against_truth(&scene, &camera, &settings);
+        renderer.light_at(gpu(), &exact.points).expect("read back")
+    };
+    let standard = light(Method::None, VolumeClamp::None);
+    assert!(standard.iter().filter(|&&l| l == 0.0).count() > 1_000);
+    for clamp in [VolumeClamp::Continuous, VolumeClamp::Conservative] {
+        let cc = light(Method::Bvol, clamp);
+        assert_eq!(differing(&cc, &standard), 0, "{clamp:?}");
+    }
+}
+
 #[test]
 fn culling_and_clamping_by_the_visible_receivers_change_no_pixel() {
     // A ground of 60 m; the camera sees only its middle, with a box on it. A second box

@@ -74,18 +74,25 @@ fn vs_quad_pass(@builtin(vertex_index) v: u32, @builtin(instance_index) r: u32) 
     return quad(v, quad_records[from_end(r, arrayLength(&quad_records))]);
 }
 
-// A casting triangle's caps across one interval, drawn by two pipelines
+// Which caps a pipeline draws (volumes/pipelines.rs `Faces`).
+const NEAR_CAPS: u32 = 0u;
+const PAST_FAR_CAPS: u32 = 1u;
+const MOVED_CAPS: u32 = 2u;
+
+// A casting triangle's caps across one interval, drawn by three pipelines
 // (volumes/pipelines.rs). Vertices 0 to 2: where the interval starts at the caster, the near
 // cap, the triangle itself as it faces the sun (clipped at the near plane like the camera's
-// passes, unless the caster reaches past the far plane, then depth clamped); where it starts
-// further on, the triangle moved there (depth clamped). Vertices 3 to 5: the triangle moved
-// to where the interval ends, wound the other way (depth clamped). Each pipeline collapses
-// the vertices it does not draw.
-fn cap(v: u32, record: vec2<u32>, clipped: bool) -> VolumeOut {
+// passes, unless the caster reaches past the far plane, then depth clamped; both pushed
+// back); where it starts further on, the triangle moved there. Vertices 3 to 5: the triangle
+// moved to where the interval ends, wound the other way. Each pipeline collapses the
+// vertices it does not draw.
+fn cap(v: u32, record: vec2<u32>, faces: u32) -> VolumeOut {
     let span = interval_of(record.x);
-    let near_cap = v < 3u && span.x == 0.0;
-    let near_clipped = (kept[record.x & CASTER_BITS] & PAST_FAR) == 0u;
-    if (clipped != (near_cap && near_clipped)) {
+    var drawn = MOVED_CAPS;
+    if (v < 3u && span.x == 0.0) {
+        drawn = select(NEAR_CAPS, PAST_FAR_CAPS, (kept[record.x & CASTER_BITS] & PAST_FAR) != 0u);
+    }
+    if (drawn != faces) {
         return nothing();
     }
     let c = casters[record.x & CASTER_BITS];
@@ -108,12 +115,17 @@ fn nothing() -> VolumeOut {
 
 @vertex
 fn vs_near_cap(@builtin(vertex_index) v: u32, @builtin(instance_index) r: u32) -> VolumeOut {
-    return cap(v, cap_records[r], true);
+    return cap(v, cap_records[r], NEAR_CAPS);
 }
 
 @vertex
-fn vs_far_cap(@builtin(vertex_index) v: u32, @builtin(instance_index) r: u32) -> VolumeOut {
-    return cap(v, cap_records[r], false);
+fn vs_past_far_cap(@builtin(vertex_index) v: u32, @builtin(instance_index) r: u32) -> VolumeOut {
+    return cap(v, cap_records[r], PAST_FAR_CAPS);
+}
+
+@vertex
+fn vs_moved_cap(@builtin(vertex_index) v: u32, @builtin(instance_index) r: u32) -> VolumeOut {
+    return cap(v, cap_records[r], MOVED_CAPS);
 }
 
 fn cap_from_end(r: u32) -> vec2<u32> {
@@ -123,18 +135,27 @@ fn cap_from_end(r: u32) -> vec2<u32> {
 // Z-pass: a closed caster's near cap is its own lit surface, which a camera ray outside the
 // volume can cross only where it ends, so only the far cap is drawn. An open mesh's triangle
 // can be seen through from its back, so it keeps both.
-@vertex
-fn vs_near_cap_pass(@builtin(vertex_index) v: u32, @builtin(instance_index) r: u32) -> VolumeOut {
+fn near_cap_pass(v: u32, r: u32, faces: u32) -> VolumeOut {
     let record = cap_from_end(r);
     if (casters[record.x & CASTER_BITS].closed != 0u) {
         return nothing();
     }
-    return cap(v, record, true);
+    return cap(v, record, faces);
 }
 
 @vertex
-fn vs_far_cap_pass(@builtin(vertex_index) v: u32, @builtin(instance_index) r: u32) -> VolumeOut {
-    return cap(v, cap_from_end(r), false);
+fn vs_near_cap_pass(@builtin(vertex_index) v: u32, @builtin(instance_index) r: u32) -> VolumeOut {
+    return near_cap_pass(v, r, NEAR_CAPS);
+}
+
+@vertex
+fn vs_past_far_cap_pass(@builtin(vertex_index) v: u32, @builtin(instance_index) r: u32) -> VolumeOut {
+    return near_cap_pass(v, r, PAST_FAR_CAPS);
+}
+
+@vertex
+fn vs_moved_cap_pass(@builtin(vertex_index) v: u32, @builtin(instance_index) r: u32) -> VolumeOut {
+    return cap(v, cap_from_end(r), MOVED_CAPS);
 }
 
 // The fill pass (when measuring or showing the fill heat map): the same faces with the depth

@@ -122,36 +122,53 @@ pub(super) enum Counting {
     ZPass,
 }
 
-/// One draw of the volume faces: its vertex entry, how it counts, whether its depth is
-/// clamped (nothing clipped at the far plane) and which of the indirect arguments it draws
-/// (16 bytes each, `volumes/find.wgsl` `draws`: z-fail quads and caps, z-pass quads and caps).
+/// Which faces of the volumes a draw holds.
+#[derive(Clone, Copy, PartialEq)]
+enum Faces {
+    /// The silhouette quads.
+    Quads,
+    /// The casters' own triangles where an interval starts at them: clipped at the near
+    /// plane as the camera's passes clip them (a clamped triangle that crosses the near plane
+    /// interpolates other depths there), and pushed back by [`CAP_BIAS`] so a lit surface
+    /// they lie on counts them behind itself, outside the volume, whatever the rounding.
+    NearCaps,
+    /// The same of casters that reach past the far plane: clamped, or the far plane would
+    /// clip them and not the rest of their volume, and pushed back alike.
+    PastFarCaps,
+    /// The caps moved along the light, where intervals start further on and where they end:
+    /// no surface lies under them, so no bias (it would push a cap just above a receiver
+    /// seen at a grazing angle behind it).
+    MovedCaps,
+}
+
+/// One draw of the volume faces: its vertex entry, how it counts, its faces and which of
+/// the indirect arguments it draws (16 bytes each, `volumes/find.wgsl` `draws`: z-fail quads
+/// and caps, z-pass quads and caps). All but near caps are depth clamped where the adapter
+/// can, so nothing is clipped at the far plane.
 struct VolumeDraw {
     entry: &'static str,
     counting: Counting,
-    clamped: bool,
+    faces: Faces,
     args: u64,
 }
 
-/// Near caps are the casters' own triangles: clipped at the near plane as the camera's
-/// passes clip them (a clamped triangle that crosses the near plane interpolates other
-/// depths there), and pushed back by [`CAP_BIAS`] so a lit surface they lie on counts them
-/// behind itself, outside the volume, whatever the rounding. The extruded faces are depth
-/// clamped where the adapter can.
-const DRAWS: [VolumeDraw; 6] = [
-    VolumeDraw::new("vs_quad", Counting::ZFail, true, 0),
-    VolumeDraw::new("vs_near_cap", Counting::ZFail, false, 1),
-    VolumeDraw::new("vs_far_cap", Counting::ZFail, true, 1),
-    VolumeDraw::new("vs_quad_pass", Counting::ZPass, true, 2),
-    VolumeDraw::new("vs_near_cap_pass", Counting::ZPass, false, 3),
-    VolumeDraw::new("vs_far_cap_pass", Counting::ZPass, true, 3),
+const DRAWS: [VolumeDraw; 8] = [
+    VolumeDraw::new("vs_quad", Counting::ZFail, Faces::Quads, 0),
+    VolumeDraw::new("vs_near_cap", Counting::ZFail, Faces::NearCaps, 1),
+    VolumeDraw::new("vs_past_far_cap", Counting::ZFail, Faces::PastFarCaps, 1),
+    VolumeDraw::new("vs_moved_cap", Counting::ZFail, Faces::MovedCaps, 1),
+    VolumeDraw::new("vs_quad_pass", Counting::ZPass, Faces::Quads, 2),
+    VolumeDraw::new("vs_near_cap_pass", Counting::ZPass, Faces::NearCaps, 3),
+    VolumeDraw::new("vs_past_far_cap_pass", Counting::ZPass, Faces::PastFarCaps, 3),
+    VolumeDraw::new("vs_moved_cap_pass", Counting::ZPass, Faces::MovedCaps, 3),
 ];
 
 impl VolumeDraw {
-    const fn new(entry: &'static str, counting: Counting, clamped: bool, args: u64) -> Self {
+    const fn new(entry: &'static str, counting: Counting, faces: Faces, args: u64) -> Self {
         Self {
             entry,
             counting,
-            clamped,
+            faces,
             args,
         }
     }
@@ -180,8 +197,8 @@ impl VolumePipelines {
             volume_pipeline(
                 device,
                 (layout, module, draw.entry),
-                (format, depth_clamped && draw.clamped),
-                (kind, draw.counting, draw.args % 2 == 1),
+                (format, depth_clamped && draw.faces != Faces::NearCaps),
+                (kind, draw.counting, draw.faces),
             )
         }))
     }
@@ -200,7 +217,7 @@ fn volume_pipeline(
     device: &wgpu::Device,
     (layout, module, entry): (&wgpu::PipelineLayout, &wgpu::ShaderModule, &str),
     (format, unclipped_depth): (wgpu::TextureFormat, bool),
-    (kind, counting, cap): (VolumePass, Counting, bool),
+    (kind, counting, faces): (VolumePass, Counting, Faces),
 ) -> wgpu::RenderPipeline {
     use wgpu::StencilOperation::{DecrementWrap, IncrementWrap, Keep};
     // (depth fail, depth pass) operations of the front and the back faces.
@@ -268,7 +285,7 @@ fn volume_pipeline(
             depth_write_enabled: Some(false),
             depth_compare: Some(depth_compare),
             stencil,
-            bias: if cap {
+            bias: if matches!(faces, Faces::NearCaps | Faces::PastFarCaps) {
                 CAP_BIAS
             } else {
                 wgpu::DepthBiasState::default()
