@@ -159,7 +159,12 @@ const DRAWS: [VolumeDraw; 8] = [
     VolumeDraw::new("vs_moved_cap", Counting::ZFail, Faces::MovedCaps, 1),
     VolumeDraw::new("vs_quad_pass", Counting::ZPass, Faces::Quads, 2),
     VolumeDraw::new("vs_near_cap_pass", Counting::ZPass, Faces::NearCaps, 3),
-    VolumeDraw::new("vs_past_far_cap_pass", Counting::ZPass, Faces::PastFarCaps, 3),
+    VolumeDraw::new(
+        "vs_past_far_cap_pass",
+        Counting::ZPass,
+        Faces::PastFarCaps,
+        3,
+    ),
     VolumeDraw::new("vs_moved_cap_pass", Counting::ZPass, Faces::MovedCaps, 3),
 ];
 
