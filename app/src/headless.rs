@@ -111,7 +111,7 @@ impl Session {
             &self.scene,
             camera,
             (self.width, self.height),
-            settings.sun.direction_to_sun,
+            settings.shadow_light(),
         );
         Ok(self.renderer.exact_error(&self.ctx, exact)?)
     }

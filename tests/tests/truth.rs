@@ -5,7 +5,7 @@
 use glam::Vec3;
 use render_core::frame::{FrameInput, FrameRenderer, FrameSettings, PcfKernel, SceneGpu};
 use render_core::geom::Camera;
-use render_core::scene::{Scene, Sun};
+use render_core::scene::{Scene, ShadowLight, Sun};
 use render_core::truth::{ExactShadow, PixelTruth, SurfacePoint, TruthCache};
 use shadowlab_tests::{box_on_plane, expected_shadow, gpu, translated};
 
@@ -36,7 +36,9 @@ fn box_bounds(scene: &Scene) -> (Vec3, Vec3) {
 /// within `margin_m` of the shadow's edge are left out. Returns (shadowed, lit) pixels.
 fn check_against_analytic(scene: &Scene, exact: &ExactShadow, margin_m: f32) -> (u32, u32) {
     let (min, max) = box_bounds(scene);
-    let sun = exact.key.direction_to_sun;
+    let ShadowLight::Sun(sun) = exact.key.light else {
+        panic!("the analytic shadow is the sun's");
+    };
     let ground_y = scene.instances[0].aabb_in_world.max.y;
     let (mut shadowed, mut lit) = (0, 0);
     for (i, point) in exact.points.iter().enumerate() {

@@ -6,12 +6,11 @@
 
 use std::sync::mpsc;
 
-use glam::Vec3;
 use render_core::frame::FrameSettings;
 use render_core::geom::Camera;
 use render_core::gpu::GpuError;
 use render_core::metrics::ShadowError;
-use render_core::scene::{Instance, Scene};
+use render_core::scene::{Instance, Scene, ShadowLight};
 use render_core::truth::{ExactShadow, PendingLight, SceneRays, ViewKey};
 
 /// What a view's truth depends on that the window changes.
@@ -19,7 +18,7 @@ use render_core::truth::{ExactShadow, PendingLight, SceneRays, ViewKey};
 pub(super) struct ViewOf {
     pub camera: Camera,
     pub size: (u32, u32),
-    pub sun: Vec3,
+    pub light: ShadowLight,
 }
 
 impl ViewOf {
@@ -27,7 +26,7 @@ impl ViewOf {
         Self {
             camera: key.camera,
             size: (key.width, key.height),
-            sun: key.direction_to_sun,
+            light: key.light,
         }
     }
 }
@@ -162,7 +161,7 @@ fn work(inbox: &mpsc::Receiver<Request>, outbox: &mpsc::Sender<ExactShadow>) {
             camera: view.camera,
             width: view.size.0,
             height: view.size.1,
-            direction_to_sun: view.sun,
+            light: view.light,
             poses: rays.version,
         };
         if outbox.send(ExactShadow::cast(rays, key)).is_err() {

@@ -26,7 +26,7 @@ use input::Selected;
 use render_core::frame::compare::CompareAll;
 use render_core::frame::{FrameRenderer, FrameReport, FrameSettings, SceneGpu};
 use render_core::gpu::GpuContext;
-use render_core::scene::{Scene, SceneFacts, Units};
+use render_core::scene::{PointShadow, Scene, SceneFacts, Units};
 use winit::application::ApplicationHandler;
 use winit::event::WindowEvent;
 use winit::event_loop::{ActiveEventLoop, EventLoop};
@@ -220,6 +220,7 @@ impl Running {
             sun: restored.sun.unwrap_or(scene.sun),
             ..restored.frame
         })?;
+        args.view.light_over(&mut settings, &scene)?;
         settings.compare_all = args.compare;
         let aspect = size.width.max(1) as f32 / size.height.max(1) as f32;
         let mut controller =
@@ -333,6 +334,11 @@ impl Running {
                 self.scene_gpu = SceneGpu::new(&self.ctx, &scene);
                 self.facts = SceneFacts::from(&scene);
                 self.settings.sun = scene.sun;
+                // A point light is the scene's: the new scene's first, if it has one.
+                self.settings.point_light = self
+                    .settings
+                    .point_light
+                    .and_then(|_| PointShadow::of_scene(&scene, 0));
                 self.scene = scene;
                 self.exact = exact::ExactInWindow::new();
                 self.frozen_view = None;

@@ -114,7 +114,7 @@ impl Running {
         let view = ViewOf {
             camera,
             size: (input.width, input.height),
-            sun: self.settings.sun.direction_to_sun,
+            light: self.settings.shadow_light(),
         };
         if let Err(e) = self.exact.poll() {
             log::error!("exact shadow: {e}");

@@ -58,8 +58,9 @@ fn fs_shade(in: VsOut) -> ShadeOut {
         }
     }
     let visibility = light.method;
-    let l = frame.direction_to_sun.xyz;
-    let diffuse = max(dot(n, l), 0.0) * frame.direction_to_sun.w * visibility;
+    let light_here = towards_light(in.world_pos);
+    let l = light_here.xyz;
+    let diffuse = max(dot(n, l), 0.0) * light_here.w * visibility;
     let sky = mix(vec3<f32>(0.30, 0.28, 0.25), vec3<f32>(0.45, 0.55, 0.70), n.y * 0.5 + 0.5);
     let ambient = sky * 0.35;
     let sun = vec3<f32>(1.0, 0.95, 0.85);

@@ -68,7 +68,7 @@ impl FrameRenderer {
             scene,
             input.camera,
             (input.width, input.height),
-            input.settings.sun.direction_to_sun,
+            input.settings.shadow_light(),
         );
         let points = exact.points.clone();
         let aspect = input.width.max(1) as f32 / input.height.max(1) as f32;

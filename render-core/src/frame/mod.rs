@@ -115,6 +115,9 @@ pub struct FrameRenderer {
     frame_index: u64,
     /// What has come back from the GPU, and what the last frame was.
     latest: Latest,
+    /// Why the frame's technique cannot cast its point light's shadows, logged once.
+    refused: Option<&'static str>,
+    refusals: crate::gpu::LogOnce,
 }
 
 impl FrameRenderer {
@@ -161,6 +164,8 @@ impl FrameRenderer {
             targets: None,
             frame_index: 0,
             latest: Latest::default(),
+            refused: None,
+            refusals: crate::gpu::LogOnce::default(),
         }
     }
 
@@ -268,6 +273,15 @@ impl FrameRenderer {
         let mut settings = *input.settings;
         settings.measure &= self.measurement_available;
         settings.method = self.techniques.active().effective_method(settings.method);
+        self.refused = settings
+            .point_light
+            .and(self.techniques.active.point_light_refusal());
+        if let Some(refusal) = self.refused {
+            settings.shadow.shadows_enabled = false;
+            self.refusals.warn(refusal);
+        } else {
+            self.refusals.clear();
+        }
         if self
             .targets
             .as_ref()
@@ -312,6 +326,7 @@ impl FrameRenderer {
             method: settings.method,
             shadow: &settings.shadow,
             direction_to_sun: settings.sun.direction_to_sun,
+            point_light: settings.point_light,
             measure: settings.measure,
             measure_fill: settings.measure || settings.overlays.fill,
             volumes: settings.volumes,
@@ -344,6 +359,10 @@ impl FrameRenderer {
                 .extend(2.0 * (camera.fov_y_rad * 0.5).tan() / setup.height as f32)
                 .to_array(),
             direction_to_sun: settings.sun.direction_to_sun.extend(1.0).to_array(),
+            point_light: settings.point_light.map_or([0.0; 4], |p| {
+                let scale = (p.intensity_cd / crate::view::gpu_data::SUN_LUX).max(1e-12);
+                p.position.extend(scale).to_array()
+            }),
             shadow: [
                 shadow.depth_bias_m,
                 shadow.slope_bias,

@@ -66,6 +66,9 @@ impl FrameRenderer {
         let shadows = self.techniques.active_mut().collect();
         report.cpu.culling_ms = shadows.cpu_culling_ms + latest.camera_culling_ms;
         report.set_shadows(shadows);
+        if let Some(refusal) = self.refused {
+            report.shadow_failure = Some(refusal.to_owned());
+        }
         if let Some(m) = latest.measured.as_ref().filter(|_| latest.measuring) {
             report.set_measured(m);
         }

@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::cascades::CascadeSettings;
 use crate::culling::Method;
-use crate::scene::Sun;
+use crate::scene::{ShadowLight, Sun};
 use crate::shadow_view::ShadowSettings;
 
 /// Overlays drawn on top of the shaded view.
@@ -123,6 +123,16 @@ impl std::str::FromStr for ShadowSetup {
     }
 }
 
+impl FrameSettings {
+    /// Where this frame's shadows come from.
+    pub fn shadow_light(&self) -> ShadowLight {
+        match self.point_light {
+            Some(point) => ShadowLight::Point(point.position),
+            None => ShadowLight::Sun(self.sun.direction_to_sun),
+        }
+    }
+}
+
 /// Everything the user sets that shapes a frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
@@ -135,6 +145,10 @@ pub struct FrameSettings {
     pub volumes: crate::shadow_view::VolumeSettings,
     #[serde(skip)]
     pub sun: Sun,
+    /// A point light casts the shadows and lights the scene instead of the sun (shadow
+    /// volumes only; other techniques report that they cannot and draw no shadows).
+    #[serde(skip)]
+    pub point_light: Option<crate::scene::PointShadow>,
     pub method: Method,
     pub overlays: Overlays,
     /// Also render the reference shadow map (every caster, with ids) and measure the shadow

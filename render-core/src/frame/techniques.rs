@@ -27,6 +27,18 @@ impl Family {
             ShadowSetup::Volumes => Self::Volumes,
         }
     }
+
+    /// Why this family cannot cast a point light's shadows (`None`: it can). The frame then
+    /// draws the point light's light without shadows and reports this.
+    pub fn point_light_refusal(self) -> Option<&'static str> {
+        match self {
+            Self::Maps => Some(
+                "shadow maps cast the sun's shadows only: a point light's need `--shadow volumes` \
+                 (cube maps come with many lights, issue 14); drawn without shadows",
+            ),
+            Self::Volumes => None,
+        }
+    }
 }
 
 /// The passes that read a technique's light term.

@@ -31,6 +31,11 @@ pub const BUILTIN_SCENES: &[BuiltinScene] = &[
                       robot scene): about 70K triangles, high occlusion",
     },
     BuiltinScene {
+        name: "corridor",
+        description: "a long corridor under 40 roof trusses lit by a point light and a low sun \
+                      (Lloyd et al.'s trusses scene): about 102K triangles, thin casters",
+    },
+    BuiltinScene {
         name: "boxes",
         description: "a 40 m ground plane and five boxes of known sizes (the same for every seed)",
     },
@@ -44,6 +49,7 @@ pub fn load_builtin(name: &str, seed: u64) -> Option<Scene> {
         "city-small" => Some(build_city(scene_name, &CityParams::small(seed))),
         "boxes" => Some(boxes_scene(scene_name)),
         "robots" => Some(super::robots::robots_scene(scene_name, seed)),
+        "corridor" => Some(super::corridor::corridor_scene(scene_name, seed)),
         _ => None,
     }
 }

@@ -78,6 +78,7 @@ impl CameraPath {
             "builtin:city" => Self::city_streets(&CityParams::full(0)),
             "builtin:city-small" => Self::city_streets(&CityParams::small(0)),
             "builtin:robots" => super::robots::robots_walk(),
+            "builtin:corridor" => super::corridor::corridor_walk(),
             _ => Self::orbit(&scene.bounds()),
         }
     }

@@ -5,6 +5,7 @@ mod bvh;
 mod camera_path;
 mod chunking;
 mod city;
+mod corridor;
 mod gltf_import;
 mod model;
 mod motion;
@@ -18,8 +19,8 @@ pub use chunking::{ChunkSettings, split_large_instances};
 pub use city::{CityParams, RectXz, build_city};
 pub use gltf_import::{ImportError, import_gltf, import_gltf_slice};
 pub use model::{
-    Instance, LightKind, Mesh, MeshId, Mobility, PunctualLight, Scene, SceneFacts, Sun,
-    compute_vertex_normals,
+    Instance, LightKind, Mesh, MeshId, Mobility, PointShadow, PunctualLight, Scene, SceneFacts,
+    ShadowLight, Sun, compute_vertex_normals,
 };
 pub use motion::Motion;
 pub use units::{Units, in_metres, unit_note};

@@ -181,6 +181,52 @@ impl Sun {
     }
 }
 
+/// A point light that casts a frame's shadows in place of the sun (the scene's first point
+/// light, `--light point`): where it is and how bright, candela.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointShadow {
+    pub position: Vec3,
+    pub intensity_cd: f32,
+}
+
+impl PointShadow {
+    /// The `index`th point light of `scene` (spot lights count too, shining every way).
+    pub fn of_scene(scene: &Scene, index: usize) -> Option<Self> {
+        scene.lights.get(index).map(|light| Self {
+            position: light.position,
+            intensity_cd: light.intensity,
+        })
+    }
+}
+
+/// Where the shadows a frame casts come from: a direction towards the sun, or a point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ShadowLight {
+    Sun(Vec3),
+    Point(Vec3),
+}
+
+impl ShadowLight {
+    /// From `p` towards the light: a unit direction, and how far along it the light is.
+    pub fn towards(&self, p: Vec3) -> (Vec3, f32) {
+        match *self {
+            Self::Sun(direction) => (direction.normalize_or(Vec3::Y), f32::INFINITY),
+            Self::Point(at) => {
+                let d = at - p;
+                let distance = d.length();
+                (d / distance.max(1e-12), distance)
+            }
+        }
+    }
+}
+
+impl From<Vec3> for ShadowLight {
+    /// A direction towards the sun.
+    fn from(direction_to_sun: Vec3) -> Self {
+        Self::Sun(direction_to_sun)
+    }
+}
+
 impl Default for Sun {
     fn default() -> Self {
         Self::from_azimuth_elevation_deg(35.0, 45.0)
@@ -291,6 +337,9 @@ pub struct SceneFacts {
     pub casters: usize,
     /// Point and spot lights.
     pub lights: usize,
+    /// The first of them, which `--light point` casts shadows from.
+    #[serde(skip)]
+    pub point_light: Option<PointShadow>,
     pub bounds_min_m: [f32; 3],
     pub bounds_max_m: [f32; 3],
 }
@@ -304,6 +353,7 @@ impl From<&Scene> for SceneFacts {
             triangles: scene.triangle_count(),
             casters: scene.caster_count(),
             lights: scene.lights.len(),
+            point_light: PointShadow::of_scene(scene, 0),
             bounds_min_m: scene.bounds.min.to_array(),
             bounds_max_m: scene.bounds.max.to_array(),
         }

@@ -57,6 +57,8 @@ pub struct TechniqueInput<'a> {
     pub method: Method,
     pub shadow: &'a ShadowSettings,
     pub direction_to_sun: glam::Vec3,
+    /// A point light casts the shadows instead of the sun (shadow volumes only).
+    pub point_light: Option<crate::scene::PointShadow>,
     /// The frame measures error and the oracle against the reference.
     pub measure: bool,
     /// Shadow volumes count their fill (when measuring, or for the fill heat map).

@@ -26,7 +26,7 @@ pub use rays::{SceneRays, SurfaceHit, offset_from_surface};
 
 use crate::geom::Camera;
 use crate::metrics::ShadowError;
-use crate::scene::Scene;
+use crate::scene::{Scene, ShadowLight};
 
 /// Below this fraction of light a point is shadowed.
 pub const SHADOWED_BELOW: f32 = 0.5;
@@ -51,7 +51,7 @@ pub struct ViewKey {
     pub camera: Camera,
     pub width: u32,
     pub height: u32,
-    pub direction_to_sun: Vec3,
+    pub light: ShadowLight,
     /// [`SceneRays::version`]: the instances' poses.
     pub poses: u64,
 }
@@ -69,8 +69,8 @@ pub struct ExactShadow {
 }
 
 impl ExactShadow {
-    /// Casts a ray through every pixel centre of `key`'s view and one towards the sun from
-    /// each surface it finds, on every core.
+    /// Casts a ray through every pixel centre of `key`'s view and one towards the light (the
+    /// sun, or up to a point light) from each surface it finds, on every core.
     pub fn cast(rays: &SceneRays, key: ViewKey) -> Self {
         let (width, height) = (key.width.max(1), key.height.max(1));
         let camera = &key.camera;
@@ -78,7 +78,6 @@ impl ExactShadow {
         let forward = camera.forward.normalize_or(Vec3::NEG_Z);
         let tan_half = (camera.fov_y_rad * 0.5).tan();
         let aspect = width as f32 / height as f32;
-        let sun = key.direction_to_sun.normalize_or(Vec3::Y);
         let pixel = |x: u32, y: u32| -> (PixelTruth, Option<SurfacePoint>) {
             let ndc_x = 2.0 * (x as f32 + 0.5) / width as f32 - 1.0;
             let ndc_y = 1.0 - 2.0 * (y as f32 + 0.5) / height as f32;
@@ -91,11 +90,12 @@ impl ExactShadow {
             if !hit.receives_shadow {
                 return (PixelTruth::NotReceiver, None);
             }
-            if hit.normal.dot(sun) <= 0.0 {
+            let (towards, distance) = key.light.towards(hit.position);
+            if hit.normal.dot(towards) <= 0.0 {
                 return (PixelTruth::FacesAway, None);
             }
             let origin = offset_from_surface(hit.position, hit.normal);
-            let truth = if rays.blocked(origin, sun, 0.0) {
+            let truth = if rays.blocked(origin, towards, (0.0, distance)) {
                 PixelTruth::Shadowed
             } else {
                 PixelTruth::Lit
@@ -276,14 +276,14 @@ impl TruthCache {
         scene: &Scene,
         camera: &Camera,
         (width, height): (u32, u32),
-        direction_to_sun: Vec3,
+        light: impl Into<ShadowLight>,
     ) -> &ExactShadow {
         let poses = self.rays(scene).version;
         let key = ViewKey {
             camera: *camera,
             width,
             height,
-            direction_to_sun,
+            light: light.into(),
             poses,
         };
         if let Some(at) = self.views.iter().position(|v| v.key == key) {

@@ -214,12 +214,12 @@ impl SceneRays {
     }
 
     /// Whether any caster's triangle (either side) lies on the ray from `origin` towards
-    /// `direction`, beyond `t_min`.
-    pub fn blocked(&self, origin: Vec3, direction: Vec3, t_min: f32) -> bool {
+    /// `direction` between `t_min` and `t_max`.
+    pub fn blocked(&self, origin: Vec3, direction: Vec3, (t_min, t_max): (f32, f32)) -> bool {
         if self.placed.is_empty() {
             return false;
         }
-        let ray = Ray::new(origin.into(), direction.into(), t_min, f32::INFINITY);
+        let ray = Ray::new(origin.into(), direction.into(), t_min, t_max);
         !self.instances.ray_traverse_miss(ray, |world_ray, slot| {
             let placed = &self.placed[self.instances.primitive_indices[slot] as usize];
             if !placed.casts_shadow {

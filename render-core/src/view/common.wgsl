@@ -19,6 +19,20 @@ struct FrameUniforms {
     // x: shadow views this frame; y: instances, the stride of per-view blocks of
     // per-instance data; z, w: unused.
     views: vec4<u32>,
+    // xyz: the point light that lights the frame in place of the sun; w: its intensity over
+    // the sun's illuminance, candela per lux (0: the sun does; view/gpu_data.rs).
+    point_light: vec4<f32>,
+}
+
+// From `p` towards the frame's light (xyz, unit) and the illuminance it gets there facing it
+// (w, on the sun's scale).
+fn towards_light(p: vec3<f32>) -> vec4<f32> {
+    if (frame.point_light.w > 0.0) {
+        let d = frame.point_light.xyz - p;
+        let squared = max(dot(d, d), 1e-8);
+        return vec4<f32>(d * inverseSqrt(squared), frame.point_light.w / squared);
+    }
+    return frame.direction_to_sun;
 }
 
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;

@@ -8,6 +8,9 @@ pub const OVERLAY_CASTERS: u32 = 1;
 /// (a cascade each).
 pub const OVERLAY_VIEWS: u32 = 2;
 
+/// The sun's illuminance, lux: the shading's unit (clear-sky direct sun).
+pub const SUN_LUX: f32 = 100_000.0;
+
 /// Per-frame constants shared by every scene pass.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
@@ -31,5 +34,9 @@ pub struct FrameUniforms {
     /// view is chosen (0 by view depth, 1 by the first map that holds it); w: the depth bias
     /// in texels of each view, as the bits of an f32.
     pub views: [u32; 4],
+    /// xyz: the point light that lights the frame and casts its shadows in place of the sun;
+    /// w: its intensity over [`SUN_LUX`], candela per lux (0: the sun lights the frame), so
+    /// that intensity over distance squared is on the sun's scale.
+    pub point_light: [f32; 4],
 }
-const _: () = assert!(size_of::<FrameUniforms>() == 160);
+const _: () = assert!(size_of::<FrameUniforms>() == 176);

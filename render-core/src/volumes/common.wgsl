@@ -29,6 +29,23 @@ struct VolumeFrame {
     slicing: vec4<f32>,
     // x: the slices (1 to MAX_SLICES); y, z, w: unused.
     slices: vec4<u32>,
+    // xyz: the point light the volumes are cast from; w: 1 for a point light, 0 for the sun.
+    point: vec4<f32>,
+    // For a point light, the pyramid from it to the camera's near rectangle: planes
+    // (xyz: normal, w: offset) with the pyramid on their positive side (`counts_z_pass`).
+    near_planes: array<vec4<f32>, 5>,
+}
+
+fn from_point() -> bool {
+    return volume.point.w > 0.0;
+}
+
+// From `p` away from the light (unit): the way its volume is extruded.
+fn away_from_light(p: vec3<f32>) -> vec3<f32> {
+    if (from_point()) {
+        return normalize(p - volume.point.xyz);
+    }
+    return -volume.to_light.xyz;
 }
 
 // Discrete clamping's most slices, and the most intervals a caster's volume is drawn in.
@@ -103,7 +120,7 @@ fn triangle(c: Caster, t: u32) -> array<vec3<f32>, 3> {
 // mesh that is not closed (volumes/edges.rs `face_sign`).
 fn face_sign(c: Caster, t: u32) -> i32 {
     let p = triangle(c, t);
-    let lit = dot(cross(p[1] - p[0], p[2] - p[0]), volume.to_light.xyz) > 0.0;
+    let lit = dot(cross(p[1] - p[0], p[2] - p[0]), -away_from_light(p[0])) > 0.0;
     if (lit) {
         return 1;
     }

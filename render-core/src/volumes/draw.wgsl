@@ -20,8 +20,14 @@ fn interval_of(caster_word: u32) -> vec2<f32> {
     return intervals[caster * MAX_INTERVALS + (caster_word >> INTERVAL_SHIFT)];
 }
 
-fn extruded(p: vec3<f32>, distance: f32) -> vec3<f32> {
-    return p - volume.to_light.xyz * distance;
+// `p` moved `distance` away from the light, on screen. A point light's volumes that reach
+// past the scene go to infinity (w = 0: a flat cap between far points would sag back into
+// the scene; depth clamping keeps them), the sun's to past the scene.
+fn extruded(p: vec3<f32>, distance: f32) -> VolumeOut {
+    if (from_point() && distance >= volume.to_light.w) {
+        return VolumeOut(frame.clip_from_world * vec4<f32>(away_from_light(p), 0.0));
+    }
+    return on_screen(p + away_from_light(p) * distance);
 }
 
 // Z-pass records fill the record buffers from their end.
@@ -54,14 +60,14 @@ fn quad(v: u32, record: vec2<u32>) -> VolumeOut {
         a = b;
         b = t;
     }
-    let corners = array<vec3<f32>, 4>(
+    let corners = array<VolumeOut, 4>(
         extruded(b, span.x),
         extruded(a, span.x),
         extruded(a, span.y),
         extruded(b, span.y),
     );
     let order = array<u32, 6>(0u, 1u, 2u, 0u, 2u, 3u);
-    return on_screen(corners[order[v]]);
+    return corners[order[v]];
 }
 
 @vertex
@@ -103,10 +109,10 @@ fn cap(v: u32, record: vec2<u32>, faces: u32) -> VolumeOut {
         p[2] = t;
     }
     if (v < 3u) {
-        return on_screen(extruded(p[v], span.x));
+        return extruded(p[v], span.x);
     }
     let far = array<u32, 3>(0u, 2u, 1u);
-    return on_screen(extruded(p[far[v - 3u]], span.y));
+    return extruded(p[far[v - 3u]], span.y);
 }
 
 fn nothing() -> VolumeOut {

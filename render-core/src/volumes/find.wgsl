@@ -45,6 +45,52 @@ fn in_light(p: vec3<f32>) -> vec3<f32> {
     );
 }
 
+// A point light's receiver grid: the six faces of a cube around the light, each a tile of
+// FACE_CELLS cells a side in the grid, tiled three across and two down; a point's place
+// across the light is its cell coordinate (the grid's cell size is 1) and its depth its
+// distance from the light.
+const FACE_CELLS: f32 = 85.0;
+
+// Face `f` of the cube: the axis it faces along (x, y, z: 0, 1, 2) and its sign.
+fn face_axis(f: u32) -> u32 {
+    return f / 2u;
+}
+
+fn face_sign_of(f: u32) -> f32 {
+    return select(1.0, -1.0, (f & 1u) != 0u);
+}
+
+// `d` (from the light) on face `f`: the two other axes over its distance along the face's
+// own (xy, from -1 to 1 inside the face), and that distance (z).
+fn on_face(d: vec3<f32>, f: u32) -> vec3<f32> {
+    let k = face_axis(f);
+    let m = d[k] * face_sign_of(f);
+    let a = select(0u, 1u, k == 0u);
+    let b = select(2u, 1u, k == 2u);
+    return vec3<f32>(d[a] / m, d[b] / m, m);
+}
+
+// Where face `f`'s tile starts in the grid, in cells.
+fn face_origin(f: u32) -> vec2<f32> {
+    return vec2<f32>(f32(f % 3u), f32(f / 3u)) * FACE_CELLS;
+}
+
+// A point in a point light's frame (as `in_light` places points for the sun).
+fn in_point_light(p: vec3<f32>) -> vec3<f32> {
+    let d = p - volume.point.xyz;
+    let s = abs(d);
+    var k = 2u;
+    if (s.x >= s.y && s.x >= s.z) {
+        k = 0u;
+    } else if (s.y >= s.z) {
+        k = 1u;
+    }
+    let f = 2u * k + select(0u, 1u, d[k] < 0.0);
+    let uv = clamp(on_face(d, f).xy, vec2<f32>(-1.0), vec2<f32>(1.0));
+    let cell = face_origin(f) + min((uv * 0.5 + 0.5) * FACE_CELLS, vec2<f32>(FACE_CELLS - 0.5));
+    return vec3<f32>(cell, length(d));
+}
+
 fn cell_of(p: vec2<f32>) -> vec2<i32> {
     return vec2<i32>(floor(p / volume.cell.x));
 }
@@ -80,7 +126,11 @@ fn mark_receivers(@builtin(global_invocation_id) id: vec3<u32>) {
     if (object == 0u || (bounds[object - 1u].flags & FLAG_RECEIVER) == 0u) {
         return;
     }
-    let p = in_light(textureLoad(surface_positions, vec2<i32>(id.xy), 0).xyz);
+    let at = textureLoad(surface_positions, vec2<i32>(id.xy), 0).xyz;
+    var p = in_light(at);
+    if (from_point()) {
+        p = in_point_light(at);
+    }
     let side = i32(volume.options.z);
     let cell = clamp(cell_of(p.xy), vec2<i32>(0), vec2<i32>(side - 1));
     let slice = slice_of(id.xy, size);
@@ -120,6 +170,10 @@ fn cull_casters(@builtin(global_invocation_id) id: vec3<u32>) {
         lo = min(lo, p);
         hi = max(hi, p);
     }
+    if (from_point()) {
+        cull_from_point(ci, culling, clamping);
+        return;
+    }
     // Rounded outwards by a millimetre and a bit of the box.
     let pad = 1e-3 + length(hi - lo) * 1e-5;
     let side = i32(volume.options.z);
@@ -131,7 +185,6 @@ fn cull_casters(@builtin(global_invocation_id) id: vec3<u32>) {
         last = clamp(vec2<i32>(floor(hi.xy / volume.cell.x - 0.5)), vec2<i32>(-1), vec2<i32>(side - 1));
     }
     let span = max(last - first + 1, vec2<i32>(0));
-    let whole = vec2<f32>(0.0, volume.to_light.w);
     var found: array<vec2<f32>, MAX_SLICES>;
     var n = 0u;
     if (span.x * span.y > MAX_CELLS || (!culling && !clamping)) {
@@ -165,18 +218,29 @@ fn cull_casters(@builtin(global_invocation_id) id: vec3<u32>) {
         count = merged_intervals(ci, &found, n, array<vec3<f32>, 3>(lo, hi, vec3<f32>(pad)));
         count = within_room(ci, count);
     } else if (keep) {
-        // Not clamped, or clamped without culling where no receiver lies under the box: the
-        // whole volume, or a centimetre of it.
-        intervals[ci * MAX_INTERVALS] = select(whole, vec2<f32>(0.0, 1e-2), clamping);
-        count = 1u;
+        count = whole_or_a_centimetre(ci, clamping);
     }
     var reach = 0.0;
     for (var r = 0u; r < count; r++) {
         reach = max(reach, intervals[ci * MAX_INTERVALS + r].y);
     }
     let z_pass = counts_z_pass(lo - pad, hi + pad, reach);
+    keep_caster(ci, count, z_pass);
+}
+
+// Not clamped, or clamped without culling where no receiver lies under the box: the whole
+// volume, or a centimetre of it. Returns the interval count, 1.
+fn whole_or_a_centimetre(ci: u32, clamping: bool) -> u32 {
+    let whole = vec2<f32>(0.0, volume.to_light.w);
+    intervals[ci * MAX_INTERVALS] = select(whole, vec2<f32>(0.0, 1e-2), clamping);
+    return 1u;
+}
+
+// Records caster `ci`'s outcome: `count` intervals drawn (0: culled), counted z-pass or not.
+fn keep_caster(ci: u32, count: u32, z_pass: bool) {
+    let c = casters[ci];
     kept[ci] = count | select(0u, Z_PASS, z_pass && count > 0u)
-        | select(0u, PAST_FAR, past_far(b));
+        | select(0u, PAST_FAR, past_far(bounds[c.instance]));
     outcomes[c.instance] = select(volume.counts.w, OUTCOME_RENDERED, count > 0u);
     if (count > 0u) {
         atomicAdd(&counters[1], 1u);
@@ -185,6 +249,107 @@ fn cull_casters(@builtin(global_invocation_id) id: vec3<u32>) {
             atomicAdd(&counters[0], 1u);
         }
     }
+}
+
+// `cull_casters` for a point light: the caster's box seen from the light covers, on each
+// cube face it reaches, the box of its corners' places there (all of the face where the box
+// crosses the face's plane); the visible receiver points in those cells, as far from the
+// light as the box's nearest point or further, give one occupied interval of distances
+// (discrete clamping's slices are the sun's: one here). A volume goes to infinity unless
+// clamped; clamped, its end cap, flat between points at the interval's end, is moved out by
+// the cosine of the box's angular radius so that it sags no nearer than the interval's end,
+// and a box too close to the light for that (over 45 degrees) keeps its whole volume.
+fn cull_from_point(ci: u32, culling: bool, clamping: bool) {
+    let b = bounds[casters[ci].instance];
+    let light = volume.point.xyz;
+    let nearest = length(clamp(light, b.min, b.max) - light);
+    var farthest = 0.0;
+    for (var k = 0u; k < 8u; k++) {
+        farthest = max(farthest, length(box_corner(b, k) - light));
+    }
+    let centre = 0.5 * (b.min + b.max);
+    let sine = 0.5 * length(b.max - b.min) / max(length(centre - light), 1e-6);
+    let pad = 1e-3 + farthest * 1e-5;
+    var near = 1e30;
+    var deep = -1.0;
+    var whole = nearest <= pad || sine > 0.7071 || (!culling && !clamping);
+    for (var f = 0u; f < 6u && !whole; f++) {
+        var lo = vec2<f32>(1e30);
+        var hi = vec2<f32>(-1e30);
+        var behind = 0u;
+        for (var k = 0u; k < 8u; k++) {
+            let q = on_face(box_corner(b, k) - light, f);
+            if (q.z <= 1e-4) {
+                behind++;
+            } else {
+                lo = min(lo, q.xy);
+                hi = max(hi, q.xy);
+            }
+        }
+        if (behind == 8u) {
+            continue;
+        }
+        if (behind > 0u) {
+            lo = vec2<f32>(-1.0);
+            hi = vec2<f32>(1.0);
+        }
+        if (any(lo > vec2<f32>(1.0)) || any(hi < vec2<f32>(-1.0))) {
+            continue;
+        }
+        let origin = face_origin(f);
+        let top = vec2<i32>(origin) + vec2<i32>(i32(FACE_CELLS) - 1);
+        let first = clamp(cell_of(origin + (lo * 0.5 + 0.5) * FACE_CELLS - 1e-3), vec2<i32>(origin), top);
+        let last = clamp(cell_of(origin + (hi * 0.5 + 0.5) * FACE_CELLS + 1e-3), vec2<i32>(origin), top);
+        let span = last - first + 1;
+        if (span.x * span.y > MAX_CELLS) {
+            whole = true;
+            break;
+        }
+        for (var y = first.y; y <= last.y; y++) {
+            for (var x = first.x; x <= last.x; x++) {
+                let deepest = atomicLoad(&grid[grid_word(0u, vec2<i32>(x, y), true)]);
+                if (deepest == 0u || bitcast<f32>(deepest) - 1.0 + pad < nearest) {
+                    continue;
+                }
+                let shallowest = ~atomicLoad(&grid[grid_word(0u, vec2<i32>(x, y), false)]);
+                near = min(near, bitcast<f32>(shallowest) - 1.0);
+                deep = max(deep, bitcast<f32>(deepest) - 1.0);
+            }
+        }
+    }
+    var count = 0u;
+    if (whole || (!culling && !clamping)) {
+        count = whole_or_a_centimetre(ci, false);
+    } else if (deep >= 0.0 && clamping) {
+        let start = max(max(near, nearest) - farthest - pad, 0.0);
+        let cosine = sqrt(1.0 - sine * sine);
+        let end = min((deep + 2.0 * pad + 1e-2) / cosine - nearest, volume.to_light.w);
+        intervals[ci * MAX_INTERVALS] = vec2<f32>(select(start, 0.0, start < 1e-2), end);
+        count = 1u;
+    } else if (deep >= 0.0 || !culling) {
+        count = whole_or_a_centimetre(ci, clamping && deep < 0.0);
+    }
+    keep_caster(ci, count, counts_z_pass_from_point(b));
+}
+
+// DOOM 3's test for a point light: a volume can hold a point of the camera's near rectangle
+// only where the segment from the light to that point crosses the caster, inside the pyramid
+// from the light to the rectangle; a box wholly outside one of the pyramid's planes cannot.
+fn counts_z_pass_from_point(b: InstanceBounds) -> bool {
+    if (volume.options.w != 0u) {
+        return volume.options.w == 1u;
+    }
+    for (var i = 0u; i < 5u; i++) {
+        let plane = volume.near_planes[i];
+        var outside = true;
+        for (var k = 0u; k < 8u; k++) {
+            outside = outside && dot(plane.xyz, box_corner(b, k)) + plane.w < 0.0;
+        }
+        if (outside) {
+            return true;
+        }
+    }
+    return false;
 }
 
 // The record buffers hold one interval of every caster and as many again: a caster's

@@ -43,7 +43,13 @@ pub(super) fn uniforms(
             .fold((f32::MAX, f32::MIN), |(lo, hi), d| (lo.min(d), hi.max(d)))
     };
     let (x, y, z) = (range(right), range(up), range(travel));
-    let cell = ((x.1 - x.0).max(y.1 - y.0) / RECEIVER_GRID as f32).max(1e-3);
+    let point = input.point_light.map(|p| p.position);
+    // A point light's grid is the cube around it, in cells (find.wgsl `in_point_light`).
+    let cell = if point.is_some() {
+        1.0
+    } else {
+        ((x.1 - x.0).max(y.1 - y.0) / RECEIVER_GRID as f32).max(1e-3)
+    };
     let clamp = input.volumes.clamp;
     let slicing = slicing(input.camera, input.aspect, to_light);
     // The near rectangle's box in the light's frame, as `in_light` places points.
@@ -88,8 +94,40 @@ pub(super) fn uniforms(
         near_lo: near_lo.extend(0.0).to_array(),
         near_hi: near_hi.extend(0.0).to_array(),
         slicing,
-        slices: [slices, 0, 0, 0],
+        slices: [if point.is_some() { 1 } else { slices }, 0, 0, 0],
+        point: point.map_or([0.0; 4], |p| p.extend(1.0).to_array()),
+        near_planes: point.map_or([[0.0, 0.0, 0.0, 1.0]; 5], |p| {
+            let near: Vec<Vec3> = near[..4].iter().map(|c| c.as_vec3()).collect();
+            // Corners in turn round the rectangle.
+            pyramid_planes(p, [near[0], near[1], near[3], near[2]])
+        }),
     }
+}
+
+/// The planes of the pyramid from `apex` to the quadrilateral `base` (xyz: normal, w: offset;
+/// the pyramid on their positive side): its four sides and its base. A flat pyramid (the
+/// apex in the base's plane) gets planes nothing lies outside of.
+fn pyramid_planes(apex: Vec3, base: [Vec3; 4]) -> [[f32; 4]; 5] {
+    let inside = (apex + base.iter().copied().sum::<Vec3>()) / 5.0;
+    let plane = |a: Vec3, b: Vec3, c: Vec3| -> Option<[f32; 4]> {
+        let n = (b - a).cross(c - a).try_normalize()?;
+        let d = -n.dot(a);
+        let flip = if n.dot(inside) + d < 0.0 { -1.0 } else { 1.0 };
+        let slack = 1e-4 * (1.0 + a.length());
+        ((n.dot(inside) + d).abs() > slack).then(|| (n * flip).extend(d * flip + slack).to_array())
+    };
+    let mut planes = [[0.0, 0.0, 0.0, 1.0]; 5];
+    for k in 0..4 {
+        match plane(apex, base[k], base[(k + 1) % 4]) {
+            Some(p) => planes[k] = p,
+            None => return [[0.0, 0.0, 0.0, 1.0]; 5],
+        }
+    }
+    match plane(base[0], base[1], base[2]) {
+        Some(p) => planes[4] = p,
+        None => return [[0.0, 0.0, 0.0, 1.0]; 5],
+    }
+    planes
 }
 
 /// Discrete clamping's slices in the picture (`slicing` in `volumes/common.wgsl`): planes

@@ -46,6 +46,8 @@ pub(super) struct VolumeFrameGpu {
     pub near_hi: [f32; 4],
     pub slicing: [f32; 4],
     pub slices: [u32; 4],
+    pub point: [f32; 4],
+    pub near_planes: [[f32; 4]; 5],
 }
 
 /// The most intervals a caster's volume is drawn in (`MAX_INTERVALS` in

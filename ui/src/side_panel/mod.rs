@@ -226,7 +226,8 @@ impl Panes<'_, '_> {
                     heading(ui, "Selected object");
                     selection::ui(ui, selected);
                 }
-                heading(ui, "Sun");
+                heading(ui, "Light");
+                point_light_ui(ui, input.scene.point_light, self.settings);
                 self.sun.ui(ui, &mut self.settings.sun);
                 heading(ui, "Screenshot");
                 screenshot::ui(ui, self.screenshot, input.last_screenshot, self.actions);
@@ -294,4 +295,30 @@ fn heading(ui: &mut egui::Ui, title: &str) {
     ui.add_space(theme::SECTION_GAP);
     ui.label(egui::RichText::new(title).strong());
     ui.separator();
+}
+
+/// Whether the scene's first point light casts the shadows and lights the view instead of the
+/// sun (shadow volumes only: shadow maps report that they cannot).
+fn point_light_ui(
+    ui: &mut egui::Ui,
+    point: Option<render_core::scene::PointShadow>,
+    settings: &mut render_core::frame::FrameSettings,
+) {
+    let Some(point) = point else {
+        return;
+    };
+    let mut on = settings.point_light.is_some();
+    let p = point.position;
+    let help = format!(
+        "Cast the shadows from the scene's point light at {:.1}, {:.1}, {:.1} m \
+         ({:.0} cd) instead of the sun: shadow volumes only",
+        p.x, p.y, p.z, point.intensity_cd
+    );
+    if ui
+        .checkbox(&mut on, "From the point light")
+        .on_hover_text(help)
+        .changed()
+    {
+        settings.point_light = on.then_some(point);
+    }
 }

@@ -19,12 +19,9 @@ pub fn ui(
         grid::row(ui, "Triangles", thousands(facts.triangles as u64));
         grid::row(ui, "Casters", thousands(facts.casters as u64));
         if facts.lights > 0 {
-            // Kept from the file; the view is lit and shadowed by the sun alone yet.
-            grid::row(
-                ui,
-                "Point / spot lights",
-                format!("{} (not shaded yet)", facts.lights),
-            );
+            // The first casts shadow volumes when chosen (the Sun section); spot lights
+            // shine every way.
+            grid::row(ui, "Point / spot lights", thousands(facts.lights as u64));
         }
         bounds_rows(ui, facts.bounds_min_m, facts.bounds_max_m);
         ui.label(egui::RichText::new("Units").color(crate::theme::MUTED));

@@ -48,6 +48,7 @@ fn scene() -> SceneFacts {
         triangles: 1_234_567,
         casters: 1200,
         lights: 0,
+        point_light: None,
         bounds_min_m: [-50.0, 0.0, -40.0],
         bounds_max_m: [50.0, 42.5, 40.0],
     }

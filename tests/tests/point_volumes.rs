@@ -1,0 +1,190 @@
+//! Shadow volumes of a point light (`--light point`): a lifted box on a plane, lit from beside
+//! and above by a light inside the view, against the exact shadow and known points; the
+//! camera inside the box's shadow (where z-pass would fail); CC volumes against standard
+//! ones; and shadow maps, which cannot cast a point light's shadows, saying so.
+
+use glam::Vec3;
+use render_core::frame::ShadowSetup;
+use render_core::frame::{FrameInput, FrameRenderer, FrameReport, FrameSettings, Method, SceneGpu};
+use render_core::geom::Camera;
+use render_core::metrics::ShadowError;
+use render_core::scene::{PointShadow, Scene, Sun};
+use render_core::truth::{SurfacePoint, TruthCache};
+use render_core::volumes::{VolumeClamp, VolumePassChoice};
+use shadowlab_tests::{box_on_plane, gpu};
+
+const SIZE: (u32, u32) = (320, 240);
+/// The light, beside and above the box (2 x 3 x 1.5 m, 1 m above the ground at the origin).
+const LIGHT: Vec3 = Vec3::new(3.0, 6.0, 0.5);
+
+fn scene() -> Scene {
+    box_on_plane(20.0, Vec3::new(2.0, 3.0, 1.5), 1.0, Sun::default())
+}
+
+fn point_volumes(method: Method, clamp: VolumeClamp, pass: VolumePassChoice) -> FrameSettings {
+    let mut settings = FrameSettings {
+        setup: ShadowSetup::Volumes,
+        method,
+        point_light: Some(PointShadow {
+            position: LIGHT,
+            intensity_cd: 2.0e6,
+        }),
+        ..FrameSettings::default()
+    };
+    settings.volumes.clamp = clamp;
+    settings.volumes.pass = pass;
+    settings
+}
+
+fn standard() -> FrameSettings {
+    point_volumes(Method::None, VolumeClamp::None, VolumePassChoice::Auto)
+}
+
+/// Above and beside the box, the light in the picture.
+fn overlooking() -> Camera {
+    Camera::look_at(
+        Vec3::new(-10.0, 7.0, 10.0),
+        Vec3::new(0.0, 2.0, 0.0),
+        60f32.to_radians(),
+        0.1,
+        200.0,
+    )
+}
+
+/// One frame: its error against the exact shadow of the point light, the light at `points`
+/// and the report.
+fn frame(
+    camera: &Camera,
+    settings: &FrameSettings,
+    points: &[SurfacePoint],
+) -> (ShadowError, Vec<f32>, FrameReport) {
+    let scene = scene();
+    let ctx = gpu();
+    let scene_gpu = SceneGpu::new(ctx, &scene);
+    let mut renderer = FrameRenderer::new(ctx);
+    let input = FrameInput {
+        camera,
+        width: SIZE.0,
+        height: SIZE.1,
+        settings,
+    };
+    let report = renderer
+        .render_and_wait(ctx, &scene, &scene_gpu, &input)
+        .expect("frame renders");
+    let mut truth = TruthCache::default();
+    let exact = truth.exact(&scene, camera, SIZE, settings.shadow_light());
+    let error = renderer.exact_error(ctx, exact).expect("read back");
+    let light = renderer.light_at(ctx, points).expect("read back");
+    (error, light, report)
+}
+
+/// The exact points of a view, and how many are shadowed.
+fn exact_points(camera: &Camera) -> (Vec<SurfacePoint>, usize) {
+    let mut truth = TruthCache::default();
+    let exact = truth.exact(&scene(), camera, SIZE, standard().shadow_light());
+    let shadowed = (0..exact.points.len())
+        .filter(|&i| exact.shadowed(i))
+        .count();
+    (exact.points.clone(), shadowed)
+}
+
+fn ground(x: f32, z: f32) -> SurfacePoint {
+    SurfacePoint {
+        position: [x, 0.0, z, 1.0],
+        normal: [0.0, 1.0, 0.0, 0.0],
+    }
+}
+
+#[allow(clippy::float_cmp, reason = "hard shadows are exactly 0 or 1")]
+fn differing(a: &[f32], b: &[f32]) -> usize {
+    a.iter().zip(b).filter(|(a, b)| a != b).count()
+}
+
+#[test]
+fn a_point_light_in_the_view_casts_the_boxs_exact_shadow() {
+    let camera = overlooking();
+    let (points, shadowed) = exact_points(&camera);
+    assert!(shadowed > 500, "{shadowed} shadowed points");
+    // The ground where the ray from the light through the box's centre lands; under the
+    // light, and far out on its side.
+    let centre = Vec3::new(0.0, 2.5, 0.0);
+    let t = LIGHT.y / (LIGHT.y - centre.y);
+    let behind = LIGHT + (centre - LIGHT) * t;
+    let known = [
+        ground(behind.x, behind.z),
+        ground(LIGHT.x, LIGHT.z),
+        ground(8.0, 6.0),
+    ];
+    let (error, light, report) = frame(&camera, &standard(), &known);
+    assert_eq!(report.shadow_failure, None);
+    assert_eq!(
+        light,
+        [0.0, 1.0, 1.0],
+        "behind the box, under the light, far out"
+    );
+    let wrong = error.missing_shadow_px + error.extra_shadow_px;
+    assert!(wrong * 10_000 <= error.visible_px * 2, "{error:?}");
+    let (_, standard_light, _) = frame(&camera, &standard(), &points);
+    for clamp in [VolumeClamp::Continuous, VolumeClamp::Conservative] {
+        let settings = point_volumes(Method::Bvol, clamp, VolumePassChoice::Auto);
+        let (cc_error, cc_light, cc) = frame(&camera, &settings, &points);
+        assert_eq!(differing(&cc_light, &standard_light), 0, "{clamp:?}");
+        assert_eq!(cc_error, error, "{clamp:?}");
+        assert_eq!(
+            cc.counts.casters_rendered, 2,
+            "both volumes reach receivers"
+        );
+    }
+}
+
+#[test]
+fn the_camera_in_a_point_lights_shadow_counts_the_box_z_fail() {
+    // The ray from the light to the eye crosses the box: the eye is in its shadow.
+    let camera = Camera::look_at(
+        Vec3::new(-4.0, 0.8, -0.3),
+        Vec3::new(-9.0, 0.0, -4.0),
+        60f32.to_radians(),
+        0.1,
+        200.0,
+    );
+    let (points, shadowed) = exact_points(&camera);
+    assert!(
+        shadowed > 1_000,
+        "{shadowed}: the camera looks over shadowed ground"
+    );
+    let run = |pass| {
+        frame(
+            &camera,
+            &point_volumes(Method::None, VolumeClamp::None, pass),
+            &points,
+        )
+    };
+    let (error, auto, report) = run(VolumePassChoice::Auto);
+    let (_, z_fail, _) = run(VolumePassChoice::ZFail);
+    let (_, z_pass, _) = run(VolumePassChoice::ZPass);
+    let passes = report.volume_passes.expect("counted");
+    assert!(
+        passes.z_fail >= 1,
+        "{passes:?}: the box's volume holds the eye"
+    );
+    assert_eq!(differing(&auto, &z_fail), 0);
+    assert!(
+        differing(&z_pass, &z_fail) > 1_000,
+        "z-pass everywhere misses the shadow the eye stands in"
+    );
+    let wrong = error.missing_shadow_px + error.extra_shadow_px;
+    assert!(wrong * 10_000 <= error.visible_px * 2, "{error:?}");
+}
+
+#[test]
+fn shadow_maps_say_they_cannot_cast_a_point_lights_shadows() {
+    let camera = overlooking();
+    let settings = FrameSettings {
+        setup: ShadowSetup::Single,
+        ..standard()
+    };
+    let (_, light, report) = frame(&camera, &settings, &[ground(-2.1, -0.4)]);
+    let failure = report.shadow_failure.expect("a failure is reported");
+    assert!(failure.contains("--shadow volumes"), "{failure}");
+    assert_eq!(light, [1.0], "no shadows drawn rather than the sun's");
+}
