@@ -10,11 +10,12 @@ use render_core::cascades::{
 };
 use render_core::frame::{FrameSettings, Method, PcfKernel, ShadowSettings, ShadowSetup};
 use render_core::geom::Camera;
-use render_core::scene::{ChunkSettings, PointShadow, Scene, Sun, Units};
+use render_core::scene::{ChunkSettings, Scene, Sun, Units};
 
 use crate::scene_source::{LoadOptions, frame_scene};
 
 mod commands;
+mod light;
 
 pub use commands::{BenchArgs, ShotArgs, Sweep};
 
@@ -137,8 +138,8 @@ pub struct ViewArgs {
     pub sun: Option<Vec3>,
     /// The light that casts the shadows: `sun`, or `point` (the scene's first point light;
     /// `point:N` its Nth, from 0). Point lights cast shadow volumes only.
-    #[arg(long, value_parser = parse_light, value_name = "LIGHT")]
-    pub light: Option<LightArg>,
+    #[arg(long, value_parser = light::parse_light, value_name = "LIGHT")]
+    pub light: Option<light::LightArg>,
     /// Image size `WIDTHxHEIGHT` in pixels.
     #[arg(long, value_parser = parse_size, value_name = "WxH")]
     pub size: Option<(u32, u32)>,
@@ -250,26 +251,6 @@ impl ViewArgs {
         })?;
         self.light_over(&mut settings, scene)?;
         Ok(settings)
-    }
-
-    /// Sets the light `--light` asks for from `scene`'s lights.
-    pub fn light_over(&self, settings: &mut FrameSettings, scene: &Scene) -> anyhow::Result<()> {
-        match self.light {
-            None => {}
-            Some(LightArg(None)) => settings.point_light = None,
-            Some(LightArg(Some(index))) => {
-                let Some(point) = PointShadow::of_scene(scene, index) else {
-                    bail!(
-                        "--light point:{index}: {} has {} point lights (glTF files give them \
-                         with KHR_lights_punctual; builtin:corridor has one)",
-                        scene.name,
-                        scene.lights.len()
-                    );
-                };
-                settings.point_light = Some(point);
-            }
-        }
-        Ok(())
     }
 
     /// `base` with what these arguments set changed.
@@ -492,23 +473,6 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
             .map_err(|_| format!("'{v}' in '{s}' is not a whole number"))
     };
     Ok((parse(w)?, parse(h)?))
-}
-
-/// `--light`: the sun (`None`) or the scene's point light of this index.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct LightArg(pub Option<usize>);
-
-/// `sun`, `point` or `point:N` (the Nth point light).
-fn parse_light(s: &str) -> Result<LightArg, String> {
-    match s.split_once(':') {
-        None if s == "sun" => Ok(LightArg(None)),
-        None if s == "point" => Ok(LightArg(Some(0))),
-        Some(("point", n)) => n
-            .parse()
-            .map(|n| LightArg(Some(n)))
-            .map_err(|_| format!("`{n}` is not a light's index (point:0, point:1, ...)")),
-        _ => Err(format!("unknown light `{s}`: sun, point or point:N")),
-    }
 }
 
 fn parse_method(s: &str) -> Result<Method, String> {

@@ -115,9 +115,8 @@ pub struct FrameRenderer {
     frame_index: u64,
     /// What has come back from the GPU, and what the last frame was.
     latest: Latest,
-    /// Why the frame's technique cannot cast its point light's shadows, logged once.
+    /// Why the frame's technique cannot cast its point light's shadows.
     refused: Option<&'static str>,
-    refusals: crate::gpu::LogOnce,
 }
 
 impl FrameRenderer {
@@ -165,7 +164,6 @@ impl FrameRenderer {
             frame_index: 0,
             latest: Latest::default(),
             refused: None,
-            refusals: crate::gpu::LogOnce::default(),
         }
     }
 
@@ -273,15 +271,7 @@ impl FrameRenderer {
         let mut settings = *input.settings;
         settings.measure &= self.measurement_available;
         settings.method = self.techniques.active().effective_method(settings.method);
-        self.refused = settings
-            .point_light
-            .and(self.techniques.active.point_light_refusal());
-        if let Some(refusal) = self.refused {
-            settings.shadow.shadows_enabled = false;
-            self.refusals.warn(refusal);
-        } else {
-            self.refusals.clear();
-        }
+        self.refused = self.techniques.refuse_point_light(&mut settings);
         if self
             .targets
             .as_ref()

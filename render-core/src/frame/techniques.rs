@@ -70,6 +70,8 @@ pub(super) struct Techniques {
     map_shading: Shading,
     volume_shading: Shading,
     pub active: Family,
+    /// The active one cannot cast the frame's point light's shadows: logged once.
+    refusals: crate::gpu::LogOnce,
 }
 
 impl Techniques {
@@ -87,7 +89,25 @@ impl Techniques {
             maps,
             volumes,
             active: Family::Maps,
+            refusals: crate::gpu::LogOnce::default(),
         }
+    }
+
+    /// Where the active technique cannot cast `settings`' point light's shadows, turns
+    /// shadows off and says why (logged once).
+    pub fn refuse_point_light(
+        &mut self,
+        settings: &mut super::FrameSettings,
+    ) -> Option<&'static str> {
+        let refusal = settings.point_light.and(self.active.point_light_refusal());
+        match refusal {
+            Some(refusal) => {
+                settings.shadow.shadows_enabled = false;
+                self.refusals.warn(refusal);
+            }
+            None => self.refusals.clear(),
+        }
+        refusal
     }
 
     pub fn volumes(&self) -> &VolumeTechnique {
