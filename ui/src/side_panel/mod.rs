@@ -226,7 +226,7 @@ impl Panes<'_, '_> {
                     heading(ui, "Selected object");
                     selection::ui(ui, selected);
                 }
-                heading(ui, "Light");
+                heading(ui, "Sun");
                 point_light_ui(ui, input.scene.point_light, self.settings);
                 self.sun.ui(ui, &mut self.settings.sun);
                 heading(ui, "Screenshot");
