@@ -11,7 +11,9 @@ use render_core::frame::{
 };
 use render_core::geom::Camera;
 use render_core::gpu::GpuContext;
+use render_core::metrics::ShadowError;
 use render_core::scene::{Instance, Mesh, Scene, Sun};
+use render_core::truth::TruthCache;
 
 pub use packed::{glb_bytes, packed_glb, packed_gltf};
 
@@ -198,6 +200,36 @@ pub fn render(
     )
     .expect("readback");
     (report, capture)
+}
+
+/// One frame of `settings` at `size`, its error against the exact shadow of the frame's light
+/// (the sun or its point light), how many exact points are shadowed, the renderer (to read
+/// the light at points) and its report.
+pub fn against_truth(
+    scene: &Scene,
+    camera: &Camera,
+    settings: &FrameSettings,
+    (width, height): (u32, u32),
+) -> (ShadowError, u32, FrameRenderer, FrameReport) {
+    let ctx = gpu();
+    let scene_gpu = SceneGpu::new(ctx, scene);
+    let mut renderer = FrameRenderer::new(ctx);
+    let input = FrameInput {
+        camera,
+        width,
+        height,
+        settings,
+    };
+    let report = renderer
+        .render_and_wait(ctx, scene, &scene_gpu, &input)
+        .expect("frame renders");
+    let mut truth = TruthCache::default();
+    let exact = truth.exact(scene, camera, (width, height), settings.shadow_light());
+    let shadowed = (0..exact.points.len())
+        .filter(|&i| exact.shadowed(i))
+        .count() as u32;
+    let error = renderer.exact_error(ctx, exact).expect("read back");
+    (error, shadowed, renderer, report)
 }
 
 /// World position of pixel `(x, y)` from the captured reversed depth, or `None` for sky.

@@ -4,14 +4,13 @@
 //! ones; and shadow maps, which cannot cast a point light's shadows, saying so.
 
 use glam::Vec3;
-use render_core::frame::ShadowSetup;
-use render_core::frame::{FrameInput, FrameRenderer, FrameReport, FrameSettings, Method, SceneGpu};
+use render_core::frame::{FrameReport, FrameSettings, Method, ShadowSetup};
 use render_core::geom::Camera;
 use render_core::metrics::ShadowError;
 use render_core::scene::{PointShadow, Scene, Sun};
 use render_core::truth::{SurfacePoint, TruthCache};
 use render_core::volumes::{VolumeClamp, VolumePassChoice};
-use shadowlab_tests::{box_on_plane, gpu};
+use shadowlab_tests::{against_truth, box_on_plane, gpu};
 
 const SIZE: (u32, u32) = (320, 240);
 /// The light, beside and above the box (2 x 3 x 1.5 m, 1 m above the ground at the origin).
@@ -58,23 +57,8 @@ fn frame(
     settings: &FrameSettings,
     points: &[SurfacePoint],
 ) -> (ShadowError, Vec<f32>, FrameReport) {
-    let scene = scene();
-    let ctx = gpu();
-    let scene_gpu = SceneGpu::new(ctx, &scene);
-    let mut renderer = FrameRenderer::new(ctx);
-    let input = FrameInput {
-        camera,
-        width: SIZE.0,
-        height: SIZE.1,
-        settings,
-    };
-    let report = renderer
-        .render_and_wait(ctx, &scene, &scene_gpu, &input)
-        .expect("frame renders");
-    let mut truth = TruthCache::default();
-    let exact = truth.exact(&scene, camera, SIZE, settings.shadow_light());
-    let error = renderer.exact_error(ctx, exact).expect("read back");
-    let light = renderer.light_at(ctx, points).expect("read back");
+    let (error, _, renderer, report) = against_truth(&scene(), camera, settings, SIZE);
+    let light = renderer.light_at(gpu(), points).expect("read back");
     (error, light, report)
 }
 

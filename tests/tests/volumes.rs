@@ -4,9 +4,7 @@
 //! city street.
 
 use glam::{Mat4, Vec3};
-use render_core::frame::{
-    FrameInput, FrameRenderer, FrameReport, FrameSettings, Method, SceneGpu, ShadowSetup,
-};
+use render_core::frame::{FrameRenderer, FrameReport, FrameSettings, Method, ShadowSetup};
 use render_core::geom::Camera;
 use render_core::metrics::ShadowError;
 use render_core::scene::{Instance, Mesh, Scene, Sun, load_builtin};
@@ -31,33 +29,16 @@ fn volumes(sun: Sun) -> FrameSettings {
     }
 }
 
-/// One frame of `settings`, its error against the exact shadow, the exactly shadowed pixels,
-/// the renderer (to read the light at points) and its report.
+/// One frame of `settings` at [`SIZE`] against the exact shadow (`shadowlab_tests`), by the
+/// technique it asks for.
 fn against_truth(
     scene: &Scene,
     camera: &Camera,
     settings: &FrameSettings,
 ) -> (ShadowError, u32, FrameRenderer, FrameReport) {
-    let ctx = gpu();
-    let scene_gpu = SceneGpu::new(ctx, scene);
-    let mut renderer = FrameRenderer::new(ctx);
-    let input = FrameInput {
-        camera,
-        width: SIZE.0,
-        height: SIZE.1,
-        settings,
-    };
-    let report = renderer
-        .render_and_wait(ctx, scene, &scene_gpu, &input)
-        .expect("frame renders");
-    assert_eq!(report.technique, settings.setup.name());
-    let mut truth = TruthCache::default();
-    let exact = truth.exact(scene, camera, SIZE, settings.sun.direction_to_sun);
-    let shadowed = (0..exact.points.len())
-        .filter(|&i| exact.shadowed(i))
-        .count() as u32;
-    let error = renderer.exact_error(ctx, exact).expect("read back");
-    (error, shadowed, renderer, report)
+    let out = shadowlab_tests::against_truth(scene, camera, settings, SIZE);
+    assert_eq!(out.3.technique, settings.setup.name());
+    out
 }
 
 /// The light at every ground point of the view against the box's analytic shadow, away from
@@ -397,21 +378,7 @@ fn culling_and_clamping_by_the_visible_receivers_change_no_pixel() {
         };
         settings.volumes.clamp = clamp;
         settings.overlays.fill = true;
-        let ctx = gpu();
-        let scene_gpu = SceneGpu::new(ctx, &scene);
-        let mut renderer = FrameRenderer::new(ctx);
-        let input = FrameInput {
-            camera: &camera,
-            width: SIZE.0,
-            height: SIZE.1,
-            settings: &settings,
-        };
-        let report = renderer
-            .render_and_wait(ctx, &scene, &scene_gpu, &input)
-            .expect("frame renders");
-        let mut truth = TruthCache::default();
-        let exact = truth.exact(&scene, &camera, SIZE, sun.direction_to_sun);
-        let error = renderer.exact_error(ctx, exact).expect("read back");
+        let (error, _, _, report) = against_truth(&scene, &camera, &settings);
         let fill = report.volume_fill.expect("fill counted");
         (report, error, fill)
     };

@@ -350,7 +350,7 @@ impl FrameRenderer {
                 .to_array(),
             direction_to_sun: settings.sun.direction_to_sun.extend(1.0).to_array(),
             point_light: settings.point_light.map_or([0.0; 4], |p| {
-                let scale = (p.intensity_cd / crate::view::gpu_data::SUN_LUX).max(1e-12);
+                let scale = (p.intensity_cd / crate::scene::Sun::ILLUMINANCE_LX).max(1e-12);
                 p.position.extend(scale).to_array()
             }),
             shadow: [

@@ -107,6 +107,41 @@ pub(super) fn unit_ground_quad(name: &str) -> Mesh {
     builder.build(name)
 }
 
+/// A closed box between `min` and `max`.
+pub(super) fn closed_box(name: &str, min: Vec3, max: Vec3) -> Mesh {
+    let mut builder = MeshBuilder::default();
+    builder.cuboid(min, max, true);
+    builder.build(name)
+}
+
+/// Four closed walls `thickness` thick and `height` high standing round the floor from
+/// `-half.x` to `half.x` and `-half.y` to `half.y` (x and z), appended to `meshes` and
+/// `instances` as `wall_north` (+z), `wall_south`, `wall_east` (+x) and `wall_west`.
+pub(super) fn walls_around(
+    (meshes, instances): (&mut Vec<Mesh>, &mut Vec<Instance>),
+    [hx, hz]: [f32; 2],
+    [t, h]: [f32; 2],
+    color: [f32; 4],
+) {
+    let walls = [
+        ("wall_north", [-hx - t, hz], [hx + t, hz + t]),
+        ("wall_south", [-hx - t, -hz - t], [hx + t, -hz]),
+        ("wall_east", [hx, -hz], [hx + t, hz]),
+        ("wall_west", [-hx - t, -hz], [-hx, hz]),
+    ];
+    for (wall, [x0, z0], [x1, z1]) in walls {
+        let mesh = meshes.len() as u32;
+        meshes.push(closed_box(
+            wall,
+            Vec3::new(x0, 0.0, z0),
+            Vec3::new(x1, h, z1),
+        ));
+        instances.push(
+            Instance::new(wall, mesh, &meshes[mesh as usize], Mat4::IDENTITY).with_color(color),
+        );
+    }
+}
+
 /// A closed 1 m cube standing on the origin: x and z in `[-0.5, 0.5]`, y in `[0, 1]`.
 pub(super) fn unit_box(name: &str) -> Mesh {
     let mut builder = MeshBuilder::default();

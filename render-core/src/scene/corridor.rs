@@ -7,7 +7,7 @@
 
 use glam::{Mat4, Vec3};
 
-use super::builtin::{MeshBuilder, unit_box};
+use super::builtin::{MeshBuilder, closed_box, unit_box, walls_around};
 use super::city::SplitMix64;
 use super::{CameraPath, Instance, LightKind, Mesh, PathKey, PunctualLight, Scene, Sun};
 
@@ -43,14 +43,12 @@ const CRATES: u32 = 12;
 /// chords and below the ridge, so the trusses on either side cast long shadows down the floor
 /// and the walls.
 const LIGHT_POSITION_M: Vec3 = Vec3::new(-14.0, 5.3, 0.0);
-/// `Sun` carries only a direction; the frame lights with it at an illuminance scale of 1
-/// (`FrameUniforms::direction_to_sun.w`), which we read as clear-sky direct sunlight, about
-/// 100 000 lx. A point light gives `intensity / distance²` lux, so the light matches the sun
-/// on a floor point `LIGHT_REFERENCE_DISTANCE_M` away (225 000 lx at 5 m, 56 000 lx at 10 m).
-const SUN_ILLUMINANCE_LX: f32 = 100_000.0;
+/// A point light gives `intensity / distance²` lux: this one matches the sun
+/// ([`Sun::ILLUMINANCE_LX`]) on a floor point `LIGHT_REFERENCE_DISTANCE_M` away (225 000 lx
+/// at 5 m, 56 000 lx at 10 m).
 const LIGHT_REFERENCE_DISTANCE_M: f32 = 7.5;
 const LIGHT_INTENSITY_CD: f32 =
-    SUN_ILLUMINANCE_LX * LIGHT_REFERENCE_DISTANCE_M * LIGHT_REFERENCE_DISTANCE_M;
+    Sun::ILLUMINANCE_LX * LIGHT_REFERENCE_DISTANCE_M * LIGHT_REFERENCE_DISTANCE_M;
 
 const CRATE_PAINT: [[f32; 4]; 3] = [
     [0.55, 0.40, 0.22, 1.0],
@@ -100,13 +98,6 @@ fn purlin_mesh() -> Mesh {
     b.build("purlin")
 }
 
-/// A closed box between `min` and `max` (the walls and the floor slab).
-fn slab_mesh(name: &str, min: Vec3, max: Vec3) -> Mesh {
-    let mut b = MeshBuilder::default();
-    b.cuboid(min, max, true);
-    b.build(name)
-}
-
 /// The x of truss `k`.
 fn truss_x(k: u32) -> f32 {
     -HALF_LENGTH_M + TRUSS_SPACING_M * (k as f32 + 0.5)
@@ -118,7 +109,7 @@ pub(super) fn corridor_scene(name: String, seed: u64) -> Scene {
     let (hx, hz, t, h) = (HALF_LENGTH_M, HALF_WIDTH_M, WALL_THICKNESS_M, WALL_HEIGHT_M);
     let floor_min = Vec3::new(-hx - t, -FLOOR_THICKNESS_M, -hz - t);
     let mut meshes = vec![
-        slab_mesh("floor", floor_min, Vec3::new(hx + t, 0.0, hz + t)),
+        closed_box("floor", floor_min, Vec3::new(hx + t, 0.0, hz + t)),
         truss_mesh(),
         purlin_mesh(),
         unit_box("crate"),
@@ -126,36 +117,12 @@ pub(super) fn corridor_scene(name: String, seed: u64) -> Scene {
     let mut instances = vec![
         Instance::new("floor", 0, &meshes[0], Mat4::IDENTITY).with_color([0.50, 0.50, 0.48, 1.0]),
     ];
-    let walls = [
-        (
-            "wall_north",
-            Vec3::new(-hx - t, 0.0, hz),
-            Vec3::new(hx + t, h, hz + t),
-        ),
-        (
-            "wall_south",
-            Vec3::new(-hx - t, 0.0, -hz - t),
-            Vec3::new(hx + t, h, -hz),
-        ),
-        (
-            "wall_east",
-            Vec3::new(hx, 0.0, -hz),
-            Vec3::new(hx + t, h, hz),
-        ),
-        (
-            "wall_west",
-            Vec3::new(-hx - t, 0.0, -hz),
-            Vec3::new(-hx, h, hz),
-        ),
-    ];
-    for (wall, min, max) in walls {
-        let mesh = meshes.len() as u32;
-        meshes.push(slab_mesh(wall, min, max));
-        instances.push(
-            Instance::new(wall, mesh, &meshes[mesh as usize], Mat4::IDENTITY)
-                .with_color([0.66, 0.62, 0.56, 1.0]),
-        );
-    }
+    walls_around(
+        (&mut meshes, &mut instances),
+        [hx, hz],
+        [t, h],
+        [0.66, 0.62, 0.56, 1.0],
+    );
     for k in 0..TRUSSES {
         let world_from_local = Mat4::from_translation(Vec3::new(truss_x(k), 0.0, 0.0));
         instances.push(

@@ -158,6 +158,10 @@ pub struct Sun {
 }
 
 impl Sun {
+    /// The sun's illuminance, lux: the shading's unit (clear-sky direct sun), which point
+    /// lights' intensities over distance squared are measured against.
+    pub const ILLUMINANCE_LX: f32 = 100_000.0;
+
     /// Azimuth is measured in the XZ plane from +X towards +Z, elevation up from the horizon.
     pub fn from_azimuth_elevation_deg(azimuth_deg: f32, elevation_deg: f32) -> Self {
         let (az, el) = (azimuth_deg.to_radians(), elevation_deg.to_radians());

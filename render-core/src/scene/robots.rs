@@ -6,7 +6,7 @@
 
 use glam::{Mat4, Vec3};
 
-use super::builtin::{MeshBuilder, unit_ground_quad};
+use super::builtin::{MeshBuilder, unit_ground_quad, walls_around};
 use super::city::SplitMix64;
 use super::{CameraPath, Instance, Mesh, Mobility, Motion, PathKey, Scene, Sun};
 
@@ -49,13 +49,6 @@ fn robot_mesh() -> Mesh {
     b.build("robot")
 }
 
-/// A closed box between `min` and `max` (the walls).
-fn wall_mesh(name: &str, min: Vec3, max: Vec3) -> Mesh {
-    let mut b = MeshBuilder::default();
-    b.cuboid(min, max, true);
-    b.build(name)
-}
-
 /// The robot hall from `seed`.
 pub(super) fn robots_scene(name: String, seed: u64) -> Scene {
     let mut rng = SplitMix64::new(seed);
@@ -66,36 +59,12 @@ pub(super) fn robots_scene(name: String, seed: u64) -> Scene {
         Instance::new("floor", 0, &meshes[0], Mat4::from_scale(floor_size))
             .with_color([0.50, 0.50, 0.48, 1.0]),
     ];
-    let walls = [
-        (
-            "wall_north",
-            Vec3::new(-hx - t, 0.0, hz),
-            Vec3::new(hx + t, h, hz + t),
-        ),
-        (
-            "wall_south",
-            Vec3::new(-hx - t, 0.0, -hz - t),
-            Vec3::new(hx + t, h, -hz),
-        ),
-        (
-            "wall_east",
-            Vec3::new(hx, 0.0, -hz),
-            Vec3::new(hx + t, h, hz),
-        ),
-        (
-            "wall_west",
-            Vec3::new(-hx - t, 0.0, -hz),
-            Vec3::new(-hx, h, hz),
-        ),
-    ];
-    for (wall, min, max) in walls {
-        let mesh = meshes.len() as u32;
-        meshes.push(wall_mesh(wall, min, max));
-        instances.push(
-            Instance::new(wall, mesh, &meshes[mesh as usize], Mat4::IDENTITY)
-                .with_color([0.62, 0.58, 0.52, 1.0]),
-        );
-    }
+    walls_around(
+        (&mut meshes, &mut instances),
+        [hx, hz],
+        [t, h],
+        [0.62, 0.58, 0.52, 1.0],
+    );
     let mut motions = Vec::new();
     let row_gap = 2.0 * hz / (ROWS + 1) as f32;
     let length = 2.0 * hx - 2.0;

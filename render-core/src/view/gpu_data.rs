@@ -8,9 +8,6 @@ pub const OVERLAY_CASTERS: u32 = 1;
 /// (a cascade each).
 pub const OVERLAY_VIEWS: u32 = 2;
 
-/// The sun's illuminance, lux: the shading's unit (clear-sky direct sun).
-pub const SUN_LUX: f32 = 100_000.0;
-
 /// Per-frame constants shared by every scene pass.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
@@ -35,7 +32,8 @@ pub struct FrameUniforms {
     /// in texels of each view, as the bits of an f32.
     pub views: [u32; 4],
     /// xyz: the point light that lights the frame and casts its shadows in place of the sun;
-    /// w: its intensity over [`SUN_LUX`], candela per lux (0: the sun lights the frame), so
+    /// w: its intensity over the sun's illuminance ([`crate::scene::Sun::ILLUMINANCE_LX`]),
+    /// candela per lux (0: the sun lights the frame), so
     /// that intensity over distance squared is on the sun's scale.
     pub point_light: [f32; 4],
 }

@@ -162,6 +162,10 @@ fn cull_casters(@builtin(global_invocation_id) id: vec3<u32>) {
     let culling = (volume.options.y & 1u) != 0u;
     let clamping = (volume.options.y & 2u) != 0u;
     let centres = (volume.options.y & 4u) != 0u;
+    if (from_point()) {
+        cull_from_point(ci, culling, clamping);
+        return;
+    }
     let b = bounds[c.instance];
     var lo = vec3<f32>(1e30);
     var hi = vec3<f32>(-1e30);
@@ -169,10 +173,6 @@ fn cull_casters(@builtin(global_invocation_id) id: vec3<u32>) {
         let p = in_light(box_corner(b, k));
         lo = min(lo, p);
         hi = max(hi, p);
-    }
-    if (from_point()) {
-        cull_from_point(ci, culling, clamping);
-        return;
     }
     // Rounded outwards by a millimetre and a bit of the box.
     let pad = 1e-3 + length(hi - lo) * 1e-5;
@@ -318,7 +318,7 @@ fn cull_from_point(ci: u32, culling: bool, clamping: bool) {
         }
     }
     var count = 0u;
-    if (whole || (!culling && !clamping)) {
+    if (whole) {
         count = whole_or_a_centimetre(ci, false);
     } else if (deep >= 0.0 && clamping) {
         let start = max(max(near, nearest) - farthest - pad, 0.0);
