@@ -107,7 +107,7 @@ impl Session {
         camera: &Camera,
         settings: &FrameSettings,
     ) -> anyhow::Result<ShadowError> {
-        let exact = self.truth.exact(
+        let exact = self.truth.exact_and_rays(
             &self.scene,
             camera,
             (self.width, self.height),

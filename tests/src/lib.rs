@@ -224,11 +224,12 @@ pub fn against_truth(
         .render_and_wait(ctx, scene, &scene_gpu, &input)
         .expect("frame renders");
     let mut truth = TruthCache::default();
-    let exact = truth.exact(scene, camera, (width, height), settings.shadow_light());
+    let (exact, rays) =
+        truth.exact_and_rays(scene, camera, (width, height), settings.shadow_light());
     let shadowed = (0..exact.points.len())
         .filter(|&i| exact.shadowed(i))
         .count() as u32;
-    let error = renderer.exact_error(ctx, exact).expect("read back");
+    let error = renderer.exact_error(ctx, (exact, rays)).expect("read back");
     (error, shadowed, renderer, report)
 }
 

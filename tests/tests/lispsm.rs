@@ -39,7 +39,7 @@ fn measured(
     };
     let report = last_of_frames(&mut renderer, (scene, &scene_gpu), &input, frames);
     let mut truth = TruthCache::default();
-    let exact = truth.exact(scene, camera, (320, 200), settings.sun.direction_to_sun);
+    let exact = truth.exact_and_rays(scene, camera, (320, 200), settings.sun.direction_to_sun);
     let error = renderer.exact_error(ctx, exact).expect("read back");
     (report, error)
 }

@@ -7,7 +7,7 @@ use glam::Vec3;
 use render_core::frame::{FrameReport, FrameSettings, Method, ShadowSetup};
 use render_core::geom::Camera;
 use render_core::metrics::ShadowError;
-use render_core::scene::{PointShadow, Scene, Sun};
+use render_core::scene::{PointShadow, Scene, Sun, load_builtin};
 use render_core::truth::{SurfacePoint, TruthCache};
 use render_core::volumes::{VolumeClamp, VolumePassChoice};
 use shadowlab_tests::{against_truth, box_on_plane, gpu};
@@ -108,6 +108,11 @@ fn a_point_light_in_the_view_casts_the_boxs_exact_shadow() {
     );
     let wrong = error.missing_shadow_px + error.extra_shadow_px;
     assert!(wrong * 10_000 <= error.visible_px * 2, "{error:?}");
+    assert_eq!(
+        error.off_edge_px,
+        Some(0),
+        "every wrong pixel is on an edge"
+    );
     let (_, standard_light, _) = frame(&camera, &standard(), &points);
     for clamp in [VolumeClamp::Continuous, VolumeClamp::Conservative] {
         let settings = point_volumes(Method::Bvol, clamp, VolumePassChoice::Auto);
@@ -171,4 +176,55 @@ fn shadow_maps_say_they_cannot_cast_a_point_lights_shadows() {
     let failure = report.shadow_failure.expect("a failure is reported");
     assert!(failure.contains("--shadow volumes"), "{failure}");
     assert_eq!(light, [1.0], "no shadows drawn rather than the sun's");
+}
+
+/// Lloyd's corridor (`builtin:corridor`), down its length from the west end towards its
+/// lamp over the trusses: every strut's volume runs down through empty air. Standard volumes
+/// differ from the exact shadow only on its edges; CC volumes, continuous or over slices of
+/// the view, change no pixel and draw far less.
+#[test]
+fn the_corridors_lamp_casts_exact_shadows_and_cc_volumes_fill_less() {
+    const CORRIDOR_SIZE: (u32, u32) = (320, 180);
+    let scene = load_builtin("corridor", 0).expect("corridor");
+    let camera = Camera::look_at(
+        Vec3::new(-38.0, 1.7, 1.0),
+        Vec3::new(0.0, 3.0, 0.0),
+        60f32.to_radians(),
+        0.1,
+        200.0,
+    );
+    let lamp = PointShadow::of_scene(&scene, 0).expect("the corridor's lamp");
+    let run = |method, clamp| {
+        let mut settings = FrameSettings {
+            setup: ShadowSetup::Volumes,
+            method,
+            point_light: Some(lamp),
+            ..FrameSettings::default()
+        };
+        settings.volumes.clamp = clamp;
+        settings.volumes.slices = 16;
+        settings.overlays.fill = true;
+        let (error, shadowed, renderer, report) =
+            against_truth(&scene, &camera, &settings, CORRIDOR_SIZE);
+        let mut truth = TruthCache::default();
+        let exact = truth.exact(&scene, &camera, CORRIDOR_SIZE, settings.shadow_light());
+        let light = renderer.light_at(gpu(), &exact.points).expect("read back");
+        let fill = report.volume_fill.expect("fill counted").fragments;
+        (error, shadowed, light, fill)
+    };
+    let (error, shadowed, standard, standard_fill) = run(Method::None, VolumeClamp::None);
+    assert!(
+        shadowed > 5_000,
+        "the struts' shadows are in view: {shadowed}"
+    );
+    assert_eq!(error.off_edge_px, Some(0), "{error:?}");
+    for clamp in [VolumeClamp::Continuous, VolumeClamp::Conservative] {
+        let (cc_error, _, cc, cc_fill) = run(Method::Bvol, clamp);
+        assert_eq!(differing(&cc, &standard), 0, "{clamp:?}");
+        assert_eq!(cc_error, error, "{clamp:?}");
+        assert!(
+            cc_fill * 3 < standard_fill * 2,
+            "{clamp:?}: CC fill {cc_fill} against {standard_fill}"
+        );
+    }
 }

@@ -104,6 +104,82 @@ fn the_exact_shadow_of_a_box_is_its_analytic_shadow() {
     );
 }
 
+/// A pixel is on an edge of the exact picture where the box's shadow or an outline passes
+/// next to it: a ground pixel whose neighbours all show the ground only within a few pixels'
+/// width of the analytic shadow's edge. An everywhere-lit light is wrong on every shadowed
+/// pixel, and only those on the edges are put down to sampling.
+#[test]
+fn the_pixels_on_edges_are_those_along_the_shadows_outline() {
+    const NEAR_M: f32 = 0.3;
+    const WIDTH: u32 = 320;
+    let scene = box_on_plane(20.0, BOX, 0.0, sun());
+    let mut truth = TruthCache::default();
+    let exact = truth.exact(
+        &scene,
+        &camera_at(Vec3::ZERO),
+        (WIDTH, 240),
+        sun().direction_to_sun,
+    );
+    let (min, max) = box_bounds(&scene);
+    let ground_y = scene.instances[0].aabb_in_world.max.y;
+    let mut point_at = vec![None; exact.pixels.len()];
+    for (i, &pixel) in exact.point_pixels.iter().enumerate() {
+        point_at[pixel as usize] = Some(i);
+    }
+    let on_ground = |i: usize| (exact.points[i].position[1] - ground_y).abs() < 1e-3;
+    // Whether every neighbour of pixel `pixel` shows the ground (the box, the sky and the
+    // rim of the ground are outlines).
+    let ground_around = |pixel: u32| {
+        let (x, y) = ((pixel % WIDTH) as i32, (pixel / WIDTH) as i32);
+        (-1..=1).all(|dy| {
+            (-1..=1).all(|dx| {
+                let n = (y + dy) * WIDTH as i32 + x + dx;
+                (x + dx) >= 0
+                    && (x + dx) < WIDTH as i32
+                    && usize::try_from(n)
+                        .ok()
+                        .and_then(|n| point_at.get(n).copied().flatten())
+                        .is_some_and(on_ground)
+            })
+        })
+    };
+    let (mut shadowed_on_edge, mut shadow_edge) = (0, 0);
+    for (i, point) in exact.points.iter().enumerate() {
+        if !exact.on_edge[i] {
+            continue;
+        }
+        shadowed_on_edge += u32::from(exact.shadowed(i));
+        let pixel = exact.point_pixels[i];
+        if !on_ground(i) || !ground_around(pixel) {
+            continue;
+        }
+        let p = Vec3::from_slice(&point.position[..3]);
+        assert_eq!(
+            expected_shadow(p, sun().direction_to_sun, min, max, NEAR_M),
+            None,
+            "ground pixel {pixel} at {p} is on an edge {NEAR_M} m from the shadow's"
+        );
+        shadow_edge += 1;
+    }
+    let shadowed = (0..exact.points.len())
+        .filter(|&i| exact.shadowed(i))
+        .count() as u32;
+    assert!(
+        shadow_edge > 100,
+        "{shadow_edge} pixels along the shadow's edge"
+    );
+    let error = exact.error_of(&vec![1.0; exact.points.len()]);
+    assert_eq!(
+        (error.missing_shadow_px, error.extra_shadow_px),
+        (shadowed, 0)
+    );
+    assert!(
+        shadowed_on_edge > 50 && shadowed_on_edge * 5 < shadowed,
+        "{shadowed_on_edge} of {shadowed} shadowed pixels on edges"
+    );
+    assert_eq!(error.off_edge_px, Some(shadowed - shadowed_on_edge));
+}
+
 #[test]
 fn the_exact_shadow_holds_far_from_the_origin_and_for_a_lifted_box() {
     // 100 km out, a box floating 1 m up: its shadow leaves the ground under it lit near the
@@ -172,6 +248,7 @@ fn the_map_is_read_at_the_truths_points_and_its_error_counted() {
     let exact = truth
         .exact(&scene, &camera, (320, 240), sun().direction_to_sun)
         .clone();
+    let rays = truth.rays(&scene);
     let truth_shadowed = (0..exact.points.len())
         .filter(|&i| exact.shadowed(i))
         .count() as u32;
@@ -200,20 +277,31 @@ fn the_map_is_read_at_the_truths_points_and_its_error_counted() {
     );
 
     // A fine map misses the exact shadow only along its edges.
-    let error = renderer.exact_error(gpu(), &exact).expect("read back");
+    let error = renderer
+        .exact_error(gpu(), (&exact, rays))
+        .expect("read back");
     assert_eq!(error.visible_px, exact.points.len() as u32);
     let wrong = error.missing_shadow_px + error.extra_shadow_px;
     assert!(
         wrong * 50 < truth_shadowed,
         "at 4096 the map differs from the exact shadow in {wrong} of {truth_shadowed} shadowed pixels"
     );
+    assert_eq!(error.off_edge_px, Some(0), "{error:?}");
 
     // Without shadows, every exactly shadowed pixel is missing, and nothing is extra.
     settings.shadow.shadows_enabled = false;
     let renderer = rendered(&scene, &camera, &settings);
-    let error = renderer.exact_error(gpu(), &exact).expect("read back");
+    let error = renderer
+        .exact_error(gpu(), (&exact, rays))
+        .expect("read back");
     assert_eq!(
         (error.missing_shadow_px, error.extra_shadow_px),
         (truth_shadowed, 0)
+    );
+    // Most of those lie inside the shadow, away from its edges.
+    let off = error.off_edge_px.expect("counted");
+    assert!(
+        off * 10 > truth_shadowed * 7 && off < truth_shadowed,
+        "{off} of {truth_shadowed} off edges"
     );
 }

@@ -156,6 +156,11 @@ fn the_volumes_of_a_box_give_its_exact_shadow() {
         wrong * 10_000 <= error.visible_px,
         "{error:?} of {shadowed} shadowed"
     );
+    assert_eq!(
+        error.off_edge_px,
+        Some(0),
+        "every wrong pixel is on an edge"
+    );
     // A map of the same view misses far more.
     let map = FrameSettings {
         sun: sun(),
@@ -297,6 +302,11 @@ fn a_city_street_in_volumes_is_all_but_exact_and_cc_volumes_fill_far_less() {
     assert!(
         wrong * 10_000 <= error.visible_px,
         "{error:?} of {shadowed} shadowed"
+    );
+    assert_eq!(
+        error.off_edge_px,
+        Some(0),
+        "every wrong pixel is on an edge"
     );
     let (cc_error, _, cc) = run(Method::Bvol, VolumeClamp::Continuous);
     assert_eq!(

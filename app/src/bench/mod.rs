@@ -39,6 +39,8 @@ struct BenchRow {
     /// Against the exact shadow: the median over frames of missing + extra pixels, and of
     /// their share of the counted pixels in percent.
     exact_error: (Option<f64>, Option<f64>),
+    /// Worst frame's differing pixels off the exact picture's edges.
+    exact_off_edge_px_max: Option<u32>,
     /// Worst frame's flicker (pixels whose shadow changed) after a 1 cm move and a 0.1 degree
     /// turn, with `--flicker`.
     flicker: Option<(u32, u32)>,
@@ -395,6 +397,10 @@ fn summarise(setting: &str, method: &str, reports: &[(f64, FrameReport)]) -> Ben
                 })
             }),
         ),
+        exact_off_edge_px_max: reports
+            .iter()
+            .filter_map(|(_, r)| r.exact_error.and_then(|e| e.off_edge_px))
+            .max(),
         flicker: reports
             .iter()
             .filter_map(|(_, r)| r.flicker.map(|f| (f.moved_px, f.turned_px)))

@@ -48,7 +48,7 @@ const COLUMNS: [&str; 20] = [
     "tightness",
     "shadow triangles",
     "error px (max)",
-    "exact err px",
+    "exact err px (off edges)",
     "exact err %",
     "flicker move/turn",
     "under p50",
@@ -75,7 +75,10 @@ fn row_cells(r: &BenchRow) -> [String; 20] {
         opt(r.tightness, 2),
         format!("{:.0}", r.shadow_triangles),
         r.error_px_max.to_string(),
-        opt(r.exact_error.0, 0),
+        match (r.exact_error.0, r.exact_off_edge_px_max) {
+            (Some(px), Some(off)) => format!("{px:.0} ({off})"),
+            (px, _) => opt(px, 0),
+        },
         opt(r.exact_error.1, 2),
         r.flicker
             .map_or_else(|| "-".into(), |(m, t)| format!("{m}/{t}")),
@@ -139,13 +142,13 @@ fn aligned(lines: &[Vec<String>], left: usize) -> String {
 
 pub(super) fn format_csv(rows: &[BenchRow]) -> String {
     let mut out = String::from(
-        "setting,method,frames,frame_ms,gpu_frame_ms,shadow_pass_ms,casters_drawn,casters_oracle,tightness,shadow_triangles,error_px_max,casters_total,speed_up,culling_ms,undersampling_p50,undersampling_p95,exact_error_px,exact_error_percent,flicker_moved_px,flicker_turned_px,fill_mfragments,fill_mfragments_max,fill_saved_mean,fill_saved_peak\n",
+        "setting,method,frames,frame_ms,gpu_frame_ms,shadow_pass_ms,casters_drawn,casters_oracle,tightness,shadow_triangles,error_px_max,casters_total,speed_up,culling_ms,undersampling_p50,undersampling_p95,exact_error_px,exact_error_percent,exact_error_off_edge_px_max,flicker_moved_px,flicker_turned_px,fill_mfragments,fill_mfragments_max,fill_saved_mean,fill_saved_peak\n",
     );
     let opt = |v: Option<f64>| v.map_or_else(String::new, |v| format!("{v:.4}"));
     for r in rows {
         let _ = writeln!(
             out,
-            "{},{},{},{:.4},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{:.4},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             r.setting,
             r.method,
             r.frames,
@@ -164,6 +167,8 @@ pub(super) fn format_csv(rows: &[BenchRow]) -> String {
             opt(r.undersampling.1),
             opt(r.exact_error.0),
             opt(r.exact_error.1),
+            r.exact_off_edge_px_max
+                .map_or_else(String::new, |v| v.to_string()),
             r.flicker.map_or_else(String::new, |f| f.0.to_string()),
             r.flicker.map_or_else(String::new, |f| f.1.to_string()),
             opt(r.fill_m.0),

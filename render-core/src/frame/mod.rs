@@ -543,13 +543,14 @@ impl FrameRenderer {
     }
 
     /// The last frame's shadow against the exact shadow of its view: counted pixels whose
-    /// shadow differs, missing or extra. Blocks.
+    /// shadow differs, missing or extra, and those of them off the truth's edges (looked for
+    /// inside the pixel through `rays`, the trees `exact` was cast through). Blocks.
     pub fn exact_error(
         &self,
         ctx: &GpuContext,
-        exact: &ExactShadow,
+        (exact, rays): (&ExactShadow, &crate::truth::SceneRays),
     ) -> Result<ShadowError, crate::gpu::GpuError> {
-        Ok(exact.error_of(&self.light_at(ctx, &exact.points)?))
+        Ok(exact.error_within(rays, &self.light_at(ctx, &exact.points)?))
     }
 
     /// The camera targets of the last frame (colour, ids, depth, shadow factor).

@@ -64,6 +64,11 @@ pub struct ShadowError {
     pub extra_shadow_px: u32,
     /// Visible receiver pixels compared.
     pub visible_px: u32,
+    /// Against the exact shadow: the differing pixels that are not on an edge of the exact
+    /// picture ([`crate::truth::ExactShadow::on_edge`]), the wrong shadow that sampling does not
+    /// explain. `None` where the reference is a picture of its own.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub off_edge_px: Option<u32>,
 }
 
 /// What came back from one measured frame.
@@ -199,6 +204,7 @@ impl MeasureResources {
                 visible_px: w[0],
                 missing_shadow_px: w[1],
                 extra_shadow_px: w[2],
+                off_edge_px: None,
             },
             casters_oracle: oracle_per_view.iter().sum(),
             oracle_per_view,

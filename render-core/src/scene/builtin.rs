@@ -32,8 +32,9 @@ pub const BUILTIN_SCENES: &[BuiltinScene] = &[
     },
     BuiltinScene {
         name: "corridor",
-        description: "a long corridor under 40 roof trusses lit by a point light and a low sun \
-                      (Lloyd et al.'s trusses scene): about 102K triangles, thin casters",
+        description: "a long corridor under 40 roof trusses, 3,840 struts, lit by a point light \
+                      over them and a low sun (Lloyd et al.'s trusses scene): about 108K \
+                      triangles, thin casters",
     },
     BuiltinScene {
         name: "boxes",

@@ -1,11 +1,12 @@
 //! `corridor`: a long walled corridor under dense roof trusses, lit by a point light hung among
 //! the trusses and by a low sun through the open roof, like the "trusses" scene of Lloyd et
-//! al.'s CC shadow volumes (about 100K polygons). Every truss is a lattice of thin struts, so
-//! its shadow volumes are long, thin and mostly cross empty air before they reach the floor or
-//! a wall: the case where culling and clamping shadow volumes pays. Deterministic from the seed:
+//! al.'s CC shadow volumes (about 100K polygons). Every truss is a lattice of thin struts,
+//! each strut an object (one mesh, placed 3,840 times), so their shadow volumes are long, thin
+//! and mostly cross empty air before they reach the floor or a wall: the case where culling
+//! and clamping shadow volumes pays. Deterministic from the seed:
 //! only the crates along the walls (where, how big, what colour).
 
-use glam::{Mat4, Vec3};
+use glam::{Mat4, Quat, Vec3};
 
 use super::builtin::{MeshBuilder, closed_box, unit_box, walls_around};
 use super::city::SplitMix64;
@@ -36,13 +37,14 @@ const PURLIN_RADIUS_M: f32 = 0.08;
 /// Where the purlins run along the corridor on top of the top chords, metres of z.
 const PURLIN_Z_M: [f32; 5] = [-4.0, -2.0, 0.0, 2.0, 4.0];
 /// Flat sides of every strut.
-const STRUT_SIDES: u32 = 12;
+const STRUT_SIDES: u32 = 8;
 const CRATES: u32 = 12;
 
-/// The point light: between two trusses in the west third of the corridor, above the bottom
-/// chords and below the ridge, so the trusses on either side cast long shadows down the floor
-/// and the walls.
-const LIGHT_POSITION_M: Vec3 = Vec3::new(-14.0, 5.3, 0.0);
+/// The point light: hung over the open roof of the west third of the corridor, above every
+/// truss and between two trusses and two purlins, so every strut's shadow volume runs down
+/// through the empty air under the trusses to the floor and the walls (Lloyd's "trusses
+/// overhead which cast shadows on the floor and walls below").
+const LIGHT_POSITION_M: Vec3 = Vec3::new(-14.0, 9.0, 1.0);
 /// A point light gives `intensity / distance²` lux: this one matches the sun
 /// ([`Sun::ILLUMINANCE_LX`]) on a floor point `LIGHT_REFERENCE_DISTANCE_M` away (225 000 lx
 /// at 5 m, 56 000 lx at 10 m).
@@ -50,6 +52,8 @@ const LIGHT_REFERENCE_DISTANCE_M: f32 = 7.5;
 const LIGHT_INTENSITY_CD: f32 =
     Sun::ILLUMINANCE_LX * LIGHT_REFERENCE_DISTANCE_M * LIGHT_REFERENCE_DISTANCE_M;
 
+const TRUSS_PAINT: [f32; 4] = [0.30, 0.32, 0.36, 1.0];
+const PURLIN_PAINT: [f32; 4] = [0.35, 0.30, 0.28, 1.0];
 const CRATE_PAINT: [[f32; 4]; 3] = [
     [0.55, 0.40, 0.22, 1.0],
     [0.45, 0.47, 0.40, 1.0],
@@ -61,41 +65,65 @@ fn top_chord_y(z: f32) -> f32 {
     HEEL_Y_M + (RIDGE_Y_M - HEEL_Y_M) * (1.0 - z.abs() / HALF_WIDTH_M)
 }
 
-/// A closed strut of `radius` from `from` to `to`.
-fn strut(b: &mut MeshBuilder, from: Vec3, to: Vec3, radius: f32) {
-    b.cylinder(from, to - from, radius, STRUT_SIDES);
+/// A strut: the unit strut mesh (a prism of radius 1 along +y from 0 to 1) placed from `from`
+/// to `to` with `radius`.
+fn strut_from_unit(from: Vec3, to: Vec3, radius: f32) -> Mat4 {
+    let axis = to - from;
+    Mat4::from_translation(from)
+        * Mat4::from_quat(Quat::from_rotation_arc(Vec3::Y, axis.normalize()))
+        * Mat4::from_scale(Vec3::new(radius, axis.length(), radius))
 }
 
-/// One pitched roof truss in the plane x = 0 spanning the corridor: a bottom chord, two top
-/// chords meeting at the ridge, a vertical at every node and crossed diagonals in every panel,
-/// each a closed prism.
-fn truss_mesh() -> Mesh {
+/// The unit strut: a closed prism of radius 1 along +y from 0 to 1.
+fn unit_strut() -> Mesh {
     let mut b = MeshBuilder::default();
+    b.cylinder(Vec3::ZERO, Vec3::Y, 1.0, STRUT_SIDES);
+    b.build("strut")
+}
+
+/// One pitched roof truss in the plane x = 0 spanning the corridor, as its struts (name,
+/// ends, radius): a bottom chord and two top chords meeting at the ridge, each a strut per
+/// panel, a vertical at every node and crossed diagonals in every panel. Each strut is an
+/// object of its own, as the trusses of Lloyd et al.'s corridor are many objects: a volume
+/// is culled and clamped by what lies under its own strut.
+fn truss_struts() -> Vec<(String, Vec3, Vec3, f32)> {
     let w = HALF_WIDTH_M;
     let bottom = |z: f32| Vec3::new(0.0, BOTTOM_CHORD_Y_M, z);
     let top = |z: f32| Vec3::new(0.0, top_chord_y(z), z);
-    strut(&mut b, bottom(-w), bottom(w), CHORD_RADIUS_M);
-    strut(&mut b, top(-w), top(0.0), CHORD_RADIUS_M);
-    strut(&mut b, top(0.0), top(w), CHORD_RADIUS_M);
     let node_z = |k: u32| -w + 2.0 * w * k as f32 / PANELS as f32;
+    let mut struts = Vec::new();
     for k in 0..=PANELS {
-        strut(&mut b, bottom(node_z(k)), top(node_z(k)), VERTICAL_RADIUS_M);
+        let z = node_z(k);
+        struts.push((
+            format!("vertical_{k}"),
+            bottom(z),
+            top(z),
+            VERTICAL_RADIUS_M,
+        ));
     }
     for k in 0..PANELS {
         let (z0, z1) = (node_z(k), node_z(k + 1));
-        strut(&mut b, bottom(z0), top(z1), DIAGONAL_RADIUS_M);
-        strut(&mut b, bottom(z1), top(z0), DIAGONAL_RADIUS_M);
+        struts.push((
+            format!("bottom_{k}"),
+            bottom(z0),
+            bottom(z1),
+            CHORD_RADIUS_M,
+        ));
+        struts.push((format!("top_{k}"), top(z0), top(z1), CHORD_RADIUS_M));
+        struts.push((
+            format!("rising_{k}"),
+            bottom(z0),
+            top(z1),
+            DIAGONAL_RADIUS_M,
+        ));
+        struts.push((
+            format!("falling_{k}"),
+            bottom(z1),
+            top(z0),
+            DIAGONAL_RADIUS_M,
+        ));
     }
-    b.build("truss")
-}
-
-/// A purlin: a closed strut along the whole corridor through the origin, resting on the top
-/// chords once lifted to them.
-fn purlin_mesh() -> Mesh {
-    let mut b = MeshBuilder::default();
-    let x = HALF_LENGTH_M;
-    strut(&mut b, Vec3::NEG_X * x, Vec3::X * x, PURLIN_RADIUS_M);
-    b.build("purlin")
+    struts
 }
 
 /// The x of truss `k`.
@@ -110,8 +138,7 @@ pub(super) fn corridor_scene(name: String, seed: u64) -> Scene {
     let floor_min = Vec3::new(-hx - t, -FLOOR_THICKNESS_M, -hz - t);
     let mut meshes = vec![
         closed_box("floor", floor_min, Vec3::new(hx + t, 0.0, hz + t)),
-        truss_mesh(),
-        purlin_mesh(),
+        unit_strut(),
         unit_box("crate"),
     ];
     let mut instances = vec![
@@ -123,21 +150,28 @@ pub(super) fn corridor_scene(name: String, seed: u64) -> Scene {
         [t, h],
         [0.66, 0.62, 0.56, 1.0],
     );
+    let strut = |name: String, from: Vec3, to: Vec3, radius: f32, color: [f32; 4]| {
+        Instance::new(name, 1, &meshes[1], strut_from_unit(from, to, radius)).with_color(color)
+    };
+    let mut struts = Vec::new();
     for k in 0..TRUSSES {
-        let world_from_local = Mat4::from_translation(Vec3::new(truss_x(k), 0.0, 0.0));
-        instances.push(
-            Instance::new(format!("truss_{k}"), 1, &meshes[1], world_from_local)
-                .with_color([0.30, 0.32, 0.36, 1.0]),
-        );
+        let at = Vec3::X * truss_x(k);
+        for (part, from, to, radius) in truss_struts() {
+            let name = format!("truss_{k}_{part}");
+            struts.push(strut(name, at + from, at + to, radius, TRUSS_PAINT));
+        }
     }
+    // Purlins run along the corridor on top of the top chords, a strut per bay.
     for (k, z) in PURLIN_Z_M.into_iter().enumerate() {
         let y = top_chord_y(z) + CHORD_RADIUS_M + PURLIN_RADIUS_M;
-        let world_from_local = Mat4::from_translation(Vec3::new(0.0, y, z));
-        instances.push(
-            Instance::new(format!("purlin_{k}"), 2, &meshes[2], world_from_local)
-                .with_color([0.35, 0.30, 0.28, 1.0]),
-        );
+        for bay in 0..TRUSSES {
+            let x0 = -hx + TRUSS_SPACING_M * bay as f32;
+            let (from, to) = (Vec3::new(x0, y, z), Vec3::new(x0 + TRUSS_SPACING_M, y, z));
+            let name = format!("purlin_{k}_{bay}");
+            struts.push(strut(name, from, to, PURLIN_RADIUS_M, PURLIN_PAINT));
+        }
     }
+    instances.extend(struts);
     // Crates stand against the walls, leaving the middle 6 m free for the walk.
     for k in 0..CRATES {
         let size = Vec3::new(
@@ -152,7 +186,7 @@ pub(super) fn corridor_scene(name: String, seed: u64) -> Scene {
             Mat4::from_translation(Vec3::new(x, 0.0, z)) * Mat4::from_scale(size);
         let paint = CRATE_PAINT[rng.below(CRATE_PAINT.len())];
         instances.push(
-            Instance::new(format!("crate_{k}"), 3, &meshes[3], world_from_local).with_color(paint),
+            Instance::new(format!("crate_{k}"), 2, &meshes[2], world_from_local).with_color(paint),
         );
     }
     let mut scene = Scene::new(
@@ -173,7 +207,7 @@ pub(super) fn corridor_scene(name: String, seed: u64) -> Scene {
 }
 
 /// A walk down the corridor at eye height, looking along it, with a look up at the trusses
-/// and the lamp among them, then back from the far end.
+/// and the lamp over them, then back from the far end.
 pub(super) fn corridor_walk() -> CameraPath {
     let at = |x: f32, z: f32| Vec3::new(x, 1.7, z);
     let keys = vec![
@@ -211,6 +245,22 @@ mod tests {
 
     fn corridor() -> Scene {
         corridor_scene("builtin:corridor".into(), 7)
+    }
+
+    /// Each truss's box: the union of its struts'.
+    fn truss_boxes(scene: &Scene) -> Vec<Aabb> {
+        (0..TRUSSES)
+            .map(|k| {
+                let prefix = format!("truss_{k}_");
+                scene
+                    .instances
+                    .iter()
+                    .filter(|i| i.name.starts_with(&prefix))
+                    .map(|i| i.aabb_in_world)
+                    .reduce(Aabb::union)
+                    .expect("a truss has struts")
+            })
+            .collect()
     }
 
     /// Whether the segment from `a` to `b` meets `aabb` (slab test).
@@ -271,11 +321,24 @@ mod tests {
             "{triangles} triangles"
         );
         let instances = scene.instances.len();
-        assert!((40..=120).contains(&instances), "{instances} instances");
+        let struts = scene.instances.iter().filter(|i| i.mesh == 1).count();
+        let per_truss = truss_struts().len();
+        assert_eq!(per_truss, 5 * PANELS as usize + 1);
         assert_eq!(
-            scene.instances.iter().filter(|i| i.mesh == 1).count(),
-            TRUSSES as usize
+            struts,
+            TRUSSES as usize * (per_truss + PURLIN_Z_M.len()),
+            "every strut an object"
         );
+        assert_eq!(instances, 1 + 4 + struts + CRATES as usize);
+        // Each strut joins its truss's neighbours: its ends are nodes of the truss.
+        for i in scene.instances.iter().filter(|i| i.mesh == 1) {
+            let size = i.aabb_in_world.max - i.aabb_in_world.min;
+            assert!(
+                size.max_element() <= TRUSS_SPACING_M + 2.0 * PURLIN_RADIUS_M + 1e-3,
+                "{}: {size}",
+                i.name
+            );
+        }
         for mesh in &scene.meshes {
             assert_winding_matches_normals(mesh);
             assert_closed(mesh);
@@ -289,46 +352,33 @@ mod tests {
     }
 
     #[test]
-    fn one_point_light_hangs_among_the_trusses_inside_the_corridor() {
+    fn one_point_light_hangs_over_the_trusses_above_the_corridor() {
         let scene = corridor();
         assert_eq!(scene.lights.len(), 1);
         let light = &scene.lights[0];
         assert_eq!(light.kind, LightKind::Point);
         let p = light.position;
         assert!(p.x.abs() < HALF_LENGTH_M && p.z.abs() < HALF_WIDTH_M, "{p}");
-        assert!(p.y > 0.0 && p.y < WALL_HEIGHT_M, "{p}");
-        // Inside no solid.
+        // Above every strut and wall, inside no solid.
         for i in &scene.instances {
-            assert!(
-                !i.aabb_in_world.contains_point(p),
-                "light inside {}",
-                i.name
-            );
+            assert!(i.aabb_in_world.max.y < p.y, "light below {}", i.name);
         }
-        let trusses: Vec<&Instance> = scene.instances.iter().filter(|i| i.mesh == 1).collect();
-        // Above the bottom chords, below the ridge.
-        let truss_box = trusses[0].aabb_in_world;
-        assert!(p.y > BOTTOM_CHORD_Y_M + CHORD_RADIUS_M && p.y < truss_box.max.y);
-        // Straight down it lights the floor between two trusses...
+        let trusses = truss_boxes(&scene);
+        let struts: Vec<Aabb> = scene
+            .instances
+            .iter()
+            .filter(|i| i.mesh == 1)
+            .map(|i| i.aabb_in_world)
+            .collect();
+        // Straight down it lights the floor between two trusses and two purlins...
         let below = Vec3::new(p.x, 0.0, p.z);
-        assert!(
-            trusses
-                .iter()
-                .all(|i| !segment_hits(p, below, &i.aabb_in_world))
-        );
-        // ...but the floor 20 m along the corridor either way lies behind the lattice of the
-        // neighbouring truss on that side, and only of that one: the next truss down the ray
-        // is already below its bottom chord.
+        assert!(struts.iter().all(|b| !segment_hits(p, below, b)));
+        // ...but the floor 10 m along the corridor either way lies behind the lattice of a
+        // truss on that side.
         for direction in [1.0, -1.0] {
-            let far = Vec3::new(p.x + 20.0 * direction, 0.0, p.z);
-            let crossed: Vec<f32> = trusses
-                .iter()
-                .filter(|i| segment_hits(p, far, &i.aabb_in_world))
-                .map(|i| i.aabb_in_world.center().x)
-                .collect();
-            assert_eq!(crossed.len(), 1, "{crossed:?}");
-            let gap = (crossed[0] - p.x) * direction;
-            assert!(gap > 0.0 && gap < TRUSS_SPACING_M, "{crossed:?}");
+            let far = Vec3::new(p.x + 10.0 * direction, 0.0, p.z);
+            let crossed = trusses.iter().filter(|b| segment_hits(p, far, b)).count();
+            assert!(crossed >= 1, "{direction}: {crossed} trusses");
         }
     }
 

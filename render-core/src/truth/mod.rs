@@ -66,6 +66,12 @@ pub struct ExactShadow {
     pub points: Vec<SurfacePoint>,
     /// Each counted point's pixel index.
     pub point_pixels: Vec<u32>,
+    /// Whether each counted point's pixel lies on an edge of the exact picture: one of its
+    /// eight neighbours shows another surface or another truth (a shadow's boundary, or an
+    /// object's outline, passes within a pixel of its centre). There, where the boundary
+    /// falls inside the pixel decides its colour, and a rasteriser and a ray through the
+    /// centre may disagree by a rounding: such error is sampling, not a wrong shadow.
+    pub on_edge: Vec<bool>,
 }
 
 impl ExactShadow {
@@ -73,39 +79,8 @@ impl ExactShadow {
     /// sun, or up to a point light) from each surface it finds, on every core.
     pub fn cast(rays: &SceneRays, key: ViewKey) -> Self {
         let (width, height) = (key.width.max(1), key.height.max(1));
-        let camera = &key.camera;
-        let (right, up) = camera.basis();
-        let forward = camera.forward.normalize_or(Vec3::NEG_Z);
-        let tan_half = (camera.fov_y_rad * 0.5).tan();
-        let aspect = width as f32 / height as f32;
-        let pixel = |x: u32, y: u32| -> (PixelTruth, Option<SurfacePoint>) {
-            let ndc_x = 2.0 * (x as f32 + 0.5) / width as f32 - 1.0;
-            let ndc_y = 1.0 - 2.0 * (y as f32 + 0.5) / height as f32;
-            // With `forward` of unit length, `t` along this direction is the view depth.
-            let direction = forward + right * (ndc_x * tan_half * aspect) + up * (ndc_y * tan_half);
-            let Some(hit) = rays.first_hit(camera.eye, direction, camera.near_m, camera.far_m)
-            else {
-                return (PixelTruth::Sky, None);
-            };
-            if !hit.receives_shadow {
-                return (PixelTruth::NotReceiver, None);
-            }
-            let (towards, distance) = key.light.towards(hit.position);
-            if hit.normal.dot(towards) <= 0.0 {
-                return (PixelTruth::FacesAway, None);
-            }
-            let origin = offset_from_surface(hit.position, hit.normal);
-            let truth = if rays.blocked(origin, towards, (0.0, distance)) {
-                PixelTruth::Shadowed
-            } else {
-                PixelTruth::Lit
-            };
-            let point = SurfacePoint {
-                position: hit.position.extend(1.0).to_array(),
-                normal: hit.normal.extend(0.0).to_array(),
-            };
-            (truth, Some(point))
-        };
+        let view = PixelRays::of(&key);
+        let pixel = |x: u32, y: u32| view.truth_at(rays, &key, (x as f32 + 0.5, y as f32 + 0.5));
         let rows = rows_in_parallel(height, |y| {
             (0..width).map(|x| pixel(x, y)).collect::<Vec<_>>()
         });
@@ -114,21 +89,33 @@ impl ExactShadow {
             pixels: Vec::with_capacity((width * height) as usize),
             points: Vec::new(),
             point_pixels: Vec::new(),
+            on_edge: Vec::new(),
         };
-        for (i, (truth, point)) in (0..).zip(rows.into_iter().flatten()) {
+        let mut surfaces = Vec::with_capacity((width * height) as usize);
+        for (i, (truth, point, instance)) in (0..).zip(rows.into_iter().flatten()) {
             out.pixels.push(truth);
+            surfaces.push(instance);
             if let Some(p) = point {
                 out.points.push(p);
                 out.point_pixels.push(i);
             }
         }
+        out.on_edge = out
+            .point_pixels
+            .iter()
+            .map(|&i| {
+                let (x, y) = (i % width, i / width);
+                let own = (out.pixels[i as usize], surfaces[i as usize]);
+                neighbours(x, y, width, height).any(|n| (out.pixels[n], surfaces[n]) != own)
+            })
+            .collect();
         out
     }
 
     /// Memory it holds.
     pub fn bytes(&self) -> usize {
         self.pixels.len() * std::mem::size_of::<PixelTruth>()
-            + self.points.len() * (std::mem::size_of::<SurfacePoint>() + 4)
+            + self.points.len() * (std::mem::size_of::<SurfacePoint>() + 5)
     }
 
     /// Whether counted point `i` is shadowed in truth.
@@ -143,15 +130,129 @@ impl ExactShadow {
             visible_px: self.points.len() as u32,
             ..ShadowError::default()
         };
+        let mut off_edges = 0;
         for (i, &l) in light.iter().enumerate().take(self.points.len()) {
             match (self.shadowed(i), l < SHADOWED_BELOW) {
                 (true, false) => error.missing_shadow_px += 1,
                 (false, true) => error.extra_shadow_px += 1,
-                _ => {}
+                _ => continue,
             }
+            off_edges += u32::from(!self.on_edge[i]);
         }
+        error.off_edge_px = Some(off_edges);
         error
     }
+
+    /// As [`ExactShadow::error_of`], and a differing pixel whose neighbours all agree with it
+    /// is on an edge too where the truth changes inside it: at one of
+    /// `SUBPIXELS` x `SUBPIXELS` points spread over the pixel (a gap between two shadows, or
+    /// a shadow, narrower than a pixel). `rays` are the scene's as the view was cast.
+    pub fn error_within(&self, rays: &SceneRays, light: &[f32]) -> ShadowError {
+        const SUBPIXELS: u32 = 4;
+        let mut error = self.error_of(light);
+        let view = PixelRays::of(&self.key);
+        let width = self.key.width.max(1);
+        let mut off_edges = 0;
+        for (i, &l) in light.iter().enumerate().take(self.points.len()) {
+            if self.on_edge[i] || self.shadowed(i) == (l < SHADOWED_BELOW) {
+                continue;
+            }
+            let pixel = self.point_pixels[i];
+            let own = self.pixels[pixel as usize];
+            let (x, y) = ((pixel % width) as f32, (pixel / width) as f32);
+            let inside = (0..SUBPIXELS * SUBPIXELS).any(|k| {
+                let at = |j: u32| (j as f32 + 0.5) / SUBPIXELS as f32;
+                let (truth, _, _) = view.truth_at(
+                    rays,
+                    &self.key,
+                    (x + at(k % SUBPIXELS), y + at(k / SUBPIXELS)),
+                );
+                truth != own
+            });
+            off_edges += u32::from(!inside);
+        }
+        error.off_edge_px = Some(off_edges);
+        error
+    }
+}
+
+/// The camera rays of a view: through any point of its picture, in pixels from the top left.
+struct PixelRays {
+    eye: Vec3,
+    forward: Vec3,
+    right: Vec3,
+    up: Vec3,
+    tan_half: f32,
+    size: (f32, f32),
+    depths: (f32, f32),
+}
+
+impl PixelRays {
+    fn of(key: &ViewKey) -> Self {
+        let camera = &key.camera;
+        let (right, up) = camera.basis();
+        Self {
+            eye: camera.eye,
+            forward: camera.forward.normalize_or(Vec3::NEG_Z),
+            right,
+            up,
+            tan_half: (camera.fov_y_rad * 0.5).tan(),
+            size: (key.width.max(1) as f32, key.height.max(1) as f32),
+            depths: (camera.near_m, camera.far_m),
+        }
+    }
+
+    /// The truth at picture point `(x, y)` (a pixel's centre is at half-integers), the
+    /// surface point where it is counted, and the instance it shows (`u32::MAX`: sky).
+    fn truth_at(
+        &self,
+        rays: &SceneRays,
+        key: &ViewKey,
+        (x, y): (f32, f32),
+    ) -> (PixelTruth, Option<SurfacePoint>, u32) {
+        let (width, height) = self.size;
+        let ndc_x = 2.0 * x / width - 1.0;
+        let ndc_y = 1.0 - 2.0 * y / height;
+        // With `forward` of unit length, `t` along this direction is the view depth.
+        let direction = self.forward
+            + self.right * (ndc_x * self.tan_half * width / height)
+            + self.up * (ndc_y * self.tan_half);
+        let Some(hit) = rays.first_hit(self.eye, direction, self.depths.0, self.depths.1) else {
+            return (PixelTruth::Sky, None, u32::MAX);
+        };
+        if !hit.receives_shadow {
+            return (PixelTruth::NotReceiver, None, hit.instance);
+        }
+        let (towards, distance) = key.light.towards(hit.position);
+        if hit.normal.dot(towards) <= 0.0 {
+            return (PixelTruth::FacesAway, None, hit.instance);
+        }
+        let origin = offset_from_surface(hit.position, hit.normal);
+        let truth = if rays.blocked(origin, towards, (0.0, distance)) {
+            PixelTruth::Shadowed
+        } else {
+            PixelTruth::Lit
+        };
+        let point = SurfacePoint {
+            position: hit.position.extend(1.0).to_array(),
+            normal: hit.normal.extend(0.0).to_array(),
+        };
+        (truth, Some(point), hit.instance)
+    }
+}
+
+/// The pixel indices of the up to eight neighbours of pixel (`x`, `y`) in a `width` x `height`
+/// picture.
+fn neighbours(x: u32, y: u32, width: u32, height: u32) -> impl Iterator<Item = usize> {
+    let (x, y) = (i64::from(x), i64::from(y));
+    (-1..=1)
+        .flat_map(move |dy| (-1..=1).map(move |dx| (x + dx, y + dy)))
+        .filter(move |&(nx, ny)| {
+            (nx, ny) != (x, y)
+                && (0..i64::from(width)).contains(&nx)
+                && (0..i64::from(height)).contains(&ny)
+        })
+        .map(move |(nx, ny)| (ny * i64::from(width) + nx) as usize)
 }
 
 /// Rows `0..height` computed on every core; returned in order.
@@ -268,6 +369,20 @@ impl TruthCache {
             None => self.rays = Some(SceneRays::new(scene)),
         }
         self.rays.as_ref().expect("built above")
+    }
+
+    /// As [`TruthCache::exact`], with the trees it was cast through (for
+    /// [`ExactShadow::error_within`]).
+    pub fn exact_and_rays(
+        &mut self,
+        scene: &Scene,
+        camera: &Camera,
+        size: (u32, u32),
+        light: impl Into<ShadowLight>,
+    ) -> (&ExactShadow, &SceneRays) {
+        self.exact(scene, camera, size, light);
+        let rays = self.rays.as_ref().expect("built by exact");
+        (self.views.back().expect("pushed by exact"), rays)
     }
 
     /// The truth of this view of `scene`, cast now or cached.

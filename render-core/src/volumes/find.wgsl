@@ -253,11 +253,12 @@ fn keep_caster(ci: u32, count: u32, z_pass: bool) {
 
 // `cull_casters` for a point light: the caster's box seen from the light covers, on each
 // cube face it reaches, the box of its corners' places there (all of the face where the box
-// crosses the face's plane); the visible receiver points in those cells, as far from the
-// light as the box's nearest point or further, give one occupied interval of distances
-// (discrete clamping's slices are the sun's: one here). A volume goes to infinity unless
-// clamped; clamped, its end cap, flat between points at the interval's end, is moved out by
-// the cosine of the box's angular radius so that it sags no nearer than the interval's end,
+// crosses the face's plane); per slice of the view (planes through the eye that the light's
+// rays cross in turn, as the sun's), the visible receiver points in those cells, as far from
+// the light as the box's nearest point or further, give an occupied interval of distances,
+// merged as the sun's are (`merged_intervals`). A volume goes to infinity unless clamped;
+// clamped, its end caps, flat between points at an interval's end, are moved out by the
+// cosine of the box's angular radius so that they sag no nearer than the interval's end,
 // and a box too close to the light for that (over 45 degrees) keeps its whole volume.
 fn cull_from_point(ci: u32, culling: bool, clamping: bool) {
     let b = bounds[casters[ci].instance];
@@ -270,10 +271,13 @@ fn cull_from_point(ci: u32, culling: bool, clamping: bool) {
     let centre = 0.5 * (b.min + b.max);
     let sine = 0.5 * length(b.max - b.min) / max(length(centre - light), 1e-6);
     let pad = 1e-3 + farthest * 1e-5;
-    var near = 1e30;
-    var deep = -1.0;
     var whole = nearest <= pad || sine > 0.7071 || (!culling && !clamping);
+    // Per face, the cells the box covers: first and last.
+    var first: array<vec2<i32>, 6>;
+    var last: array<vec2<i32>, 6>;
     for (var f = 0u; f < 6u && !whole; f++) {
+        first[f] = vec2<i32>(1);
+        last[f] = vec2<i32>(0);
         var lo = vec2<f32>(1e30);
         var hi = vec2<f32>(-1e30);
         var behind = 0u;
@@ -298,36 +302,43 @@ fn cull_from_point(ci: u32, culling: bool, clamping: bool) {
         }
         let origin = face_origin(f);
         let top = vec2<i32>(origin) + vec2<i32>(i32(FACE_CELLS) - 1);
-        let first = clamp(cell_of(origin + (lo * 0.5 + 0.5) * FACE_CELLS - 1e-3), vec2<i32>(origin), top);
-        let last = clamp(cell_of(origin + (hi * 0.5 + 0.5) * FACE_CELLS + 1e-3), vec2<i32>(origin), top);
-        let span = last - first + 1;
-        if (span.x * span.y > MAX_CELLS) {
-            whole = true;
-            break;
-        }
-        for (var y = first.y; y <= last.y; y++) {
-            for (var x = first.x; x <= last.x; x++) {
-                let deepest = atomicLoad(&grid[grid_word(0u, vec2<i32>(x, y), true)]);
-                if (deepest == 0u || bitcast<f32>(deepest) - 1.0 + pad < nearest) {
-                    continue;
+        first[f] = clamp(cell_of(origin + (lo * 0.5 + 0.5) * FACE_CELLS - 1e-3), vec2<i32>(origin), top);
+        last[f] = clamp(cell_of(origin + (hi * 0.5 + 0.5) * FACE_CELLS + 1e-3), vec2<i32>(origin), top);
+        let span = last[f] - first[f] + 1;
+        whole = span.x * span.y > MAX_CELLS;
+    }
+    var found: array<vec2<f32>, MAX_SLICES>;
+    var n = 0u;
+    for (var slice = 0u; slice < volume.slices.x && !whole; slice++) {
+        var near = 1e30;
+        var deep = -1.0;
+        for (var f = 0u; f < 6u; f++) {
+            for (var y = first[f].y; y <= last[f].y; y++) {
+                for (var x = first[f].x; x <= last[f].x; x++) {
+                    let deepest = atomicLoad(&grid[grid_word(slice, vec2<i32>(x, y), true)]);
+                    if (deepest == 0u || bitcast<f32>(deepest) - 1.0 + pad < nearest) {
+                        continue;
+                    }
+                    let shallowest = ~atomicLoad(&grid[grid_word(slice, vec2<i32>(x, y), false)]);
+                    near = min(near, bitcast<f32>(shallowest) - 1.0);
+                    deep = max(deep, bitcast<f32>(deepest) - 1.0);
                 }
-                let shallowest = ~atomicLoad(&grid[grid_word(0u, vec2<i32>(x, y), false)]);
-                near = min(near, bitcast<f32>(shallowest) - 1.0);
-                deep = max(deep, bitcast<f32>(deepest) - 1.0);
             }
+        }
+        if (deep >= 0.0) {
+            found[n] = vec2<f32>(max(near, nearest), deep);
+            n++;
         }
     }
     var count = 0u;
     if (whole) {
         count = whole_or_a_centimetre(ci, false);
-    } else if (deep >= 0.0 && clamping) {
-        let start = max(max(near, nearest) - farthest - pad, 0.0);
-        let cosine = sqrt(1.0 - sine * sine);
-        let end = min((deep + 2.0 * pad + 1e-2) / cosine - nearest, volume.to_light.w);
-        intervals[ci * MAX_INTERVALS] = vec2<f32>(select(start, 0.0, start < 1e-2), end);
-        count = 1u;
-    } else if (deep >= 0.0 || !culling) {
-        count = whole_or_a_centimetre(ci, clamping && deep < 0.0);
+    } else if (n > 0u && clamping) {
+        let reach = vec3<f32>(pad, nearest, farthest);
+        count = merged_intervals(ci, &found, n, array<vec3<f32>, 3>(b.min, b.max, reach));
+        count = within_room(ci, count);
+    } else if (n > 0u || !culling) {
+        count = whole_or_a_centimetre(ci, clamping && n == 0u);
     }
     keep_caster(ci, count, counts_z_pass_from_point(b));
 }
@@ -418,16 +429,16 @@ fn new_interval_vertices(ci: u32) -> f32 {
 // overlap or touch, then those whose gap costs fewer pixels than a new interval would: the
 // two caps that would bound it and its vertices at the calibrated pixels per vertex (Lloyd's
 // V > R rule; areas are picture boxes), then the ones with the smallest gaps until at most
-// MAX_INTERVALS are left, and writes them as extrusion distances for caster `ci` (`box`: the caster's box in
-// the light's frame, lo and hi, and its padding). Returns how many.
+// MAX_INTERVALS are left, and writes them as extrusion distances for caster `ci` (`box`: for
+// the sun, the caster's box in the light's frame, lo and hi, and its padding; for a point
+// light, its box in the world and its padding, nearest and farthest distance from the light,
+// xyz). Returns how many.
 fn merged_intervals(
     ci: u32,
     found: ptr<function, array<vec2<f32>, MAX_SLICES>>,
     n: u32,
     box: array<vec3<f32>, 3>,
 ) -> u32 {
-    let lo = box[0];
-    let hi = box[1];
     let pad = box[2].x;
     for (var i = 1u; i < n; i++) {
         let item = (*found)[i];
@@ -444,8 +455,8 @@ fn merged_intervals(
         var merge = m > 0u && next.x <= (*found)[m - 1u].y + 2.0 * pad;
         if (m > 0u && !merge) {
             let end = (*found)[m - 1u].y;
-            let gap = column_pixels(lo.xy, hi.xy, end, next.x);
-            let caps = column_pixels(lo.xy, hi.xy, end, end) + column_pixels(lo.xy, hi.xy, next.x, next.x);
+            let gap = interval_pixels(box, end, next.x);
+            let caps = interval_pixels(box, end, end) + interval_pixels(box, next.x, next.x);
             merge = gap <= caps + new_interval_vertices(ci) * volume.cell.y;
         }
         if (merge) {
@@ -469,12 +480,60 @@ fn merged_intervals(
         m--;
     }
     for (var i = 0u; i < m; i++) {
-        let depths = (*found)[i];
-        let start = max(depths.x - hi.z - pad, 0.0);
-        let end = min(depths.y - lo.z + 2.0 * pad + 1e-2, volume.to_light.w);
-        intervals[ci * MAX_INTERVALS + i] = vec2<f32>(select(start, 0.0, start < 1e-2), end);
+        intervals[ci * MAX_INTERVALS + i] = extrusions((*found)[i], box);
     }
     return m;
+}
+
+// The extrusion distances that cover the depths `depths` (along the sun, or from the point
+// light) from every vertex of a caster's `box` (as `merged_intervals` takes it): from the
+// farthest vertex's start to past the nearest vertex's end; for a point light, the end moved
+// out by the cosine of the box's angular radius, as its flat caps sag towards the light.
+fn extrusions(depths: vec2<f32>, box: array<vec3<f32>, 3>) -> vec2<f32> {
+    var start: f32;
+    var end: f32;
+    if (from_point()) {
+        let pad = box[2].x;
+        let nearest = box[2].y;
+        let farthest = box[2].z;
+        let centre = 0.5 * (box[0] + box[1]);
+        let sine = 0.5 * length(box[1] - box[0]) / max(length(centre - volume.point.xyz), 1e-6);
+        let cosine = sqrt(max(1.0 - sine * sine, 0.5));
+        start = max(depths.x - farthest - pad, 0.0);
+        end = (depths.y + 2.0 * pad + 1e-2) / cosine - nearest;
+    } else {
+        let pad = box[2].x;
+        start = max(depths.x - box[1].z - pad, 0.0);
+        end = depths.y - box[0].z + 2.0 * pad + 1e-2;
+    }
+    return vec2<f32>(select(start, 0.0, start < 1e-2), min(end, volume.to_light.w));
+}
+
+// The pixels of the picture's box around where a caster's volume lies between depths `near`
+// and `far`: the sun's column (`column_pixels`), or for a point light the caster's box
+// (`box`: its world corners and reach, as `merged_intervals` takes it) pushed out from the
+// light to those distances.
+fn interval_pixels(box: array<vec3<f32>, 3>, near: f32, far: f32) -> f32 {
+    if (!from_point()) {
+        return column_pixels(box[0].xy, box[1].xy, near, far);
+    }
+    let size = vec2<f32>(textureDimensions(surface_ids));
+    let light = volume.point.xyz;
+    var a = vec2<f32>(1e30);
+    var b = vec2<f32>(-1e30);
+    for (var k = 0u; k < 16u; k++) {
+        let d = normalize(corner(box[0], box[1], k % 8u) - light);
+        let p = light + d * select(near, far, k >= 8u);
+        let clip = frame.clip_from_world * vec4<f32>(p, 1.0);
+        if (clip.w <= 0.0) {
+            return size.x * size.y;
+        }
+        let ndc = clamp(clip.xy / clip.w, vec2<f32>(-1.0), vec2<f32>(1.0));
+        a = min(a, ndc);
+        b = max(b, ndc);
+    }
+    let extent = (b - a) * 0.5 * size;
+    return extent.x * extent.y;
 }
 
 // Whether a box reaches past the camera's far plane.

@@ -51,7 +51,13 @@ pub(super) fn uniforms(
         ((x.1 - x.0).max(y.1 - y.0) / RECEIVER_GRID as f32).max(1e-3)
     };
     let clamp = input.volumes.clamp;
-    let slicing = slicing(input.camera, input.aspect, to_light);
+    // A point light's rays cross planes through the eye that hold the axis across the view
+    // and the way to the light, in turn, as the sun's cross the sun's slicing planes.
+    let slicing = slicing(
+        input.camera,
+        input.aspect,
+        point.map_or(to_light, |p| (p - input.camera.eye).normalize_or(to_light)),
+    );
     // The near rectangle's box in the light's frame, as `in_light` places points.
     let near = input.camera.frustum_corners_world(
         f64::from(input.aspect),
@@ -94,7 +100,7 @@ pub(super) fn uniforms(
         near_lo: near_lo.extend(0.0).to_array(),
         near_hi: near_hi.extend(0.0).to_array(),
         slicing,
-        slices: [if point.is_some() { 1 } else { slices }, 0, 0, 0],
+        slices: [slices, 0, 0, 0],
         point: point.map_or([0.0; 4], |p| p.extend(1.0).to_array()),
         near_planes: point.map_or([[0.0, 0.0, 0.0, 1.0]; 5], |p| {
             let near: Vec<Vec3> = near[..4].iter().map(|c| c.as_vec3()).collect();

@@ -102,6 +102,11 @@ fn counts(ui: &mut egui::Ui, report: &FrameReport) {
                 },
             );
             grid::row(ui, "Vs exact: missing / extra", exact);
+            // Of those, the pixels with no edge of the exact picture next to them: wrong
+            // shadow that no sampling of an edge explains.
+            if let Some(off) = report.exact_error.and_then(|e| e.off_edge_px) {
+                grid::row(ui, "Vs exact: off edges", thousands(off.into()));
+            }
         }
         if let Some(u) = report.undersampling {
             grid::row(

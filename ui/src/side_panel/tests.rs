@@ -102,11 +102,13 @@ fn report(frame_index: u64) -> FrameReport {
             missing_shadow_px: 12,
             extra_shadow_px: 3,
             visible_px: 65_432,
+            off_edge_px: None,
         }),
         exact_error: Some(ShadowError {
             missing_shadow_px: 1_712,
             extra_shadow_px: 408,
             visible_px: 61_020,
+            off_edge_px: Some(96),
         }),
         measured_frame_index: frame_index.checked_sub(1),
         ..FrameReport::default()
