@@ -1,8 +1,9 @@
-// Stencil shadow volumes of the sun, first step (volumes/mod.rs): per caster, the edges whose
+// Stencil shadow volumes, first step (volumes/mod.rs): per caster, the edges whose
 // quad is extruded (the silhouette, from the edge adjacency of volumes/edges.rs) and the
 // triangles that cap the volume, appended as records that the draw passes
 // (volumes/draw.wgsl) turn into triangles.
 #import volumes/common.wgsl
+#import volumes/point_light.wgsl
 #import culling/codes.wgsl
 
 // vertex_count, instance_count, first_vertex, first_instance; quads then caps.
@@ -43,52 +44,6 @@ fn in_light(p: vec3<f32>) -> vec3<f32> {
         dot(p, volume.up.xyz) - volume.up.w,
         dot(p, volume.travel.xyz) - volume.travel.w,
     );
-}
-
-// A point light's receiver grid: the six faces of a cube around the light, each a tile of
-// FACE_CELLS cells a side in the grid, tiled three across and two down; a point's place
-// across the light is its cell coordinate (the grid's cell size is 1) and its depth its
-// distance from the light.
-const FACE_CELLS: f32 = 85.0;
-
-// Face `f` of the cube: the axis it faces along (x, y, z: 0, 1, 2) and its sign.
-fn face_axis(f: u32) -> u32 {
-    return f / 2u;
-}
-
-fn face_sign_of(f: u32) -> f32 {
-    return select(1.0, -1.0, (f & 1u) != 0u);
-}
-
-// `d` (from the light) on face `f`: the two other axes over its distance along the face's
-// own (xy, from -1 to 1 inside the face), and that distance (z).
-fn on_face(d: vec3<f32>, f: u32) -> vec3<f32> {
-    let k = face_axis(f);
-    let m = d[k] * face_sign_of(f);
-    let a = select(0u, 1u, k == 0u);
-    let b = select(2u, 1u, k == 2u);
-    return vec3<f32>(d[a] / m, d[b] / m, m);
-}
-
-// Where face `f`'s tile starts in the grid, in cells.
-fn face_origin(f: u32) -> vec2<f32> {
-    return vec2<f32>(f32(f % 3u), f32(f / 3u)) * FACE_CELLS;
-}
-
-// A point in a point light's frame (as `in_light` places points for the sun).
-fn in_point_light(p: vec3<f32>) -> vec3<f32> {
-    let d = p - volume.point.xyz;
-    let s = abs(d);
-    var k = 2u;
-    if (s.x >= s.y && s.x >= s.z) {
-        k = 0u;
-    } else if (s.y >= s.z) {
-        k = 1u;
-    }
-    let f = 2u * k + select(0u, 1u, d[k] < 0.0);
-    let uv = clamp(on_face(d, f).xy, vec2<f32>(-1.0), vec2<f32>(1.0));
-    let cell = face_origin(f) + min((uv * 0.5 + 0.5) * FACE_CELLS, vec2<f32>(FACE_CELLS - 0.5));
-    return vec3<f32>(cell, length(d));
 }
 
 fn cell_of(p: vec2<f32>) -> vec2<i32> {
@@ -249,118 +204,6 @@ fn keep_caster(ci: u32, count: u32, z_pass: bool) {
             atomicAdd(&counters[0], 1u);
         }
     }
-}
-
-// `cull_casters` for a point light: the caster's box seen from the light covers, on each
-// cube face it reaches, the box of its corners' places there (all of the face where the box
-// crosses the face's plane); per slice of the view (planes through the eye that the light's
-// rays cross in turn, as the sun's), the visible receiver points in those cells, as far from
-// the light as the box's nearest point or further, give an occupied interval of distances,
-// merged as the sun's are (`merged_intervals`). A volume goes to infinity unless clamped;
-// clamped, its end caps, flat between points at an interval's end, are moved out by the
-// cosine of the box's angular radius so that they sag no nearer than the interval's end,
-// and a box too close to the light for that (over 45 degrees) keeps its whole volume.
-fn cull_from_point(ci: u32, culling: bool, clamping: bool) {
-    let b = bounds[casters[ci].instance];
-    let light = volume.point.xyz;
-    let nearest = length(clamp(light, b.min, b.max) - light);
-    var farthest = 0.0;
-    for (var k = 0u; k < 8u; k++) {
-        farthest = max(farthest, length(box_corner(b, k) - light));
-    }
-    let centre = 0.5 * (b.min + b.max);
-    let sine = 0.5 * length(b.max - b.min) / max(length(centre - light), 1e-6);
-    let pad = 1e-3 + farthest * 1e-5;
-    var whole = nearest <= pad || sine > 0.7071 || (!culling && !clamping);
-    // Per face, the cells the box covers: first and last.
-    var first: array<vec2<i32>, 6>;
-    var last: array<vec2<i32>, 6>;
-    for (var f = 0u; f < 6u && !whole; f++) {
-        first[f] = vec2<i32>(1);
-        last[f] = vec2<i32>(0);
-        var lo = vec2<f32>(1e30);
-        var hi = vec2<f32>(-1e30);
-        var behind = 0u;
-        for (var k = 0u; k < 8u; k++) {
-            let q = on_face(box_corner(b, k) - light, f);
-            if (q.z <= 1e-4) {
-                behind++;
-            } else {
-                lo = min(lo, q.xy);
-                hi = max(hi, q.xy);
-            }
-        }
-        if (behind == 8u) {
-            continue;
-        }
-        if (behind > 0u) {
-            lo = vec2<f32>(-1.0);
-            hi = vec2<f32>(1.0);
-        }
-        if (any(lo > vec2<f32>(1.0)) || any(hi < vec2<f32>(-1.0))) {
-            continue;
-        }
-        let origin = face_origin(f);
-        let top = vec2<i32>(origin) + vec2<i32>(i32(FACE_CELLS) - 1);
-        first[f] = clamp(cell_of(origin + (lo * 0.5 + 0.5) * FACE_CELLS - 1e-3), vec2<i32>(origin), top);
-        last[f] = clamp(cell_of(origin + (hi * 0.5 + 0.5) * FACE_CELLS + 1e-3), vec2<i32>(origin), top);
-        let span = last[f] - first[f] + 1;
-        whole = span.x * span.y > MAX_CELLS;
-    }
-    var found: array<vec2<f32>, MAX_SLICES>;
-    var n = 0u;
-    for (var slice = 0u; slice < volume.slices.x && !whole; slice++) {
-        var near = 1e30;
-        var deep = -1.0;
-        for (var f = 0u; f < 6u; f++) {
-            for (var y = first[f].y; y <= last[f].y; y++) {
-                for (var x = first[f].x; x <= last[f].x; x++) {
-                    let deepest = atomicLoad(&grid[grid_word(slice, vec2<i32>(x, y), true)]);
-                    if (deepest == 0u || bitcast<f32>(deepest) - 1.0 + pad < nearest) {
-                        continue;
-                    }
-                    let shallowest = ~atomicLoad(&grid[grid_word(slice, vec2<i32>(x, y), false)]);
-                    near = min(near, bitcast<f32>(shallowest) - 1.0);
-                    deep = max(deep, bitcast<f32>(deepest) - 1.0);
-                }
-            }
-        }
-        if (deep >= 0.0) {
-            found[n] = vec2<f32>(max(near, nearest), deep);
-            n++;
-        }
-    }
-    var count = 0u;
-    if (whole) {
-        count = whole_or_a_centimetre(ci, false);
-    } else if (n > 0u && clamping) {
-        let reach = vec3<f32>(pad, nearest, farthest);
-        count = merged_intervals(ci, &found, n, array<vec3<f32>, 3>(b.min, b.max, reach));
-        count = within_room(ci, count);
-    } else if (n > 0u || !culling) {
-        count = whole_or_a_centimetre(ci, clamping && n == 0u);
-    }
-    keep_caster(ci, count, counts_z_pass_from_point(b));
-}
-
-// DOOM 3's test for a point light: a volume can hold a point of the camera's near rectangle
-// only where the segment from the light to that point crosses the caster, inside the pyramid
-// from the light to the rectangle; a box wholly outside one of the pyramid's planes cannot.
-fn counts_z_pass_from_point(b: InstanceBounds) -> bool {
-    if (volume.options.w != 0u) {
-        return volume.options.w == 1u;
-    }
-    for (var i = 0u; i < 5u; i++) {
-        let plane = volume.near_planes[i];
-        var outside = true;
-        for (var k = 0u; k < 8u; k++) {
-            outside = outside && dot(plane.xyz, box_corner(b, k)) + plane.w < 0.0;
-        }
-        if (outside) {
-            return true;
-        }
-    }
-    return false;
 }
 
 // The record buffers hold one interval of every caster and as many again: a caster's
