@@ -144,11 +144,12 @@ impl ExactShadow {
     }
 
     /// As [`ExactShadow::error_of`], and a differing pixel whose neighbours all agree with it
-    /// is on an edge too where the truth changes inside it: at one of
-    /// `SUBPIXELS` x `SUBPIXELS` points spread over the pixel (a gap between two shadows, or
-    /// a shadow, narrower than a pixel). `rays` are the scene's as the view was cast.
+    /// is on an edge too where the truth changes inside it: at one of a grid of
+    /// `SUBPIXELS` x `SUBPIXELS` points over the pixel, its sides included (a gap between two
+    /// shadows, or a shadow, narrower than a pixel: the corridor's struts leave lit specks an
+    /// eighth of a pixel wide). `rays` are the scene's as the view was cast.
     pub fn error_within(&self, rays: &SceneRays, light: &[f32]) -> ShadowError {
-        const SUBPIXELS: u32 = 4;
+        const SUBPIXELS: u32 = 9;
         let mut error = self.error_of(light);
         let view = PixelRays::of(&self.key);
         let width = self.key.width.max(1);
@@ -161,7 +162,7 @@ impl ExactShadow {
             let own = self.pixels[pixel as usize];
             let (x, y) = ((pixel % width) as f32, (pixel / width) as f32);
             let inside = (0..SUBPIXELS * SUBPIXELS).any(|k| {
-                let at = |j: u32| (j as f32 + 0.5) / SUBPIXELS as f32;
+                let at = |j: u32| j as f32 / (SUBPIXELS - 1) as f32;
                 let (truth, _, _) = view.truth_at(
                     rays,
                     &self.key,
