@@ -29,6 +29,15 @@ run shot builtin:city --size 1280x720 \
 run shot builtin:city --size 1280x720 \
     --eye=-330,3.5,8 --target=-200,12,8 --shadow volumes --method bvol --volume-clamp continuous \
     --overlay fill --out screenshots/city-fill-cc.png --stats screenshots/city-fill-cc.json
+run shot builtin:corridor --light point --size 1280x720 \
+    --eye=-30,1.7,-3.5 --target=-10,1,2 --shadow volumes --method bvol \
+    --out screenshots/corridor.png --stats screenshots/corridor.json
+run shot builtin:corridor --light point --size 1280x720 \
+    --eye=-30,1.7,-3.5 --target=-10,1,2 --shadow volumes --method none --volume-clamp none \
+    --overlay fill --out screenshots/corridor-fill-standard.png --stats screenshots/corridor-fill-standard.json
+run shot builtin:corridor --light point --size 1280x720 \
+    --eye=-30,1.7,-3.5 --target=-10,1,2 --shadow volumes --method bvol --volume-clamp continuous \
+    --overlay fill --out screenshots/corridor-fill-cc.png --stats screenshots/corridor-fill-cc.json
 run shot builtin:robots --size 1280x720 \
     --eye=-28,1.7,0 --target=0,1.7,-3 --shadow volumes --method bvol --overlay volumes \
     --out screenshots/robots-volumes.png --stats screenshots/robots-volumes.json
