@@ -528,6 +528,21 @@ fn discrete_clamping_skips_the_empty_space_between_receivers_and_changes_no_pixe
             "{slices} slices: fill {fill} against continuous {one_fill}"
         );
     }
+    // Exact clamping, the limit: only the platform and the ground that the caster's own
+    // faces shadow; its top faces the sun, so nothing is drawn from the caster down to the
+    // platform.
+    let (_, _, exact_light, limit, spans) = run(VolumeClamp::Exact, 1);
+    let covers = |span: [f32; 2], from: f32, to: f32| span[0] <= from && span[1] >= to;
+    assert!(
+        spans.len() == 2
+            && spans[0][0] > 8.0
+            && covers(spans[0], 9.9, 10.9)
+            && covers(spans[1], 18.3, 19.3)
+            && spans[0][1] < spans[1][0],
+        "{spans:?}"
+    );
+    assert_eq!(differing(&exact_light, &standard), 0);
+    assert!(limit.volume_fill.expect("fill").fragments < one.volume_fill.expect("fill").fragments);
 }
 
 #[test]

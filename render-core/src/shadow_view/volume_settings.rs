@@ -22,14 +22,19 @@ pub enum VolumeClamp {
     /// Discrete clamping with every cell the box touches (Lloyd's conservative variant,
     /// 3.2.3): never loses an occupied interval.
     Conservative,
+    /// The limit (Lloyd's `CCe`): per caster, the depths of the visible receiver points its
+    /// own triangles shadow, by a ray from each point to the light on the CPU
+    /// (`volumes/exact.rs`). Seconds per frame: a measure of what clamping could save.
+    Exact,
 }
 
 impl VolumeClamp {
-    pub const ALL: [Self; 4] = [
+    pub const ALL: [Self; 5] = [
         Self::None,
         Self::Continuous,
         Self::Discrete,
         Self::Conservative,
+        Self::Exact,
     ];
 
     pub fn name(self) -> &'static str {
@@ -38,13 +43,14 @@ impl VolumeClamp {
             Self::Continuous => "continuous",
             Self::Discrete => "discrete",
             Self::Conservative => "conservative",
+            Self::Exact => "exact",
         }
     }
 
     /// The strips of the view this clamping tells receivers apart by.
     pub fn slices(self, settings: &VolumeSettings) -> u32 {
         match self {
-            Self::None | Self::Continuous => 1,
+            Self::None | Self::Continuous | Self::Exact => 1,
             Self::Discrete | Self::Conservative => {
                 settings.slices.clamp(1, VolumeSettings::MAX_SLICES)
             }
@@ -62,7 +68,7 @@ impl std::str::FromStr for VolumeClamp {
             .ok_or_else(|| {
                 format!(
                     "unknown volume clamping '{s}' (available: none, continuous, discrete, \
-                     conservative)"
+                     conservative, exact)"
                 )
             })
     }

@@ -237,6 +237,39 @@ impl SceneRays {
     }
 }
 
+impl SceneRays {
+    /// Calls `found` once with every casting instance that has a triangle (either side) on
+    /// the ray from `origin` towards `direction` between `t_min` and `t_max`.
+    pub fn blockers(
+        &self,
+        origin: Vec3,
+        direction: Vec3,
+        (t_min, t_max): (f32, f32),
+        mut found: impl FnMut(u32),
+    ) {
+        if self.placed.is_empty() {
+            return;
+        }
+        let ray = Ray::new(origin.into(), direction.into(), t_min, t_max);
+        self.instances.ray_traverse_anyhit(ray, |world_ray, slot| {
+            let placed = &self.placed[self.instances.primitive_indices[slot] as usize];
+            let Some(tree) = self.meshes[placed.mesh as usize]
+                .as_ref()
+                .filter(|_| placed.casts_shadow)
+            else {
+                return;
+            };
+            let local = local_ray(placed, world_ray);
+            let missed = tree.bvh.ray_traverse_miss(local, |r, id| {
+                tree.triangles[tree.bvh.primitive_indices[id] as usize].intersect(r)
+            });
+            if !missed {
+                found(placed.instance);
+            }
+        });
+    }
+}
+
 /// The ray in the instance's own space; its parameter `t` is the same point in both.
 fn local_ray(placed: &Placed, ray: &Ray) -> Ray {
     let origin = placed

@@ -7,7 +7,8 @@ struct VolumeFrame {
     // x: edge work items, y: triangle work items, z: casters; w: the outcome code of a
     // culled caster.
     counts: vec4<u32>,
-    // x: instances; y: bit 0 culling, bit 1 clamping (volumes/find.wgsl); z: the receiver
+    // x: instances; y: bit 0 culling, bit 1 clamping, bit 2 cell centres only, bit 3 the
+    // CPU's exact intervals (volumes/find.wgsl); z: the receiver
     // grid's side in cells; w: how volumes count (0: per caster, 1: all z-pass, 2: all
     // z-fail).
     options: vec4<u32>,

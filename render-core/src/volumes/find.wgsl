@@ -142,9 +142,11 @@ fn cull_casters(@builtin(global_invocation_id) id: vec3<u32>) {
     let span = max(last - first + 1, vec2<i32>(0));
     var found: array<vec2<f32>, MAX_SLICES>;
     var n = 0u;
-    if (span.x * span.y > MAX_CELLS || (!culling && !clamping)) {
+    if ((span.x * span.y > MAX_CELLS && !given()) || (!culling && !clamping)) {
         found[0] = vec2<f32>(lo.z, 1e30);
         n = 1u;
+    } else if (given()) {
+        n = given_intervals(ci, lo.z, &found);
     } else {
         for (var slice = 0u; slice < volume.slices.x; slice++) {
             var near = 1e30;
@@ -181,6 +183,27 @@ fn cull_casters(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let z_pass = counts_z_pass(lo - pad, hi + pad, reach);
     keep_caster(ci, count, z_pass);
+}
+
+// Exact clamping (options.y bit 3, volumes/exact.rs): the CPU has written each caster's
+// occupied depths into its interval slots, ended by one whose end is negative.
+fn given() -> bool {
+    return (volume.options.y & 8u) != 0u;
+}
+
+// Caster `ci`'s occupied depths as exact clamping gives them, into `found`, each starting no
+// nearer than `nearest` (the caster's). Returns how many.
+fn given_intervals(ci: u32, nearest: f32, found: ptr<function, array<vec2<f32>, MAX_SLICES>>) -> u32 {
+    var n = 0u;
+    for (var r = 0u; r < MAX_INTERVALS; r++) {
+        let depths = intervals[ci * MAX_INTERVALS + r];
+        if (depths.y < 0.0) {
+            break;
+        }
+        (*found)[n] = vec2<f32>(max(depths.x, nearest), depths.y);
+        n++;
+    }
+    return n;
 }
 
 // Not clamped, or clamped without culling where no receiver lies under the box: the whole

@@ -85,7 +85,8 @@ pub(super) fn uniforms(
             scene.instances,
             u32::from(method != Method::None)
                 | (u32::from(clamp != VolumeClamp::None) << 1)
-                | (u32::from(clamp == VolumeClamp::Discrete) << 2),
+                | (u32::from(clamp == VolumeClamp::Discrete) << 2)
+                | (u32::from(clamp == VolumeClamp::Exact) << 3),
             RECEIVER_GRID,
             match input.volumes.pass {
                 VolumePassChoice::Auto => 0,

@@ -18,6 +18,7 @@
 
 mod calibrate;
 pub mod edges;
+mod exact;
 mod fill;
 mod frame;
 mod pipelines;
@@ -83,6 +84,9 @@ pub struct VolumeTechnique {
     method: Method,
     /// The slices of the view this frame's receivers are told apart by.
     slices: u32,
+    /// Exact clamping's trees, and this frame's light frame along the light.
+    exact: exact::ExactClamp,
+    travel: [f32; 4],
 
     /// The counters of the frames in flight, and the newest that came back: (frame, casters
     /// kept, of which z-pass, intervals drawn).
@@ -219,6 +223,8 @@ impl VolumeTechnique {
             excluded: Vec::new(),
             method: Method::None,
             slices: 1,
+            exact: exact::ExactClamp::default(),
+            travel: [0.0; 4],
             readback: AsyncReadback::new(device, "Volumes::counters_readback", 32, 3),
             latest: None,
             fill_counted: false,
@@ -340,6 +346,7 @@ impl ShadowTechnique for VolumeTechnique {
             (_, None) => calibrate::pixels_per_vertex(ctx, self.format),
         };
         let uniforms = frame::uniforms(input, scene, self.method, (self.slices, pixels_per_vertex));
+        self.travel = uniforms.travel;
         ctx.queue
             .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&uniforms));
         Vec::new()
@@ -375,6 +382,11 @@ impl ShadowTechnique for VolumeTechnique {
                 ],
             });
         encoder.clear_buffer(&scene.grid, 0, Some(scene::grid_bytes(self.slices)));
+        if input.volumes.clamp == VolumeClamp::Exact {
+            let size = (draw.targets.width, draw.targets.height);
+            self.exact
+                .write(draw.ctx, input, scene, (size, self.travel));
+        }
         let scope = draw
             .timer
             .open_scope(pass_label::VOLUME_SILHOUETTES, encoder);

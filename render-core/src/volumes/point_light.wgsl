@@ -101,11 +101,14 @@ fn cull_from_point(ci: u32, culling: bool, clamping: bool) {
         first[f] = clamp(cell_of(origin + (lo * 0.5 + 0.5) * FACE_CELLS - 1e-3), vec2<i32>(origin), top);
         last[f] = clamp(cell_of(origin + (hi * 0.5 + 0.5) * FACE_CELLS + 1e-3), vec2<i32>(origin), top);
         let span = last[f] - first[f] + 1;
-        whole = span.x * span.y > MAX_CELLS;
+        whole = span.x * span.y > MAX_CELLS && !given();
     }
     var found: array<vec2<f32>, MAX_SLICES>;
     var n = 0u;
-    for (var slice = 0u; slice < volume.slices.x && !whole; slice++) {
+    if (given() && !whole) {
+        n = given_intervals(ci, nearest, &found);
+    }
+    for (var slice = 0u; slice < volume.slices.x && !whole && !given(); slice++) {
         var near = 1e30;
         var deep = -1.0;
         for (var f = 0u; f < 6u; f++) {

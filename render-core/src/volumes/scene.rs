@@ -154,7 +154,7 @@ impl SceneVolumes {
         let intervals = storage_buffer(
             "Volumes::intervals",
             u64::from(casters.len() as u32) * u64::from(MAX_INTERVALS) * 8,
-            wgpu::BufferUsages::COPY_SRC,
+            wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
         );
         let grid = storage_buffer(
             "Volumes::receiver_grid",

@@ -23,8 +23,9 @@ const CLAMP_HELP: &str = "Where each shadow volume is drawn along the light. non
     points under the caster (Lloyd's clamping), so no volume fills the empty space around \
     them. discrete: the view cut into slices, and per slice an interval, up to four per \
     volume; its test samples cell centres and can lose a shadow. conservative: discrete \
-    clamping that never does. The method none draws every volume; any other culls those with \
-    no visible receiver point under them";
+    clamping that never does. exact: the limit (Lloyd's CCe), each caster's own shadowed \
+    receiver points found by rays on the CPU, seconds per frame. The method none draws every \
+    volume; any other culls those with no visible receiver point under them";
 const SLICES_HELP: &str = "Discrete clamping's slices: strips of the view between planes \
     through the eye (Lloyd's K). More slices find more empty space between receivers";
 const PASS_HELP: &str = "How the stencil counts each shadow volume. auto: z-pass (counted in \
