@@ -256,7 +256,6 @@ fn neighbours(x: u32, y: u32, width: u32, height: u32) -> impl Iterator<Item = u
         .map(move |(nx, ny)| (ny * i64::from(width) + nx) as usize)
 }
 
-/// Rows `0..height` computed on every core; returned in order.
 /// For each point, whether `camera` (its picture `aspect` = width / height) sees it: inside
 /// its view frustum, and the first surface along the camera's ray to it (within a
 /// ten-thousandth of its depth and a millimetre).
@@ -298,7 +297,8 @@ pub fn seen_from(
     .collect()
 }
 
-fn rows_in_parallel<T: Send>(height: u32, row: impl Fn(u32) -> T + Sync) -> Vec<T> {
+/// `row(y)` for every `y` in `0..height` on every core; returned in order.
+pub(crate) fn rows_in_parallel<T: Send>(height: u32, row: impl Fn(u32) -> T + Sync) -> Vec<T> {
     let threads = std::thread::available_parallelism().map_or(1, std::num::NonZero::get);
     let next = std::sync::atomic::AtomicU32::new(0);
     let mut done: Vec<(u32, T)> = std::thread::scope(|s| {

@@ -15,7 +15,7 @@ use crate::geom::Camera;
 use crate::gpu::GpuContext;
 use crate::scene::{Scene, ShadowLight};
 use crate::technique::TechniqueInput;
-use crate::truth::{ExactShadow, SceneRays, ViewKey, offset_from_surface};
+use crate::truth::{ExactShadow, SceneRays, ViewKey, offset_from_surface, rows_in_parallel};
 
 /// The trees of the scene the intervals are cast through, built on first use.
 #[derive(Default)]
@@ -120,40 +120,28 @@ fn shadowing_casters(
     let shadowed: Vec<usize> = (0..exact.points.len())
         .filter(|&i| exact.shadowed(i))
         .collect();
-    let next = std::sync::atomic::AtomicUsize::new(0);
-    let threads = std::thread::available_parallelism().map_or(1, std::num::NonZero::get);
-    std::thread::scope(|s| {
-        let workers: Vec<_> = (0..threads)
-            .map(|_| {
-                s.spawn(|| {
-                    let mut found = Vec::new();
-                    loop {
-                        let start = next.fetch_add(CHUNK, std::sync::atomic::Ordering::Relaxed);
-                        if start >= shadowed.len() {
-                            break found;
-                        }
-                        for &i in &shadowed[start..(start + CHUNK).min(shadowed.len())] {
-                            let point = &exact.points[i];
-                            let p = Vec3::from_slice(&point.position[..3]);
-                            let n = Vec3::from_slice(&point.normal[..3]);
-                            let depth = (view.depth_of)(p);
-                            let (towards, distance) = view.light.towards(p);
-                            let origin = offset_from_surface(p, n);
-                            rays.blockers(origin, towards, (0.0, distance), |instance| {
-                                if let Some(Some(caster)) = caster_of.get(instance as usize) {
-                                    found.push((*caster, depth));
-                                }
-                            });
-                        }
-                    }
-                })
-            })
-            .collect();
-        workers
-            .into_iter()
-            .flat_map(|w| w.join().expect("an exact-clamping thread panicked"))
-            .collect()
+    let chunks = shadowed.len().div_ceil(CHUNK) as u32;
+    rows_in_parallel(chunks, |c| {
+        let start = c as usize * CHUNK;
+        let mut found = Vec::new();
+        for &i in &shadowed[start..(start + CHUNK).min(shadowed.len())] {
+            let point = &exact.points[i];
+            let p = Vec3::from_slice(&point.position[..3]);
+            let n = Vec3::from_slice(&point.normal[..3]);
+            let depth = (view.depth_of)(p);
+            let (towards, distance) = view.light.towards(p);
+            let origin = offset_from_surface(p, n);
+            rays.blockers(origin, towards, (0.0, distance), |instance| {
+                if let Some(Some(caster)) = caster_of.get(instance as usize) {
+                    found.push((*caster, depth));
+                }
+            });
+        }
+        found
     })
+    .into_iter()
+    .flatten()
+    .collect()
 }
 
 /// The occupied intervals of one caster's `depths`: cut at the largest gaps into at most
