@@ -263,20 +263,36 @@ fn from_light(p: vec3<f32>) -> vec3<f32> {
 // light) between depths `near` and `far` along it; a column that reaches behind the eye
 // counts as the whole picture.
 fn column_pixels(lo: vec2<f32>, hi: vec2<f32>, near: f32, far: f32) -> f32 {
-    let size = vec2<f32>(textureDimensions(surface_ids));
-    var a = vec2<f32>(1e30);
-    var b = vec2<f32>(-1e30);
+    var bounds = vec4<f32>(1e30, 1e30, -1e30, -1e30);
     for (var k = 0u; k < 8u; k++) {
         let p = corner(vec3<f32>(lo, near), vec3<f32>(hi, far), k);
-        let clip = frame.clip_from_world * vec4<f32>(from_light(p), 1.0);
-        if (clip.w <= 0.0) {
-            return size.x * size.y;
+        if (!grow_picture_box(from_light(p), &bounds)) {
+            return whole_picture_pixels();
         }
-        let ndc = clamp(clip.xy / clip.w, vec2<f32>(-1.0), vec2<f32>(1.0));
-        a = min(a, ndc);
-        b = max(b, ndc);
     }
-    let extent = (b - a) * 0.5 * size;
+    return picture_box_pixels(bounds);
+}
+
+// Grows `bounds` (NDC: min xy, max xy) by world point `p` in the picture, clamped to it;
+// false for a point behind the eye.
+fn grow_picture_box(p: vec3<f32>, bounds: ptr<function, vec4<f32>>) -> bool {
+    let clip = frame.clip_from_world * vec4<f32>(p, 1.0);
+    if (clip.w <= 0.0) {
+        return false;
+    }
+    let ndc = clamp(clip.xy / clip.w, vec2<f32>(-1.0), vec2<f32>(1.0));
+    *bounds = vec4<f32>(min((*bounds).xy, ndc), max((*bounds).zw, ndc));
+    return true;
+}
+
+fn whole_picture_pixels() -> f32 {
+    let size = vec2<f32>(textureDimensions(surface_ids));
+    return size.x * size.y;
+}
+
+// The pixels of a picture box grown by `grow_picture_box`.
+fn picture_box_pixels(bounds: vec4<f32>) -> f32 {
+    let extent = (bounds.zw - bounds.xy) * 0.5 * vec2<f32>(textureDimensions(surface_ids));
     return extent.x * extent.y;
 }
 
@@ -383,23 +399,15 @@ fn interval_pixels(box: array<vec3<f32>, 3>, near: f32, far: f32) -> f32 {
     if (!from_point()) {
         return column_pixels(box[0].xy, box[1].xy, near, far);
     }
-    let size = vec2<f32>(textureDimensions(surface_ids));
     let light = volume.point.xyz;
-    var a = vec2<f32>(1e30);
-    var b = vec2<f32>(-1e30);
+    var bounds = vec4<f32>(1e30, 1e30, -1e30, -1e30);
     for (var k = 0u; k < 16u; k++) {
         let d = normalize(corner(box[0], box[1], k % 8u) - light);
-        let p = light + d * select(near, far, k >= 8u);
-        let clip = frame.clip_from_world * vec4<f32>(p, 1.0);
-        if (clip.w <= 0.0) {
-            return size.x * size.y;
+        if (!grow_picture_box(light + d * select(near, far, k >= 8u), &bounds)) {
+            return whole_picture_pixels();
         }
-        let ndc = clamp(clip.xy / clip.w, vec2<f32>(-1.0), vec2<f32>(1.0));
-        a = min(a, ndc);
-        b = max(b, ndc);
     }
-    let extent = (b - a) * 0.5 * size;
-    return extent.x * extent.y;
+    return picture_box_pixels(bounds);
 }
 
 // Whether a box reaches past the camera's far plane.
