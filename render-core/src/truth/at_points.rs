@@ -5,6 +5,7 @@
 use bytemuck::{Pod, Zeroable};
 
 use std::sync::mpsc;
+use std::time::Duration;
 
 use crate::gpu::{
     GpuContext, GpuError, bind_group_layout, buffer_entry, compute_pipeline, pipeline_layout,
@@ -80,10 +81,15 @@ impl LightAtPoints {
     ) -> Result<Vec<f32>, GpuError> {
         let pending = self.submit(ctx, groups, points);
         ctx.wait_idle()?;
-        pending.try_take().unwrap_or_else(|| {
+        // Another thread's poll on the shared device may have taken the mapping and be about to
+        // run its callback: wait for it rather than taking "not yet" for an answer.
+        pending.take_within(MAPPING_WAIT).unwrap_or_else(|| {
             Err(GpuError::Readback {
                 what: WHAT.to_owned(),
-                reason: "the GPU finished without mapping the result".to_owned(),
+                reason: format!(
+                    "the GPU finished but the result was not mapped within {} s",
+                    MAPPING_WAIT.as_secs()
+                ),
             })
         })
     }
@@ -166,6 +172,9 @@ impl LightAtPoints {
 /// What a readback is called in its errors.
 const WHAT: &str = "light at the truth's points";
 
+/// How long a blocking readback waits for its mapping after the GPU went idle.
+const MAPPING_WAIT: Duration = Duration::from_secs(60);
+
 /// The light at points on its way back from the GPU.
 pub struct PendingLight {
     staging: wgpu::Buffer,
@@ -176,14 +185,27 @@ pub struct PendingLight {
 impl PendingLight {
     /// The light at each point once it has come back (after a device poll), else `None`.
     pub fn try_take(&self) -> Option<Result<Vec<f32>, GpuError>> {
+        self.take_within(Duration::ZERO)
+    }
+
+    /// The light at each point if it comes back within `wait`, else `None`.
+    fn take_within(&self, wait: Duration) -> Option<Result<Vec<f32>, GpuError>> {
         let error = |reason: String| GpuError::Readback {
             what: WHAT.to_owned(),
             reason,
         };
-        let mapped = match self.mapped.try_recv() {
+        let received = if wait.is_zero() {
+            self.mapped.try_recv().map_err(|e| match e {
+                mpsc::TryRecvError::Empty => mpsc::RecvTimeoutError::Timeout,
+                mpsc::TryRecvError::Disconnected => mpsc::RecvTimeoutError::Disconnected,
+            })
+        } else {
+            self.mapped.recv_timeout(wait)
+        };
+        let mapped = match received {
             Ok(result) => result.map_err(|e| error(e.to_string())),
-            Err(mpsc::TryRecvError::Empty) => return None,
-            Err(mpsc::TryRecvError::Disconnected) => {
+            Err(mpsc::RecvTimeoutError::Timeout) => return None,
+            Err(mpsc::RecvTimeoutError::Disconnected) => {
                 Err(error("the readback was dropped".to_owned()))
             }
         };
