@@ -6,8 +6,8 @@
 //! and finally D is culled by all types of masks." The footprint test (casters' boxes
 //! rasterised against the map and the mask) gives exactly these answers; BVOL and GEOM widen
 //! their masks by the filter's reach (PCF radius, normal offset, a texel), so they keep a D
-//! that close, and FRAG, whose mask holds exactly the texels visible pixels read, draws the
-//! oracle's casters and no others.
+//! that close. FRAG's mask holds the texels that the visible pixels' footprints read: it culls
+//! B, and D once D's shadow lies beyond the footprint of the receiver's last pixels.
 
 use glam::{Mat4, Vec3};
 use render_core::frame::{CasterOutcome, FrameReport, Method};
@@ -129,9 +129,12 @@ fn each_method_culls_what_bittners_figure_3_says() {
                 Method::GeomBvol,
                 [vec![0, A, B], d_if(within_reach)].concat(),
             ),
-            // FRAG culls B too: its shadow falls where no visible pixel looks. Here it is
-            // exact: it draws the oracle's casters and no others.
-            (Method::Frag, oracle.clone()),
+            // FRAG culls B too: its shadow falls where no visible pixel looks. Its mask holds
+            // what each pixel's footprint reads (here about 0.2 m of the receiver, capped at 8
+            // texels around the pixel's point): D 2 texels out lies within the footprint of
+            // the receiver's last pixels, as a camera a pixel to the side would see it, and
+            // 8 texels out beyond it.
+            (Method::Frag, [vec![A], d_if(within_reach)].concat()),
         ];
         for (method, mut want) in expected {
             want.sort_unstable();

@@ -108,8 +108,9 @@ impl Method {
                 rest (Bittner et al. 2011, section 4.3)."
             }
             Self::Frag => {
-                "Fragment mask: only the texels that visible pixels' filter taps read, \
-                with the depth a caster must beat there (Bittner et al. 2011, section 4.4)."
+                "Fragment mask: only the texels that the filter taps of visible pixels' \
+                footprints read, with the depth a caster must beat there (Bittner et al. \
+                2011, section 4.4)."
             }
             Self::DrConservative => {
                 "DigitalRune's caster tests: light frustum and occlusion, \
