@@ -127,7 +127,7 @@ fn light_at_points(
     let mut renderer = FrameRenderer::new(ctx);
     let settings = FrameSettings {
         method,
-        ..settings.clone()
+        ..*settings
     };
     let input = FrameInput {
         camera,
@@ -170,10 +170,10 @@ fn frags_mask_shadows_the_points_between_its_pixel_centres_as_drawing_every_cast
             selection,
             ..CascadeSettings::default()
         },
-        ..single.clone()
+        ..single
     };
     for (name, settings) in [
-        ("single", single.clone()),
+        ("single", single),
         ("cascades by depth", cascades(CascadeSelection::Depth)),
         ("cascades by map", cascades(CascadeSelection::Map)),
     ] {

@@ -173,7 +173,7 @@ impl LightAtPoints {
 const WHAT: &str = "light at the truth's points";
 
 /// How long a blocking readback waits for its mapping after the GPU went idle.
-const MAPPING_WAIT: Duration = Duration::from_secs(60);
+const MAPPING_WAIT: Duration = Duration::from_secs(30);
 
 /// The light at points on its way back from the GPU.
 pub struct PendingLight {
