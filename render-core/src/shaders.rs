@@ -75,6 +75,10 @@ const FILES: &[(&str, &str)] = &[
         "volumes/point_light.wgsl",
         include_str!("volumes/point_light.wgsl"),
     ),
+    (
+        "volumes/footprint.wgsl",
+        include_str!("volumes/footprint.wgsl"),
+    ),
     ("volumes/draw.wgsl", include_str!("volumes/draw.wgsl")),
     ("volumes/light.wgsl", include_str!("volumes/light.wgsl")),
     (

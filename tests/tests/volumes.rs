@@ -603,3 +603,98 @@ fn the_v_over_r_rule_merges_gaps_whose_vertices_cost_more_than_their_pixels() {
     );
     assert_eq!(merged_error, split_error, "merging changes no pixel");
 }
+
+#[test]
+fn a_diagonal_struts_volume_is_culled_where_only_its_world_box_covers_receivers() {
+    // A strut 14 m long across the diagonal, over two slabs in the other corners of its
+    // world box: the sun, nearly overhead, casts its shadow on nothing visible between them.
+    // Its mesh's own box, turned with it, is a band 0.2 m wide that misses both slabs, so
+    // culling drops its volume (the world box would keep it); a cube over one slab keeps its.
+    let sun = Sun::from_azimuth_elevation_deg(30.0, 85.0);
+    let slab = box_mesh("slab", Vec3::new(1.0, 0.2, 1.0));
+    let strut = box_mesh("strut", Vec3::new(7.0, 0.1, 0.1));
+    let cube = box_mesh("cube", Vec3::splat(0.4));
+    let mut instances: Vec<Instance> = [(4.0, -4.0), (-4.0, 4.0)]
+        .iter()
+        .map(|&(x, z)| {
+            Instance::new(
+                "slab",
+                0,
+                &slab,
+                Mat4::from_translation(Vec3::new(x, -0.2, z)),
+            )
+        })
+        .collect();
+    instances.push(Instance::new(
+        "strut",
+        1,
+        &strut,
+        Mat4::from_translation(Vec3::new(0.0, 3.0, 0.0))
+            * Mat4::from_rotation_y(-std::f32::consts::FRAC_PI_4),
+    ));
+    instances.push(Instance::new(
+        "cube",
+        2,
+        &cube,
+        Mat4::from_translation(Vec3::new(4.0, 2.0, -4.0)),
+    ));
+    // Only the slabs receive: the strut's own top would keep its volume.
+    for caster in &mut instances[2..] {
+        caster.receives_shadow = false;
+    }
+    // Out of view and casting nothing, they widen the scene: the strut's box then spans
+    // fewer cells of the receiver grid than a caster may test (a larger one is kept whole),
+    // and the slabs lie off the grid's border cells (which also hold what lies beyond).
+    for at in [-60.0, 60.0] {
+        let mut far = Instance::new(
+            "far slab",
+            0,
+            &slab,
+            Mat4::from_translation(Vec3::new(at, -0.2, at)),
+        );
+        far.casts_shadow = false;
+        instances.push(far);
+    }
+    let strut_box = instances[2].aabb_in_world;
+    for slab in &instances[..2] {
+        let b = slab.aabb_in_world;
+        assert!(
+            b.min.x >= strut_box.min.x - 0.1 && b.max.x <= strut_box.max.x + 0.1,
+            "the slabs lie under the strut's world box"
+        );
+    }
+    let scene = Scene::new(
+        "test:diagonal-strut",
+        vec![slab, strut, cube],
+        instances,
+        sun,
+    );
+    let camera = Camera::look_at(
+        Vec3::new(0.0, 30.0, 0.5),
+        Vec3::ZERO,
+        40f32.to_radians(),
+        0.1,
+        200.0,
+    );
+    let frame = |method, clamp| {
+        let mut settings = FrameSettings {
+            method,
+            ..volumes(sun)
+        };
+        settings.volumes.clamp = clamp;
+        let (error, _, _, report) = against_truth(&scene, &camera, &settings);
+        (report.counts.casters_rendered, error)
+    };
+    let (all, all_error) = frame(Method::None, VolumeClamp::None);
+    assert_eq!(all, 4, "none draws every volume");
+    assert!(all_error.visible_px > 500, "{all_error:?}");
+    for clamp in [
+        VolumeClamp::None,
+        VolumeClamp::Continuous,
+        VolumeClamp::Conservative,
+    ] {
+        let (kept, error) = frame(Method::Bvol, clamp);
+        assert_eq!(kept, 3, "{clamp:?}: the strut's volume alone is dropped");
+        assert_eq!(error, all_error, "{clamp:?}: no visible pixel changes");
+    }
+}

@@ -57,8 +57,8 @@ const MAX_INTERVALS: u32 = 4u;
 const INTERVAL_SHIFT: u32 = 28u;
 const CASTER_BITS: u32 = 0x0fffffffu;
 
-// One caster: its mesh's edges and triangles, where its vertices start, and whether its
-// mesh is closed. Keep in sync with volumes/mod.rs (CasterGpu).
+// One caster: its mesh's edges and triangles, where its vertices start, whether its mesh is
+// closed, and its mesh's box (xyz). Keep in sync with volumes/scene.rs (CasterGpu).
 struct Caster {
     instance: u32,
     first_edge: u32,
@@ -69,6 +69,8 @@ struct Caster {
     triangle_start: u32,
     closed: u32,
     padding: u32,
+    local_min: vec4<f32>,
+    local_max: vec4<f32>,
 }
 
 struct Edge {

@@ -4,6 +4,7 @@
 // (volumes/draw.wgsl) turn into triangles.
 #import volumes/common.wgsl
 #import volumes/point_light.wgsl
+#import volumes/footprint.wgsl
 #import culling/codes.wgsl
 
 // vertex_count, instance_count, first_vertex, first_instance; quads then caps.
@@ -99,12 +100,14 @@ fn mark_receivers(@builtin(global_invocation_id) id: vec3<u32>) {
 const MAX_CELLS: i32 = 4096;
 
 // A caster's volume lies in its box's column across the light, from the box's nearest depth
-// on. Per slice, the visible receiver points under the box that are no nearer than it give
+// on, and within that column under its footprint (its mesh's box turned with it,
+// volumes/footprint.wgsl). Per slice, the visible receiver points under the footprint that
+// are no nearer than the box give
 // an occupied depth interval (culling, options.y bit 0: no interval, no volume); with
 // clamping (bit 1) the volume is drawn only across the union of those intervals, merged to
 // at most MAX_INTERVALS, else from the caster to past the scene. Bit 2: only the cells whose
-// centres the box covers (discrete clamping's image-precision test), else every cell it
-// touches (conservative). Conservative otherwise: each cell keeps the shallowest and deepest
+// centres the footprint covers (discrete clamping's image-precision test), else every cell
+// it touches (conservative). Conservative otherwise: each cell keeps the shallowest and deepest
 // point in it, and an interval [a, b] becomes extrusions from a past the box's far side to b
 // past its near side, so every vertex's volume covers it.
 @compute @workgroup_size(64)
@@ -148,26 +151,7 @@ fn cull_casters(@builtin(global_invocation_id) id: vec3<u32>) {
     } else if (given()) {
         n = given_intervals(ci, lo.z, &found);
     } else {
-        for (var slice = 0u; slice < volume.slices.x; slice++) {
-            var near = 1e30;
-            var deep = -1.0;
-            for (var y = first.y; y <= last.y; y++) {
-                for (var x = first.x; x <= last.x; x++) {
-                    let cell = vec2<i32>(x, y);
-                    let deepest = atomicLoad(&grid[grid_word(slice, cell, true)]);
-                    if (deepest == 0u || bitcast<f32>(deepest) - 1.0 + pad < lo.z) {
-                        continue;
-                    }
-                    let shallowest = ~atomicLoad(&grid[grid_word(slice, cell, false)]);
-                    near = min(near, bitcast<f32>(shallowest) - 1.0);
-                    deep = max(deep, bitcast<f32>(deepest) - 1.0);
-                }
-            }
-            if (deep >= 0.0) {
-                found[n] = vec2<f32>(max(near, lo.z), deep);
-                n++;
-            }
-        }
+        n = occupied_under(c, first, last, vec2<f32>(lo.z, pad), centres, &found);
     }
     let keep = !culling || n > 0u;
     var count = 0u;
@@ -183,6 +167,64 @@ fn cull_casters(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let z_pass = counts_z_pass(lo - pad, hi + pad, reach);
     keep_caster(ci, count, z_pass);
+}
+
+// Per slice, the depths of the visible receiver points under caster `c`'s footprint
+// (volumes/footprint.wgsl) in the cells `first` to `last`, no nearer than the caster
+// (`depth.x`, with `depth.y` to spare): the cells the footprint meets, or with `centres`
+// those whose centre it holds. Into `found`, one interval per slice that has any; returns
+// how many.
+fn occupied_under(
+    c: Caster,
+    first: vec2<i32>,
+    last: vec2<i32>,
+    depth: vec2<f32>,
+    centres: bool,
+    found: ptr<function, array<vec2<f32>, MAX_SLICES>>,
+) -> u32 {
+    let nearest = depth.x;
+    let pad = depth.y;
+    var q: array<vec2<f32>, 8>;
+    for (var k = 0u; k < 8u; k++) {
+        q[k] = in_light(oriented_corner(c, k)).xy;
+    }
+    let side = i32(volume.options.z);
+    let half = select(vec2<f32>(0.5 * volume.cell.x), vec2<f32>(0.0), centres);
+    for (var slice = 0u; slice < volume.slices.x; slice++) {
+        (*found)[slice] = vec2<f32>(1e30, -1.0);
+    }
+    for (var y = first.y; y <= last.y; y++) {
+        for (var x = first.x; x <= last.x; x++) {
+            let cell = vec2<i32>(x, y);
+            // A border cell also holds the receiver points beyond the grid (`mark_receivers`).
+            let border = any(cell == vec2<i32>(0)) || any(cell == vec2<i32>(side - 1));
+            let centre = (vec2<f32>(cell) + 0.5) * volume.cell.x;
+            if (!border && !footprint_meets(&q, centre, half, pad)) {
+                continue;
+            }
+            for (var slice = 0u; slice < volume.slices.x; slice++) {
+                let deepest = atomicLoad(&grid[grid_word(slice, cell, true)]);
+                if (deepest == 0u || bitcast<f32>(deepest) - 1.0 + pad < nearest) {
+                    continue;
+                }
+                let shallowest = ~atomicLoad(&grid[grid_word(slice, cell, false)]);
+                let was = (*found)[slice];
+                (*found)[slice] = vec2<f32>(
+                    min(was.x, bitcast<f32>(shallowest) - 1.0),
+                    max(was.y, bitcast<f32>(deepest) - 1.0),
+                );
+            }
+        }
+    }
+    var n = 0u;
+    for (var slice = 0u; slice < volume.slices.x; slice++) {
+        let depths = (*found)[slice];
+        if (depths.y >= 0.0) {
+            (*found)[n] = vec2<f32>(max(depths.x, nearest), depths.y);
+            n++;
+        }
+    }
+    return n;
 }
 
 // Exact clamping (options.y bit 3, volumes/exact.rs): the CPU has written each caster's

@@ -24,6 +24,9 @@ struct CasterGpu {
     triangle_start: u32,
     closed: u32,
     padding: u32,
+    /// The mesh's own box (w unused): with the instance's transform, an oriented box.
+    local_min: [f32; 4],
+    local_max: [f32; 4],
 }
 
 /// The scene as the volumes see it: every mesh's edges, the casters, room for the records.
@@ -85,6 +88,7 @@ impl SceneVolumes {
                 continue;
             }
             let (first_edge, edge_count, closed) = mesh_info[instance.mesh as usize];
+            let mesh = &scene.meshes[instance.mesh as usize];
             outcomes[i as usize] = OUTCOME_RENDERED;
             caster_of[i as usize] = Some(casters.len() as u32);
             casters.push(CasterGpu {
@@ -96,6 +100,8 @@ impl SceneVolumes {
                 triangle_start: triangle_items,
                 closed: u32::from(closed),
                 padding: 0,
+                local_min: mesh.aabb_in_local.min.extend(0.0).to_array(),
+                local_max: mesh.aabb_in_local.max.extend(0.0).to_array(),
             });
             edge_items += edge_count;
             triangle_items += range.index_count / 3;
