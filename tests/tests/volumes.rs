@@ -7,7 +7,7 @@ use glam::{Mat4, Vec3};
 use render_core::frame::{FrameRenderer, FrameReport, FrameSettings, Method, ShadowSetup};
 use render_core::geom::Camera;
 use render_core::metrics::ShadowError;
-use render_core::scene::{Instance, Mesh, Scene, Sun, load_builtin};
+use render_core::scene::{Instance, Mesh, PointShadow, Scene, Sun, load_builtin};
 use render_core::truth::{SurfacePoint, TruthCache};
 use render_core::volumes::{VolumeClamp, VolumePassChoice};
 use shadowlab_tests::{
@@ -676,25 +676,40 @@ fn a_diagonal_struts_volume_is_culled_where_only_its_world_box_covers_receivers(
         0.1,
         200.0,
     );
-    let frame = |method, clamp| {
-        let mut settings = FrameSettings {
-            method,
-            ..volumes(sun)
-        };
-        settings.volumes.clamp = clamp;
-        let (error, _, _, report) = against_truth(&scene, &camera, &settings);
-        (report.counts.casters_rendered, error)
+    // The sun, or a lamp high over the strut (its box seen within 45 degrees).
+    let lamp = PointShadow {
+        position: Vec3::new(0.3, 25.0, 0.2),
+        intensity_cd: 5_000.0,
     };
-    let (all, all_error) = frame(Method::None, VolumeClamp::None);
-    assert_eq!(all, 4, "none draws every volume");
-    assert!(all_error.visible_px > 500, "{all_error:?}");
-    for clamp in [
-        VolumeClamp::None,
-        VolumeClamp::Continuous,
-        VolumeClamp::Conservative,
-    ] {
-        let (kept, error) = frame(Method::Bvol, clamp);
-        assert_eq!(kept, 3, "{clamp:?}: the strut's volume alone is dropped");
-        assert_eq!(error, all_error, "{clamp:?}: no visible pixel changes");
+    for point_light in [None, Some(lamp)] {
+        let frame = |method, clamp| {
+            let mut settings = FrameSettings {
+                method,
+                point_light,
+                ..volumes(sun)
+            };
+            settings.volumes.clamp = clamp;
+            let (error, _, _, report) = against_truth(&scene, &camera, &settings);
+            (report.counts.casters_rendered, error)
+        };
+        let (all, all_error) = frame(Method::None, VolumeClamp::None);
+        assert_eq!(all, 4, "none draws every volume");
+        assert!(all_error.visible_px > 500, "{all_error:?}");
+        for clamp in [
+            VolumeClamp::None,
+            VolumeClamp::Continuous,
+            VolumeClamp::Conservative,
+        ] {
+            let (kept, error) = frame(Method::Bvol, clamp);
+            let light = if point_light.is_some() { "lamp" } else { "sun" };
+            assert_eq!(
+                kept, 3,
+                "{light}, {clamp:?}: the strut's volume alone is dropped"
+            );
+            assert_eq!(
+                error, all_error,
+                "{light}, {clamp:?}: no visible pixel changes"
+            );
+        }
     }
 }

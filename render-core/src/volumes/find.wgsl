@@ -216,6 +216,12 @@ fn occupied_under(
             }
         }
     }
+    return compact_found(nearest, found);
+}
+
+// The slices of `found` that hold receiver depths, moved to its front, each starting no
+// nearer than `nearest`. Returns how many.
+fn compact_found(nearest: f32, found: ptr<function, array<vec2<f32>, MAX_SLICES>>) -> u32 {
     var n = 0u;
     for (var slice = 0u; slice < volume.slices.x; slice++) {
         let depths = (*found)[slice];

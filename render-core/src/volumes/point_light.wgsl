@@ -86,7 +86,7 @@ fn cull_from_point(ci: u32, culling: bool, clamping: bool) {
                 hi = max(hi, q.xy);
             }
         }
-        if (behind == 8u) {
+        if (behind == 8u || outside_face(b, f)) {
             continue;
         }
         if (behind > 0u) {
@@ -108,26 +108,8 @@ fn cull_from_point(ci: u32, culling: bool, clamping: bool) {
     if (given() && !whole) {
         n = given_intervals(ci, nearest, &found);
     }
-    for (var slice = 0u; slice < volume.slices.x && !whole && !given(); slice++) {
-        var near = 1e30;
-        var deep = -1.0;
-        for (var f = 0u; f < 6u; f++) {
-            for (var y = first[f].y; y <= last[f].y; y++) {
-                for (var x = first[f].x; x <= last[f].x; x++) {
-                    let deepest = atomicLoad(&grid[grid_word(slice, vec2<i32>(x, y), true)]);
-                    if (deepest == 0u || bitcast<f32>(deepest) - 1.0 + pad < nearest) {
-                        continue;
-                    }
-                    let shallowest = ~atomicLoad(&grid[grid_word(slice, vec2<i32>(x, y), false)]);
-                    near = min(near, bitcast<f32>(shallowest) - 1.0);
-                    deep = max(deep, bitcast<f32>(deepest) - 1.0);
-                }
-            }
-        }
-        if (deep >= 0.0) {
-            found[n] = vec2<f32>(max(near, nearest), deep);
-            n++;
-        }
+    if (!whole && !given()) {
+        n = occupied_from_point(casters[ci], &first, &last, vec2<f32>(nearest, pad), &found);
     }
     var count = 0u;
     if (whole) {
@@ -140,6 +122,77 @@ fn cull_from_point(ci: u32, culling: bool, clamping: bool) {
         count = whole_or_a_centimetre(ci, clamping && n == 0u);
     }
     keep_caster(ci, count, counts_z_pass_from_point(b));
+}
+
+// Whether every direction from the light into box `b` lies outside face `f`'s pyramid (the
+// directions whose largest component is the face's): all eight corners beyond one of its
+// four planes. A box straddling the face's plane beside the light (a strut right under a
+// lamp) sends nothing to that face, though its corners' places there reach over all of it.
+fn outside_face(b: InstanceBounds, f: u32) -> bool {
+    let k = face_axis(f);
+    let a = select(0u, 1u, k == 0u);
+    let c = select(2u, 1u, k == 2u);
+    var beyond = vec4<bool>(true);
+    for (var i = 0u; i < 8u; i++) {
+        let d = box_corner(b, i) - volume.point.xyz;
+        let m = d[k] * face_sign_of(f);
+        beyond = beyond & (vec4<f32>(m - d[a], m + d[a], m - d[c], m + d[c]) < vec4<f32>(0.0));
+    }
+    return any(beyond);
+}
+
+// `occupied_under` (volumes/find.wgsl) for a point light: per slice, the depths of the
+// visible receiver points in the cells `first` to `last` of each cube face that the
+// caster's footprint there meets (its mesh's box turned with it, projected from the light;
+// where a corner lies behind the face's plane, every cell), no nearer than the caster
+// (`depth.x`, with `depth.y` to spare). Into `found`; returns how many.
+fn occupied_from_point(
+    c: Caster,
+    first: ptr<function, array<vec2<i32>, 6>>,
+    last: ptr<function, array<vec2<i32>, 6>>,
+    depth: vec2<f32>,
+    found: ptr<function, array<vec2<f32>, MAX_SLICES>>,
+) -> u32 {
+    let nearest = depth.x;
+    let pad = depth.y;
+    for (var slice = 0u; slice < volume.slices.x; slice++) {
+        (*found)[slice] = vec2<f32>(1e30, -1.0);
+    }
+    for (var f = 0u; f < 6u; f++) {
+        let origin = face_origin(f);
+        var q: array<vec2<f32>, 8>;
+        var in_front = true;
+        for (var k = 0u; k < 8u; k++) {
+            let on = on_face(oriented_corner(c, k) - volume.point.xyz, f);
+            in_front = in_front && on.z > 1e-4;
+            q[k] = origin + (on.xy * 0.5 + 0.5) * FACE_CELLS;
+        }
+        let top = vec2<i32>(origin) + vec2<i32>(i32(FACE_CELLS) - 1);
+        for (var y = (*first)[f].y; y <= (*last)[f].y; y++) {
+            for (var x = (*first)[f].x; x <= (*last)[f].x; x++) {
+                let cell = vec2<i32>(x, y);
+                // A face's border cell also holds the points clamped onto it (`in_point_light`).
+                let border = any(cell == vec2<i32>(origin)) || any(cell == top);
+                let centre = vec2<f32>(cell) + 0.5;
+                if (in_front && !border && !footprint_meets(&q, centre, vec2<f32>(0.5), 1e-3)) {
+                    continue;
+                }
+                for (var slice = 0u; slice < volume.slices.x; slice++) {
+                    let deepest = atomicLoad(&grid[grid_word(slice, cell, true)]);
+                    if (deepest == 0u || bitcast<f32>(deepest) - 1.0 + pad < nearest) {
+                        continue;
+                    }
+                    let shallowest = ~atomicLoad(&grid[grid_word(slice, cell, false)]);
+                    let was = (*found)[slice];
+                    (*found)[slice] = vec2<f32>(
+                        min(was.x, bitcast<f32>(shallowest) - 1.0),
+                        max(was.y, bitcast<f32>(deepest) - 1.0),
+                    );
+                }
+            }
+        }
+    }
+    return compact_found(nearest, found);
 }
 
 // DOOM 3's test for a point light: a volume can hold a point of the camera's near rectangle
