@@ -202,21 +202,32 @@ fn occupied_under(
             if (!border && !footprint_meets(&q, centre, half, pad)) {
                 continue;
             }
-            for (var slice = 0u; slice < volume.slices.x; slice++) {
-                let deepest = atomicLoad(&grid[grid_word(slice, cell, true)]);
-                if (deepest == 0u || bitcast<f32>(deepest) - 1.0 + pad < nearest) {
-                    continue;
-                }
-                let shallowest = ~atomicLoad(&grid[grid_word(slice, cell, false)]);
-                let was = (*found)[slice];
-                (*found)[slice] = vec2<f32>(
-                    min(was.x, bitcast<f32>(shallowest) - 1.0),
-                    max(was.y, bitcast<f32>(deepest) - 1.0),
-                );
-            }
+            gather_cell(cell, nearest, pad, found);
         }
     }
     return compact_found(nearest, found);
+}
+
+// Widens each slice's depths in `found` by the receiver points of `cell` in that slice no
+// nearer than `nearest` (with `pad` to spare).
+fn gather_cell(
+    cell: vec2<i32>,
+    nearest: f32,
+    pad: f32,
+    found: ptr<function, array<vec2<f32>, MAX_SLICES>>,
+) {
+    for (var slice = 0u; slice < volume.slices.x; slice++) {
+        let deepest = atomicLoad(&grid[grid_word(slice, cell, true)]);
+        if (deepest == 0u || bitcast<f32>(deepest) - 1.0 + pad < nearest) {
+            continue;
+        }
+        let shallowest = ~atomicLoad(&grid[grid_word(slice, cell, false)]);
+        let was = (*found)[slice];
+        (*found)[slice] = vec2<f32>(
+            min(was.x, bitcast<f32>(shallowest) - 1.0),
+            max(was.y, bitcast<f32>(deepest) - 1.0),
+        );
+    }
 }
 
 // The slices of `found` that hold receiver depths, moved to its front, each starting no

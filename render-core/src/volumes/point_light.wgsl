@@ -177,18 +177,7 @@ fn occupied_from_point(
                 if (in_front && !border && !footprint_meets(&q, centre, vec2<f32>(0.5), 1e-3)) {
                     continue;
                 }
-                for (var slice = 0u; slice < volume.slices.x; slice++) {
-                    let deepest = atomicLoad(&grid[grid_word(slice, cell, true)]);
-                    if (deepest == 0u || bitcast<f32>(deepest) - 1.0 + pad < nearest) {
-                        continue;
-                    }
-                    let shallowest = ~atomicLoad(&grid[grid_word(slice, cell, false)]);
-                    let was = (*found)[slice];
-                    (*found)[slice] = vec2<f32>(
-                        min(was.x, bitcast<f32>(shallowest) - 1.0),
-                        max(was.y, bitcast<f32>(deepest) - 1.0),
-                    );
-                }
+                gather_cell(cell, nearest, pad, found);
             }
         }
     }
