@@ -46,11 +46,9 @@ fn mark_fragment_mask(l: ShadowLookup, reach: vec2<f32>) {
     let scale = params.z;
     let mask_size = params.w;
     let block = l.view * mask_size * mask_size;
-    let half_kernel = 0.5 * f32(l.kernel - 1);
-    let first = vec2<i32>(floor(l.p - reach - half_kernel));
-    let last = vec2<i32>(floor(l.p + reach - half_kernel)) + vec2<i32>(l.kernel - 1);
-    let lo = max(first, vec2<i32>(0));
-    let hi = min(last, vec2<i32>(l.size - 1));
+    let taps = footprint_taps(l, reach);
+    let lo = max(taps[0], vec2<i32>(0));
+    let hi = min(taps[1], vec2<i32>(l.size - 1));
     for (var y = lo.y; y <= hi.y; y++) {
         for (var x = lo.x; x <= hi.x; x++) {
             let t = vec2<i32>(x, y);
@@ -139,7 +137,7 @@ fn view_may_shade(v: u32, world_pos: vec3<f32>, reach: f32) -> bool {
     let band = frame.shadow.w;
     if (band > 0.0 && v > 0u && next_adjacent(v - 1u)) {
         let before = shadow_views[v - 1u].shades_depth_m;
-        near = before.y - band * (before.y - max(before.x, 0.0));
+        near = before.y - band_width(before.xy, band);
     }
     return depth_m + reach >= near && depth_m - reach < own.y;
 }
@@ -153,30 +151,30 @@ fn mark_receiver_pixel(world_pos: vec3<f32>, geometric: vec3<f32>) {
     let f = pixel_footprint(world_pos, geometric);
     let by_map = frame.views.z != 0u;
     for (var v = 0u; v < frame.views.x; v++) {
-        let l = shadow_lookup(world_pos, geometric, v);
         if (!by_map && !view_may_shade(v, world_pos, footprint_depth_reach(f, v))) {
             continue;
         }
+        let l = shadow_lookup(world_pos, geometric, v);
+        if (l.depth > 1.0) {
+            continue;
+        }
         let reach = footprint_reach(f, v, world_pos);
-        mark_fragment_mask_if_in_depth(l, reach);
-        if (by_map && footprint_contained(l, reach)) {
+        mark_fragment_mask(l, reach);
+        let taps = footprint_taps(l, reach);
+        if (by_map && all(taps[0] >= vec2<i32>(0)) && all(taps[1] <= vec2<i32>(l.size - 1))) {
+            // Every tap of every point of the footprint lies in this view's map.
             break;
         }
     }
 }
 
-fn mark_fragment_mask_if_in_depth(l: ShadowLookup, reach: vec2<f32>) {
-    if (l.depth <= 1.0) {
-        mark_fragment_mask(l, reach);
-    }
-}
-
-// Whether every tap of every point of the footprint lies in the view's map.
-fn footprint_contained(l: ShadowLookup, reach: vec2<f32>) -> bool {
+// The first and the last tap that a point within `reach` texels of the lookup position reads.
+fn footprint_taps(l: ShadowLookup, reach: vec2<f32>) -> array<vec2<i32>, 2> {
     let half_kernel = 0.5 * f32(l.kernel - 1);
-    let first = vec2<i32>(floor(l.p - reach - half_kernel));
-    let last = vec2<i32>(floor(l.p + reach - half_kernel)) + vec2<i32>(l.kernel - 1);
-    return l.depth <= 1.0 && all(first >= vec2<i32>(0)) && all(last <= vec2<i32>(l.size - 1));
+    return array<vec2<i32>, 2>(
+        vec2<i32>(floor(l.p - reach - half_kernel)),
+        vec2<i32>(floor(l.p + reach - half_kernel)) + vec2<i32>(l.kernel - 1),
+    );
 }
 
 @early_depth_test(force)

@@ -203,8 +203,12 @@ fn blend_weight(v: u32, world_pos: vec3<f32>) -> f32 {
 
 // Over the last share `band` of the depths `range`, from 1 down to 0 at their far end.
 fn band_left(range: vec2<f32>, depth_m: f32, band: f32) -> f32 {
-    let width = max(band * (range.y - max(range.x, 0.0)), 1e-6);
-    return clamp((range.y - depth_m) / width, 0.0, 1.0);
+    return clamp((range.y - depth_m) / band_width(range, band), 0.0, 1.0);
+}
+
+// How deep the blend band `band` at the far end of the depths `range` is, metres.
+fn band_width(range: vec2<f32>, band: f32) -> f32 {
+    return max(band * (range.y - max(range.x, 0.0)), 1e-6);
 }
 
 // How far the shadow has faded out at the point: over the blend band at the last view's far

@@ -190,9 +190,7 @@ fn occupied_under(
     }
     let side = i32(volume.options.z);
     let half = select(vec2<f32>(0.5 * volume.cell.x), vec2<f32>(0.0), centres);
-    for (var slice = 0u; slice < volume.slices.x; slice++) {
-        (*found)[slice] = vec2<f32>(1e30, -1.0);
-    }
+    clear_found(found);
     for (var y = first.y; y <= last.y; y++) {
         for (var x = first.x; x <= last.x; x++) {
             let cell = vec2<i32>(x, y);
@@ -206,6 +204,13 @@ fn occupied_under(
         }
     }
     return compact_found(nearest, found);
+}
+
+// Every slice of `found` without receiver depths yet, for `gather_cell`.
+fn clear_found(found: ptr<function, array<vec2<f32>, MAX_SLICES>>) {
+    for (var slice = 0u; slice < volume.slices.x; slice++) {
+        (*found)[slice] = vec2<f32>(1e30, -1.0);
+    }
 }
 
 // Widens each slice's depths in `found` by the receiver points of `cell` in that slice no

@@ -155,9 +155,7 @@ fn occupied_from_point(
 ) -> u32 {
     let nearest = depth.x;
     let pad = depth.y;
-    for (var slice = 0u; slice < volume.slices.x; slice++) {
-        (*found)[slice] = vec2<f32>(1e30, -1.0);
-    }
+    clear_found(found);
     for (var f = 0u; f < 6u; f++) {
         let origin = face_origin(f);
         var q: array<vec2<f32>, 8>;
