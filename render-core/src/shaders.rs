@@ -79,6 +79,7 @@ const FILES: &[(&str, &str)] = &[
         "volumes/footprint.wgsl",
         include_str!("volumes/footprint.wgsl"),
     ),
+    ("volumes/grid.wgsl", include_str!("volumes/grid.wgsl")),
     ("volumes/draw.wgsl", include_str!("volumes/draw.wgsl")),
     ("volumes/light.wgsl", include_str!("volumes/light.wgsl")),
     (

@@ -8,8 +8,7 @@ struct VolumeFrame {
     // culled caster.
     counts: vec4<u32>,
     // x: instances; y: bit 0 culling, bit 1 clamping, bit 2 cell centres only, bit 3 the
-    // CPU's exact intervals (volumes/find.wgsl); z: the receiver
-    // grid's side in cells; w: how volumes count (0: per caster, 1: all z-pass, 2: all
+    // CPU's exact intervals (volumes/find.wgsl); z: unused; w: how volumes count (0: per caster, 1: all z-pass, 2: all
     // z-fail).
     options: vec4<u32>,
     // The light's frame: xyz two axes across the light and the one it travels; w: where the
@@ -18,7 +17,9 @@ struct VolumeFrame {
     up: vec4<f32>,
     travel: vec4<f32>,
     // x: the grid's cell size, metres; y: pixels a volume vertex costs as much as
-    // (volumes/calibrate.rs); z, w: unused.
+    // (volumes/calibrate.rs); z: the size of the grid's depth bins, metres (DEPTH_BINS of
+    // them span the scene's depths, volumes/grid.wgsl); w: the loop iterations a caster's
+    // cells may take before its volume is kept whole (volumes/frame.rs `cell_steps`).
     cell: vec4<f32>,
     // The camera's near rectangle in the light's frame (as `in_light` places points): its
     // box, xyz.
@@ -28,8 +29,9 @@ struct VolumeFrame {
     // dot(ndc, xy) / z, from -1 to 1 (volumes/find.wgsl `slice_of`); w: the camera's far
     // plane, metres.
     slicing: vec4<f32>,
-    // x: the slices (1 to MAX_SLICES); y, z, w: unused.
-    slices: vec4<u32>,
+    // The receiver grid (volumes/grid.wgsl): x the slices of the view (1 to MAX_SLICES), y
+    // and z its columns and rows of cells, w a point light's cells along a cube face's side.
+    grid: vec4<u32>,
     // xyz: the point light the volumes are cast from; w: 1 for a point light, 0 for the sun.
     point: vec4<f32>,
     // For a point light, the pyramid from it to the camera's near rectangle: planes

@@ -5,6 +5,7 @@
 #import volumes/common.wgsl
 #import volumes/point_light.wgsl
 #import volumes/footprint.wgsl
+#import volumes/grid.wgsl
 #import culling/codes.wgsl
 
 // vertex_count, instance_count, first_vertex, first_instance; quads then caps.
@@ -24,9 +25,8 @@ struct DrawArgs {
 // Z-fail records fill `quads` and `caps` from the start, z-pass records from the end.
 @group(2) @binding(3) var<storage, read_write> kept: array<u32>;
 @group(2) @binding(4) var<storage, read_write> intervals: array<vec2<f32>>;
-// The visible receivers in the light's view: per slice of the view and grid cell, the
-// shallowest and the deepest visible receiver point (depth past the scene's nearest, plus 1,
-// as bits; the shallowest stored inverted so both grow; 0: none).
+// The visible receivers in the light's view, per slice of the view and grid cell
+// (volumes/grid.wgsl).
 @group(2) @binding(5) var<storage, read_write> grid: array<atomic<u32>>;
 // 0: casters counted z-pass, 1: casters kept, 2, 3: fill (volumes/fill.rs), 4: intervals
 // drawn, 5, 6: edges and triangles of the intervals past each caster's first
@@ -46,58 +46,6 @@ fn in_light(p: vec3<f32>) -> vec3<f32> {
         dot(p, volume.travel.xyz) - volume.travel.w,
     );
 }
-
-fn cell_of(p: vec2<f32>) -> vec2<i32> {
-    return vec2<i32>(floor(p / volume.cell.x));
-}
-
-// The strip of the view (Lloyd's slice between two planes through the eye) that pixel
-// `pixel` of a view of `size` lies in: planes through the eye that hold the axis across both
-// the light and the view direction cut the picture into parallel strips of equal width.
-fn slice_of(pixel: vec2<u32>, size: vec2<u32>) -> u32 {
-    let k = volume.slices.x;
-    let ndc = vec2<f32>(
-        2.0 * (f32(pixel.x) + 0.5) / f32(size.x) - 1.0,
-        1.0 - 2.0 * (f32(pixel.y) + 0.5) / f32(size.y),
-    );
-    let u = dot(ndc, volume.slicing.xy) / max(volume.slicing.z, 1e-6);
-    return min(u32(max((u * 0.5 + 0.5) * f32(k), 0.0)), k - 1u);
-}
-
-fn grid_word(slice: u32, cell: vec2<i32>, deepest: bool) -> u32 {
-    let side = i32(volume.options.z);
-    return (slice * volume.options.z * volume.options.z + u32(cell.y * side + cell.x)) * 2u
-        + select(0u, 1u, deepest);
-}
-
-// Lloyd's potential shadow receivers, exactly: every visible receiver pixel marks the grid
-// cell under it, in its slice, with its depth along the light.
-@compute @workgroup_size(8, 8)
-fn mark_receivers(@builtin(global_invocation_id) id: vec3<u32>) {
-    let size = textureDimensions(surface_ids);
-    if (any(id.xy >= size)) {
-        return;
-    }
-    let object = textureLoad(surface_ids, vec2<i32>(id.xy), 0).x;
-    if (object == 0u || (bounds[object - 1u].flags & FLAG_RECEIVER) == 0u) {
-        return;
-    }
-    let at = textureLoad(surface_positions, vec2<i32>(id.xy), 0).xyz;
-    var p = in_light(at);
-    if (from_point()) {
-        p = in_point_light(at);
-    }
-    let side = i32(volume.options.z);
-    let cell = clamp(cell_of(p.xy), vec2<i32>(0), vec2<i32>(side - 1));
-    let slice = slice_of(id.xy, size);
-    let bits = bitcast<u32>(max(p.z, 0.0) + 1.0);
-    atomicMax(&grid[grid_word(slice, cell, false)], ~bits);
-    atomicMax(&grid[grid_word(slice, cell, true)], bits);
-}
-
-// The cells a caster's box covers in the light's view, at most this many before its volume
-// is kept whole.
-const MAX_CELLS: i32 = 4096;
 
 // A caster's volume lies in its box's column across the light, from the box's nearest depth
 // on, and within that column under its footprint (its mesh's box turned with it,
@@ -134,24 +82,25 @@ fn cull_casters(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     // Rounded outwards by a millimetre and a bit of the box.
     let pad = 1e-3 + length(hi - lo) * 1e-5;
-    let side = i32(volume.options.z);
-    var first = clamp(cell_of(lo.xy - pad), vec2<i32>(0), vec2<i32>(side - 1));
-    var last = clamp(cell_of(hi.xy + pad), vec2<i32>(0), vec2<i32>(side - 1));
+    let top = grid_last();
+    var first = clamp(cell_of(lo.xy - pad), vec2<i32>(0), top);
+    var last = clamp(cell_of(hi.xy + pad), vec2<i32>(0), top);
     if (centres) {
         // Cells whose centre lies in the box.
-        first = clamp(vec2<i32>(ceil(lo.xy / volume.cell.x - 0.5)), vec2<i32>(0), vec2<i32>(side));
-        last = clamp(vec2<i32>(floor(hi.xy / volume.cell.x - 0.5)), vec2<i32>(-1), vec2<i32>(side - 1));
+        first = clamp(vec2<i32>(ceil(lo.xy / volume.cell.x - 0.5)), vec2<i32>(0), top + 1);
+        last = clamp(vec2<i32>(floor(hi.xy / volume.cell.x - 0.5)), vec2<i32>(-1), top);
     }
     let span = max(last - first + 1, vec2<i32>(0));
     var found: array<vec2<f32>, MAX_SLICES>;
     var n = 0u;
-    if ((span.x * span.y > MAX_CELLS && !given()) || (!culling && !clamping)) {
+    if (given()) {
+        n = given_intervals(ci, lo.z, &found);
+    } else if (culling || clamping) {
+        n = occupied_under(c, first, last, vec2<f32>(lo.z, pad), centres, &found);
+    }
+    if (n == TOO_MANY_CELLS || (!culling && !clamping)) {
         found[0] = vec2<f32>(lo.z, 1e30);
         n = 1u;
-    } else if (given()) {
-        n = given_intervals(ci, lo.z, &found);
-    } else {
-        n = occupied_under(c, first, last, vec2<f32>(lo.z, pad), centres, &found);
     }
     let keep = !culling || n > 0u;
     var count = 0u;
@@ -188,65 +137,24 @@ fn occupied_under(
     for (var k = 0u; k < 8u; k++) {
         q[k] = in_light(oriented_corner(c, k)).xy;
     }
-    let side = i32(volume.options.z);
-    let half = select(vec2<f32>(0.5 * volume.cell.x), vec2<f32>(0.0), centres);
-    clear_found(found);
-    for (var y = first.y; y <= last.y; y++) {
-        for (var x = first.x; x <= last.x; x++) {
-            let cell = vec2<i32>(x, y);
-            // A border cell also holds the receiver points beyond the grid (`mark_receivers`).
-            let border = any(cell == vec2<i32>(0)) || any(cell == vec2<i32>(side - 1));
-            let centre = (vec2<f32>(cell) + 0.5) * volume.cell.x;
-            if (!border && !footprint_meets(&q, centre, half, pad)) {
-                continue;
-            }
-            gather_cell(cell, nearest, pad, found);
-        }
+    let half = select(0.5 * volume.cell.x, 0.0, centres);
+    var bins: array<u32, MAX_SLICES>;
+    clear_found(found, &bins);
+    var steps = 0;
+    let within = gather_footprint(
+        &q,
+        true,
+        array<vec4<i32>, 2>(vec4<i32>(first, last), vec4<i32>(vec2<i32>(0), grid_last())),
+        vec3<f32>(volume.cell.x, half, pad),
+        depth,
+        found,
+        &bins,
+        &steps,
+    );
+    if (!within) {
+        return TOO_MANY_CELLS;
     }
-    return compact_found(nearest, found);
-}
-
-// Every slice of `found` without receiver depths yet, for `gather_cell`.
-fn clear_found(found: ptr<function, array<vec2<f32>, MAX_SLICES>>) {
-    for (var slice = 0u; slice < volume.slices.x; slice++) {
-        (*found)[slice] = vec2<f32>(1e30, -1.0);
-    }
-}
-
-// Widens each slice's depths in `found` by the receiver points of `cell` in that slice no
-// nearer than `nearest` (with `pad` to spare).
-fn gather_cell(
-    cell: vec2<i32>,
-    nearest: f32,
-    pad: f32,
-    found: ptr<function, array<vec2<f32>, MAX_SLICES>>,
-) {
-    for (var slice = 0u; slice < volume.slices.x; slice++) {
-        let deepest = atomicLoad(&grid[grid_word(slice, cell, true)]);
-        if (deepest == 0u || bitcast<f32>(deepest) - 1.0 + pad < nearest) {
-            continue;
-        }
-        let shallowest = ~atomicLoad(&grid[grid_word(slice, cell, false)]);
-        let was = (*found)[slice];
-        (*found)[slice] = vec2<f32>(
-            min(was.x, bitcast<f32>(shallowest) - 1.0),
-            max(was.y, bitcast<f32>(deepest) - 1.0),
-        );
-    }
-}
-
-// The slices of `found` that hold receiver depths, moved to its front, each starting no
-// nearer than `nearest`. Returns how many.
-fn compact_found(nearest: f32, found: ptr<function, array<vec2<f32>, MAX_SLICES>>) -> u32 {
-    var n = 0u;
-    for (var slice = 0u; slice < volume.slices.x; slice++) {
-        let depths = (*found)[slice];
-        if (depths.y >= 0.0) {
-            (*found)[n] = vec2<f32>(max(depths.x, nearest), depths.y);
-            n++;
-        }
-    }
-    return n;
+    return compact_found(nearest, pad, found, &bins);
 }
 
 // Exact clamping (options.y bit 3, volumes/exact.rs): the CPU has written each caster's

@@ -12,48 +12,41 @@ fn oriented_corner(c: Caster, k: u32) -> vec3<f32> {
     return world_position(c.instance, corner(c.local_min.xyz, c.local_max.xyz, k));
 }
 
-// Whether the rectangle with centre `centre` and half-size `half` (0 for a point) overlaps
-// the hull of `q` (a box's corners projected across the light, corner k as in `corner`), or
-// comes within `pad` of it.
-fn footprint_meets(
-    q: ptr<function, array<vec2<f32>, 8>>,
-    centre: vec2<f32>,
-    half: vec2<f32>,
-    pad: f32,
-) -> bool {
-    var lo = vec2<f32>(1e30);
-    var hi = vec2<f32>(-1e30);
-    for (var k = 0u; k < 8u; k++) {
-        lo = min(lo, (*q)[k]);
-        hi = max(hi, (*q)[k]);
-    }
-    if (any(centre + half + pad < lo) || any(centre - half - pad > hi)) {
-        return false;
-    }
+// Where the footprint of the projected corners `q` (corner k as in `corner`) crosses the
+// band of rows `band` (lowest and highest y): its lowest and highest x there (lowest above
+// highest where it misses the band). The hull's outline is made of projected box edges, and
+// its extremes in the band lie on them, clipped to the band.
+fn footprint_row(q: ptr<function, array<vec2<f32>, 8>>, band: vec2<f32>) -> vec2<f32> {
+    var span = vec2<f32>(1e30, -1e30);
     for (var e = 0u; e < 12u; e++) {
         // Edge e joins corner k to k with bit `b` set: the four corners without that bit.
         let b = e / 4u;
         let j = e % 4u;
         let k = ((j >> b) << (b + 1u)) | (j & ((1u << b) - 1u));
-        let d = (*q)[k | (1u << b)] - (*q)[k];
-        let length_d = length(d);
-        // An edge along the light projects to a point, and its normal separates nothing.
-        if (length_d < 1e-6) {
+        let p0 = (*q)[k];
+        let p1 = (*q)[k | (1u << b)];
+        if (max(p0.y, p1.y) < band.x || min(p0.y, p1.y) > band.y) {
             continue;
         }
-        let axis = vec2<f32>(-d.y, d.x) / length_d;
-        var low = 1e30;
-        var high = -1e30;
-        for (var i = 0u; i < 8u; i++) {
-            let s = dot(axis, (*q)[i]);
-            low = min(low, s);
-            high = max(high, s);
+        let dy = p1.y - p0.y;
+        var x = vec2<f32>(p0.x, p1.x);
+        if (abs(dy) > 1e-12) {
+            let t = clamp((band - p0.y) / dy, vec2<f32>(0.0), vec2<f32>(1.0));
+            x = mix(vec2<f32>(p0.x), vec2<f32>(p1.x), t);
         }
-        let mid = dot(axis, centre);
-        let reach = dot(abs(axis), half) + pad;
-        if (mid + reach < low || mid - reach > high) {
-            return false;
-        }
+        span = vec2<f32>(min(span.x, min(x.x, x.y)), max(span.y, max(x.x, x.y)));
     }
-    return true;
+    return span;
+}
+
+// Loop iterations `footprint_row` takes.
+const FOOTPRINT_STEPS: u32 = 12u;
+
+// The cells of a grid of cells `size` wide whose square of half-size `half` around its
+// centre comes within `pad` of the span `span` of one axis: first and last.
+fn cells_meeting(span: vec2<f32>, size: f32, half: f32, pad: f32) -> vec2<i32> {
+    return vec2<i32>(
+        i32(ceil((span.x - half - pad) / size - 0.5)),
+        i32(floor((span.y + half + pad) / size - 0.5)),
+    );
 }

@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 
-use super::pipelines::{RECEIVER_GRID, VolumeFrameGpu};
+use super::pipelines::{DEPTH_BINS, RECEIVER_CELLS, VolumeFrameGpu};
 use super::scene::SceneVolumes;
 use crate::culling::codes::culled_code;
 use crate::culling::{Method, StageKind};
@@ -19,6 +19,7 @@ pub(super) fn uniforms(
     scene: &SceneVolumes,
     method: Method,
     (slices, pixels_per_vertex): (u32, f32),
+    adapter: wgpu::DeviceType,
 ) -> VolumeFrameGpu {
     let bounds = input.scene.bounds();
     let reach = if bounds.is_empty() {
@@ -44,12 +45,9 @@ pub(super) fn uniforms(
     };
     let (x, y, z) = (range(right), range(up), range(travel));
     let point = input.point_light.map(|p| p.position);
-    // A point light's grid is the cube around it, in cells (find.wgsl `in_point_light`).
-    let cell = if point.is_some() {
-        1.0
-    } else {
-        ((x.1 - x.0).max(y.1 - y.0) / RECEIVER_GRID as f32).max(1e-3)
-    };
+    let (grid, cell) = receiver_grid(slices, point.is_some(), (x.1 - x.0, y.1 - y.0));
+    // The grid's depth bins span the scene's depths along the sun, or its reach from a lamp.
+    let depth_bin = if point.is_some() { reach } else { z.1 - z.0 }.max(1e-3) / DEPTH_BINS as f32;
     let clamp = input.volumes.clamp;
     // A point light's rays cross planes through the eye that hold the axis across the view
     // and the way to the light, in turn, as the sun's cross the sun's slicing planes.
@@ -87,7 +85,7 @@ pub(super) fn uniforms(
                 | (u32::from(clamp != VolumeClamp::None) << 1)
                 | (u32::from(clamp == VolumeClamp::Discrete) << 2)
                 | (u32::from(clamp == VolumeClamp::Exact) << 3),
-            RECEIVER_GRID,
+            0,
             match input.volumes.pass {
                 VolumePassChoice::Auto => 0,
                 VolumePassChoice::ZPass => 1,
@@ -97,17 +95,61 @@ pub(super) fn uniforms(
         right: right.extend(x.0).to_array(),
         up: up.extend(y.0).to_array(),
         travel: travel.extend(z.0).to_array(),
-        cell: [cell, pixels_per_vertex, 0.0, 0.0],
+        cell: [
+            cell,
+            pixels_per_vertex,
+            depth_bin,
+            cell_steps(adapter) as f32,
+        ],
         near_lo: near_lo.extend(0.0).to_array(),
         near_hi: near_hi.extend(0.0).to_array(),
         slicing,
-        slices: [slices, 0, 0, 0],
+        grid,
         point: point.map_or([0.0; 4], |p| p.extend(1.0).to_array()),
         near_planes: point.map_or([[0.0, 0.0, 0.0, 1.0]; 5], |p| {
             let near: Vec<Vec3> = near[..4].iter().map(|c| c.as_vec3()).collect();
             // Corners in turn round the rectangle.
             pyramid_planes(p, [near[0], near[1], near[3], near[2]])
         }),
+    }
+}
+
+/// The loop iterations one caster's cells may take in the grid test (`gather_footprint` in
+/// `volumes/grid.wgsl`) before its volume is kept whole. llvmpipe ends every loop of a
+/// shader, silently, once 65,535 iterations of all its loops have run, counted for the eight
+/// invocations it runs side by side (Mesa's `LP_MAX_TGSI_LOOP_ITERATIONS`): an eighth of
+/// that, less the test's other loops, keeps every caster whole or exact there. A GPU has no
+/// such limit; there the budget only bounds one invocation's time.
+pub(super) fn cell_steps(adapter: wgpu::DeviceType) -> u32 {
+    match adapter {
+        wgpu::DeviceType::Cpu => 65_535 / 8 - 1_200,
+        _ => 1 << 20,
+    }
+}
+
+/// The receiver grid's layout (`VolumeFrame::grid`, `volumes/grid.wgsl`) and its cell size,
+/// metres, for `slices` slices of the view: for the sun, square cells over the scene's
+/// `extent` across it, as small as [`RECEIVER_CELLS`] of them allow; for a point light, the
+/// six faces of a cube around it, three across and two down, each of the most cells a side
+/// that fit, with cells of size 1 (`volumes/point_light.wgsl`).
+fn receiver_grid(slices: u32, point: bool, extent: (f32, f32)) -> ([u32; 4], f32) {
+    if point {
+        let face = ((RECEIVER_CELLS / 6) as f32).sqrt() as u32;
+        return ([slices, 3 * face, 2 * face, face], 1.0);
+    }
+    let (wide, high) = (extent.0.max(1e-3), extent.1.max(1e-3));
+    let cells = RECEIVER_CELLS as f32;
+    let mut cell = (wide * high / cells)
+        .sqrt()
+        .max(wide.max(high) / cells)
+        .max(1e-3);
+    loop {
+        let (columns, rows) = ((wide / cell).ceil() as u32, (high / cell).ceil() as u32);
+        let (columns, rows) = (columns.max(1), rows.max(1));
+        if u64::from(columns) * u64::from(rows) <= u64::from(RECEIVER_CELLS) {
+            return ([slices, columns, rows, 0], cell);
+        }
+        cell *= 1.01;
     }
 }
 

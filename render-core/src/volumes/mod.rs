@@ -22,12 +22,13 @@ mod exact;
 mod fill;
 mod frame;
 mod pipelines;
+mod receivers;
 mod scene;
 
 use crate::culling::{CasterOutcome, Method, Stage};
 use crate::gpu::{
-    AsyncReadback, GpuContext, bind_group_layout, buffer_entry, compute_pipeline, pass_label,
-    pipeline_layout, shader_module, storage, texture, uniform, view_entry,
+    AsyncReadback, GpuContext, bind_group_layout, compute_pipeline, pass_label, pipeline_layout,
+    shader_module, storage, texture, uniform, view_entry,
 };
 use crate::scene::Scene;
 use crate::scene_gpu::SceneGpu;
@@ -122,29 +123,7 @@ impl VolumeTechnique {
                 storage(true),
             ],
         );
-        let find_layout = bind_group_layout(
-            device,
-            "Volumes::find_layout",
-            wgpu::ShaderStages::COMPUTE,
-            &[
-                storage(false),
-                storage(false),
-                storage(false),
-                storage(false),
-                storage(false),
-                storage(false),
-                storage(false),
-                storage(false),
-                texture(
-                    wgpu::TextureSampleType::Uint,
-                    wgpu::TextureViewDimension::D2,
-                ),
-                texture(
-                    wgpu::TextureSampleType::Float { filterable: false },
-                    wgpu::TextureViewDimension::D2,
-                ),
-            ],
-        );
+        let find_layout = receivers::find_layout(device);
         let draw_layout = bind_group_layout(
             device,
             "Volumes::draw_layout",
@@ -345,7 +324,13 @@ impl ShadowTechnique for VolumeTechnique {
             (VolumeClamp::None, None) => 0.0,
             (_, None) => calibrate::pixels_per_vertex(ctx, self.format),
         };
-        let uniforms = frame::uniforms(input, scene, self.method, (self.slices, pixels_per_vertex));
+        let uniforms = frame::uniforms(
+            input,
+            scene,
+            self.method,
+            (self.slices, pixels_per_vertex),
+            ctx.adapter.get_info().device_type,
+        );
         self.travel = uniforms.travel;
         ctx.queue
             .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&uniforms));
@@ -362,25 +347,8 @@ impl ShadowTechnique for VolumeTechnique {
         let (Some(scene), Some(target)) = (self.scene.as_ref(), self.target.as_ref()) else {
             unreachable!("ensured in prepare and above");
         };
-        let find_group = draw
-            .ctx
-            .device
-            .create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("Volumes::find_group"),
-                layout: &self.find_layout,
-                entries: &[
-                    buffer_entry(0, &scene.quads),
-                    buffer_entry(1, &scene.caps),
-                    buffer_entry(2, &scene.draws),
-                    buffer_entry(3, &scene.kept),
-                    buffer_entry(4, &scene.intervals),
-                    buffer_entry(5, &scene.grid),
-                    buffer_entry(6, &scene.counters),
-                    buffer_entry(7, &scene.outcomes),
-                    view_entry(8, &draw.targets.ids_view),
-                    view_entry(9, &draw.targets.positions_view),
-                ],
-            });
+        let find_group =
+            receivers::find_group(&draw.ctx.device, &self.find_layout, scene, draw.targets);
         encoder.clear_buffer(&scene.grid, 0, Some(scene::grid_bytes(self.slices)));
         if input.volumes.clamp == VolumeClamp::Exact {
             let size = (draw.targets.width, draw.targets.height);

@@ -45,7 +45,7 @@ pub(super) struct VolumeFrameGpu {
     pub near_lo: [f32; 4],
     pub near_hi: [f32; 4],
     pub slicing: [f32; 4],
-    pub slices: [u32; 4],
+    pub grid: [u32; 4],
     pub point: [f32; 4],
     pub near_planes: [[f32; 4]; 5],
 }
@@ -56,8 +56,10 @@ pub(super) const MAX_INTERVALS: u32 = 4;
 /// Discrete clamping's most slices (`MAX_SLICES` in `volumes/common.wgsl`).
 pub(super) const MAX_SLICES: u32 = crate::shadow_view::VolumeSettings::MAX_SLICES;
 
-/// Cells per side of the grid of visible receiver points in the light's view.
-pub(super) const RECEIVER_GRID: u32 = 256;
+/// The most cells of the grid of visible receiver points in the light's view, per slice.
+pub(super) const RECEIVER_CELLS: u32 = 512 * 512;
+/// The depth bins of each grid cell (`DEPTH_BINS` in `volumes/grid.wgsl`).
+pub(super) const DEPTH_BINS: u32 = 32;
 
 /// Work items per workgroup of the silhouette passes.
 pub(super) const WORKGROUP: u32 = 64;

@@ -2,10 +2,12 @@
 // cube of receiver cells around the light, and the casters culled and clamped by it.
 
 // A point light's receiver grid: the six faces of a cube around the light, each a tile of
-// FACE_CELLS cells a side in the grid, tiled three across and two down; a point's place
+// `face_cells()` cells a side in the grid, tiled three across and two down; a point's place
 // across the light is its cell coordinate (the grid's cell size is 1) and its depth its
 // distance from the light.
-const FACE_CELLS: f32 = 85.0;
+fn face_cells() -> f32 {
+    return f32(volume.grid.w);
+}
 
 // Face `f` of the cube: the axis it faces along (x, y, z: 0, 1, 2) and its sign.
 fn face_axis(f: u32) -> u32 {
@@ -28,7 +30,7 @@ fn on_face(d: vec3<f32>, f: u32) -> vec3<f32> {
 
 // Where face `f`'s tile starts in the grid, in cells.
 fn face_origin(f: u32) -> vec2<f32> {
-    return vec2<f32>(f32(f % 3u), f32(f / 3u)) * FACE_CELLS;
+    return vec2<f32>(f32(f % 3u), f32(f / 3u)) * face_cells();
 }
 
 // A point in a point light's frame (as `in_light` places points for the sun).
@@ -43,7 +45,7 @@ fn in_point_light(p: vec3<f32>) -> vec3<f32> {
     }
     let f = 2u * k + select(0u, 1u, d[k] < 0.0);
     let uv = clamp(on_face(d, f).xy, vec2<f32>(-1.0), vec2<f32>(1.0));
-    let cell = face_origin(f) + min((uv * 0.5 + 0.5) * FACE_CELLS, vec2<f32>(FACE_CELLS - 0.5));
+    let cell = face_origin(f) + min((uv * 0.5 + 0.5) * face_cells(), vec2<f32>(face_cells() - 0.5));
     return vec3<f32>(cell, length(d));
 }
 
@@ -97,11 +99,9 @@ fn cull_from_point(ci: u32, culling: bool, clamping: bool) {
             continue;
         }
         let origin = face_origin(f);
-        let top = vec2<i32>(origin) + vec2<i32>(i32(FACE_CELLS) - 1);
-        first[f] = clamp(cell_of(origin + (lo * 0.5 + 0.5) * FACE_CELLS - 1e-3), vec2<i32>(origin), top);
-        last[f] = clamp(cell_of(origin + (hi * 0.5 + 0.5) * FACE_CELLS + 1e-3), vec2<i32>(origin), top);
-        let span = last[f] - first[f] + 1;
-        whole = span.x * span.y > MAX_CELLS && !given();
+        let top = vec2<i32>(origin) + vec2<i32>(i32(face_cells()) - 1);
+        first[f] = clamp(cell_of(origin + (lo * 0.5 + 0.5) * face_cells() - 1e-3), vec2<i32>(origin), top);
+        last[f] = clamp(cell_of(origin + (hi * 0.5 + 0.5) * face_cells() + 1e-3), vec2<i32>(origin), top);
     }
     var found: array<vec2<f32>, MAX_SLICES>;
     var n = 0u;
@@ -110,6 +110,7 @@ fn cull_from_point(ci: u32, culling: bool, clamping: bool) {
     }
     if (!whole && !given()) {
         n = occupied_from_point(casters[ci], &first, &last, vec2<f32>(nearest, pad), &found);
+        whole = n == TOO_MANY_CELLS;
     }
     var count = 0u;
     if (whole) {
@@ -155,7 +156,9 @@ fn occupied_from_point(
 ) -> u32 {
     let nearest = depth.x;
     let pad = depth.y;
-    clear_found(found);
+    var bins: array<u32, MAX_SLICES>;
+    clear_found(found, &bins);
+    var steps = 0;
     for (var f = 0u; f < 6u; f++) {
         let origin = face_origin(f);
         var q: array<vec2<f32>, 8>;
@@ -163,23 +166,25 @@ fn occupied_from_point(
         for (var k = 0u; k < 8u; k++) {
             let on = on_face(oriented_corner(c, k) - volume.point.xyz, f);
             in_front = in_front && on.z > 1e-4;
-            q[k] = origin + (on.xy * 0.5 + 0.5) * FACE_CELLS;
+            q[k] = origin + (on.xy * 0.5 + 0.5) * face_cells();
         }
-        let top = vec2<i32>(origin) + vec2<i32>(i32(FACE_CELLS) - 1);
-        for (var y = (*first)[f].y; y <= (*last)[f].y; y++) {
-            for (var x = (*first)[f].x; x <= (*last)[f].x; x++) {
-                let cell = vec2<i32>(x, y);
-                // A face's border cell also holds the points clamped onto it (`in_point_light`).
-                let border = any(cell == vec2<i32>(origin)) || any(cell == top);
-                let centre = vec2<f32>(cell) + 0.5;
-                if (in_front && !border && !footprint_meets(&q, centre, vec2<f32>(0.5), 1e-3)) {
-                    continue;
-                }
-                gather_cell(cell, nearest, pad, found);
-            }
+        let top = vec2<i32>(origin) + vec2<i32>(i32(face_cells()) - 1);
+        // A face's border cells also hold the points clamped onto it (`in_point_light`).
+        let within = gather_footprint(
+            &q,
+            in_front,
+            array<vec4<i32>, 2>(vec4<i32>((*first)[f], (*last)[f]), vec4<i32>(vec2<i32>(origin), top)),
+            vec3<f32>(1.0, 0.5, 1e-3),
+            depth,
+            found,
+            &bins,
+            &steps,
+        );
+        if (!within) {
+            return TOO_MANY_CELLS;
         }
     }
-    return compact_found(nearest, found);
+    return compact_found(nearest, pad, found, &bins);
 }
 
 // DOOM 3's test for a point light: a volume can hold a point of the camera's near rectangle

@@ -6,7 +6,7 @@ use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
 use super::edges::{Edge, mesh_edges};
-use super::pipelines::{MAX_INTERVALS, MAX_SLICES, RECEIVER_GRID};
+use super::pipelines::{MAX_INTERVALS, MAX_SLICES, RECEIVER_CELLS};
 use crate::culling::codes::{OUTCOME_NOT_CASTER, OUTCOME_RENDERED};
 use crate::gpu::buffer_entry;
 use crate::scene::Scene;
@@ -222,9 +222,10 @@ impl SceneVolumes {
     }
 }
 
-/// Bytes of the receiver grid's first `slices` slices: two words per cell.
+/// Bytes of the receiver grid with its first `slices` slices: a word per cell, then three
+/// per cell and slice (`volumes/grid.wgsl`).
 pub(super) fn grid_bytes(slices: u32) -> u64 {
-    u64::from(slices) * u64::from(RECEIVER_GRID * RECEIVER_GRID) * 8
+    u64::from(RECEIVER_CELLS) * 4 * (1 + 3 * u64::from(slices))
 }
 
 /// The interval count's bits in a caster's `kept` word (`COUNT_BITS` in `common.wgsl`).

@@ -1,0 +1,251 @@
+// The receiver grid (Lloyd's potential shadow receivers, at pixel precision): the visible
+// receiver points in the light's view, per slice of the picture and cell across the light.
+// Each (slice, cell) holds three words: the shallowest and the deepest point's depth along
+// the light (past the scene's nearest, or from a point light; plus 1, as bits, the
+// shallowest inverted so both grow with atomicMax; 0: none), and which of DEPTH_BINS equal
+// bins of depth hold a point. A cell over a truss and the floor far below it keeps the two
+// apart: the air between is in no bin, and a volume over the cell is not drawn through it.
+// Part of volumes/find.wgsl.
+
+// Bins of a (slice, cell)'s depths, one bit each (`VolumeFrame::cell.z` their size).
+const DEPTH_BINS: u32 = 32u;
+
+fn cell_of(p: vec2<f32>) -> vec2<i32> {
+    return vec2<i32>(floor(p / volume.cell.x));
+}
+
+// The strip of the view (Lloyd's slice between two planes through the eye) that pixel
+// `pixel` of a view of `size` lies in: planes through the eye that hold the axis across both
+// the light and the view direction cut the picture into parallel strips of equal width.
+fn slice_of(pixel: vec2<u32>, size: vec2<u32>) -> u32 {
+    let k = volume.grid.x;
+    let ndc = vec2<f32>(
+        2.0 * (f32(pixel.x) + 0.5) / f32(size.x) - 1.0,
+        1.0 - 2.0 * (f32(pixel.y) + 0.5) / f32(size.y),
+    );
+    let u = dot(ndc, volume.slicing.xy) / max(volume.slicing.z, 1e-6);
+    return min(u32(max((u * 0.5 + 0.5) * f32(k), 0.0)), k - 1u);
+}
+
+// The words of a (slice, cell): 0 the shallowest, 1 the deepest, 2 the occupied bins.
+const SHALLOWEST: u32 = 0u;
+const DEEPEST: u32 = 1u;
+const BINS: u32 = 2u;
+
+// The grid starts with one word per cell: which slices hold points there.
+fn slices_word(cell: vec2<i32>) -> u32 {
+    return u32(cell.y) * volume.grid.y + u32(cell.x);
+}
+
+fn grid_word(slice: u32, cell: vec2<i32>, word: u32) -> u32 {
+    let cells = volume.grid.y * volume.grid.z;
+    return cells + (slice * cells + slices_word(cell)) * 3u + word;
+}
+
+// The grid's last cell.
+fn grid_last() -> vec2<i32> {
+    return vec2<i32>(volume.grid.yz) - 1;
+}
+
+// The bin of depth `depth`; depths past the last bin's end fall in it.
+fn depth_bin(depth: f32) -> u32 {
+    return min(u32(max(depth / volume.cell.z, 0.0)), DEPTH_BINS - 1u);
+}
+
+// A visible pixel's receiver point as the grid takes it (`found`: it is one).
+struct ReceiverPixel {
+    found: bool,
+    cell: vec2<i32>,
+    slice: u32,
+    depth: f32,
+}
+
+fn receiver_pixel(pixel: vec2<u32>) -> ReceiverPixel {
+    var r: ReceiverPixel;
+    let size = textureDimensions(surface_ids);
+    if (any(pixel >= size)) {
+        return r;
+    }
+    let object = textureLoad(surface_ids, vec2<i32>(pixel), 0).x;
+    if (object == 0u || (bounds[object - 1u].flags & FLAG_RECEIVER) == 0u) {
+        return r;
+    }
+    let at = textureLoad(surface_positions, vec2<i32>(pixel), 0).xyz;
+    var p = in_light(at);
+    if (from_point()) {
+        p = in_point_light(at);
+    }
+    r.found = true;
+    r.cell = clamp(cell_of(p.xy), vec2<i32>(0), grid_last());
+    r.slice = slice_of(pixel, size);
+    r.depth = max(p.z, 0.0);
+    return r;
+}
+
+// Lloyd's potential shadow receivers, exactly: every visible receiver pixel marks the grid
+// cell under it, in its slice, with its depth along the light.
+@compute @workgroup_size(8, 8)
+fn mark_receivers(@builtin(global_invocation_id) id: vec3<u32>) {
+    let r = receiver_pixel(id.xy);
+    if (!r.found) {
+        return;
+    }
+    let bits = bitcast<u32>(r.depth + 1.0);
+    atomicMax(&grid[grid_word(r.slice, r.cell, SHALLOWEST)], ~bits);
+    atomicMax(&grid[grid_word(r.slice, r.cell, DEEPEST)], bits);
+    atomicOr(&grid[grid_word(r.slice, r.cell, BINS)], 1u << depth_bin(r.depth));
+    atomicOr(&grid[slices_word(r.cell)], 1u << r.slice);
+}
+
+// Every slice of `found` without receiver depths yet, and no bins, for `gather_cell`.
+fn clear_found(
+    found: ptr<function, array<vec2<f32>, MAX_SLICES>>,
+    bins: ptr<function, array<u32, MAX_SLICES>>,
+) {
+    for (var slice = 0u; slice < volume.grid.x; slice++) {
+        (*found)[slice] = vec2<f32>(1e30, -1.0);
+        (*bins)[slice] = 0u;
+    }
+}
+
+// Widens each slice's depths in `found` by the receiver points of `cell` in that slice no
+// nearer than `nearest` (with `pad` to spare), and adds their bins to `bins`. Returns the
+// loop iterations it took: one per slice that holds points there.
+fn gather_cell(
+    cell: vec2<i32>,
+    nearest: f32,
+    pad: f32,
+    found: ptr<function, array<vec2<f32>, MAX_SLICES>>,
+    bins: ptr<function, array<u32, MAX_SLICES>>,
+) -> i32 {
+    var held = atomicLoad(&grid[slices_word(cell)]);
+    let steps = i32(countOneBits(held));
+    for (; held != 0u; held &= held - 1u) {
+        let slice = firstTrailingBit(held);
+        let deepest = atomicLoad(&grid[grid_word(slice, cell, DEEPEST)]);
+        if (deepest == 0u || bitcast<f32>(deepest) - 1.0 + pad < nearest) {
+            continue;
+        }
+        let shallowest = ~atomicLoad(&grid[grid_word(slice, cell, SHALLOWEST)]);
+        let was = (*found)[slice];
+        (*found)[slice] = vec2<f32>(
+            min(was.x, bitcast<f32>(shallowest) - 1.0),
+            max(was.y, bitcast<f32>(deepest) - 1.0),
+        );
+        (*bins)[slice] |= atomicLoad(&grid[grid_word(slice, cell, BINS)]);
+    }
+    return steps;
+}
+
+// The occupied depths of `found`'s slices, each from no nearer than `nearest`, cut where
+// `bins` has empty bins between them (with `pad` to spare at each cut), moved to `found`'s
+// front. Past MAX_SLICES pieces the last one grows over the rest. Returns how many.
+fn compact_found(
+    nearest: f32,
+    pad: f32,
+    found: ptr<function, array<vec2<f32>, MAX_SLICES>>,
+    bins: ptr<function, array<u32, MAX_SLICES>>,
+) -> u32 {
+    var slices: array<vec2<f32>, MAX_SLICES>;
+    for (var slice = 0u; slice < volume.grid.x; slice++) {
+        slices[slice] = (*found)[slice];
+    }
+    let size = volume.cell.z;
+    var n = 0u;
+    for (var slice = 0u; slice < volume.grid.x; slice++) {
+        let depths = slices[slice];
+        if (depths.y < 0.0) {
+            continue;
+        }
+        let start = max(depths.x, nearest);
+        if (start > depths.y) {
+            // The caster's padding reaches past the deepest point.
+            n = add_found(found, n, vec2<f32>(start, depths.y));
+            continue;
+        }
+        let last = depth_bin(depths.y + pad);
+        let before = n;
+        var open = false;
+        var opened = start;
+        for (var b = depth_bin(start - pad); b <= last + 1u; b++) {
+            let occupied = b <= last && ((*bins)[slice] & (1u << b)) != 0u;
+            if (occupied && !open) {
+                open = true;
+                opened = max(start, f32(b) * size - pad);
+            } else if (!occupied && open) {
+                open = false;
+                let end = select(min(depths.y, f32(b) * size + pad), depths.y, b > last);
+                n = add_found(found, n, vec2<f32>(opened, end));
+            }
+        }
+        if (n == before) {
+            n = add_found(found, n, vec2<f32>(start, depths.y));
+        }
+    }
+    return n;
+}
+
+// `depths` as `found`'s piece `n`, or grown into its last. Returns the pieces now.
+fn add_found(found: ptr<function, array<vec2<f32>, MAX_SLICES>>, n: u32, depths: vec2<f32>) -> u32 {
+    if (n < MAX_SLICES) {
+        (*found)[n] = depths;
+        return n + 1u;
+    }
+    let was = (*found)[n - 1u];
+    (*found)[n - 1u] = vec2<f32>(min(was.x, depths.x), max(was.y, depths.y));
+    return n;
+}
+
+
+// What `occupied_under` and `occupied_from_point` return past the budget of loop steps.
+const TOO_MANY_CELLS: u32 = 0xffffffffu;
+
+// Gathers into `found` and `bins` (`gather_cell`) the cells from `cells[0].xy` to
+// `cells[0].zw` that the footprint of `q` meets (where `tested`; else all of them), row by
+// row (`footprint_row`), and always the rows and columns at `cells[1]` (lowest xy, highest
+// zw: the border cells, which also hold points beyond). `units`: the cells' size in `q`'s
+// units, their half-size there (0: their centres only) and the padding; `depth`: the
+// caster's nearest depth and its padding. Counts loop iterations in `steps`; false once past
+// the frame's budget (`VolumeFrame::cell.w`).
+fn gather_footprint(
+    q: ptr<function, array<vec2<f32>, 8>>,
+    tested: bool,
+    cells: array<vec4<i32>, 2>,
+    units: vec3<f32>,
+    depth: vec2<f32>,
+    found: ptr<function, array<vec2<f32>, MAX_SLICES>>,
+    bins: ptr<function, array<u32, MAX_SLICES>>,
+    steps: ptr<function, i32>,
+) -> bool {
+    let range = cells[0];
+    let border = cells[1];
+    for (var y = range.y; y <= range.w; y++) {
+        var xs = range.xz;
+        if (tested && y != border.y && y != border.w) {
+            let centre = (f32(y) + 0.5) * units.x;
+            let band = vec2<f32>(centre - units.y - units.z, centre + units.y + units.z);
+            let span = footprint_row(q, band);
+            xs = vec2<i32>(1, 0);
+            if (span.x <= span.y) {
+                let meets = cells_meeting(span, units.x, units.y, units.z);
+                xs = vec2<i32>(max(meets.x, range.x), min(meets.y, range.z));
+            }
+            *steps += i32(FOOTPRINT_STEPS);
+        }
+        *steps += 3;
+        for (var x = xs.x; x <= xs.y; x++) {
+            *steps += 1 + gather_cell(vec2<i32>(x, y), depth.x, depth.y, found, bins);
+            if (*steps > i32(volume.cell.w)) {
+                return false;
+            }
+        }
+        // The border columns, where the footprint's cells leave them out.
+        for (var side = 0u; side < 2u; side++) {
+            let x = select(border.x, border.z, side == 1u);
+            if (x >= range.x && x <= range.z && (x < xs.x || x > xs.y)) {
+                *steps += gather_cell(vec2<i32>(x, y), depth.x, depth.y, found, bins);
+            }
+        }
+    }
+    return *steps <= i32(volume.cell.w);
+}
