@@ -70,7 +70,8 @@ struct Caster {
     edge_start: u32,
     triangle_start: u32,
     closed: u32,
-    padding: u32,
+    // 1: the mesh is convex (volumes/edges.rs): its own points facing the light are lit.
+    convex: u32,
     local_min: vec4<f32>,
     local_max: vec4<f32>,
 }

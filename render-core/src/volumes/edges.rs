@@ -37,7 +37,14 @@ pub struct MeshEdges {
     pub non_manifold_edges: u32,
     /// Triangles left out for having two corners at one position (they cast nothing).
     pub degenerate_triangles: u32,
+    /// Closed and convex (every corner on or behind every triangle's plane; meshes of over
+    /// [`CONVEX_TEST_TRIANGLES`] triangles are not tested and count as not convex): a point of
+    /// its surface facing the light is never in its own shadow.
+    pub convex: bool,
 }
+
+/// The most triangles whose mesh is tested for convexity.
+pub const CONVEX_TEST_TRIANGLES: usize = 1024;
 
 /// The edges of the triangle list `indices` over `positions`.
 pub fn mesh_edges(positions: &[Vec3], indices: &[u32]) -> MeshEdges {
@@ -91,7 +98,31 @@ pub fn mesh_edges(positions: &[Vec3], indices: &[u32]) -> MeshEdges {
         }
         start = end;
     }
+    out.convex = out.closed && is_convex(positions, indices);
     out
+}
+
+/// Whether every corner of the triangles `indices` lies on or behind (within a millionth of
+/// the mesh's size) every triangle's plane; false past [`CONVEX_TEST_TRIANGLES`].
+fn is_convex(positions: &[Vec3], indices: &[u32]) -> bool {
+    if indices.len() / 3 > CONVEX_TEST_TRIANGLES {
+        return false;
+    }
+    let at = |i: u32| positions.get(i as usize).copied();
+    let used: Option<Vec<Vec3>> = indices.iter().map(|&i| at(i)).collect();
+    let Some(used) = used else {
+        return false;
+    };
+    let (lo, hi) = used.iter().fold((Vec3::MAX, Vec3::MIN), |(lo, hi), p| {
+        (lo.min(*p), hi.max(*p))
+    });
+    let slack = (hi - lo).length() * 1e-6;
+    used.chunks_exact(3).all(|t| {
+        let Some(n) = (t[1] - t[0]).cross(t[2] - t[0]).try_normalize() else {
+            return true;
+        };
+        used.iter().all(|p| n.dot(*p - t[0]) <= slack)
+    })
 }
 
 /// One id per position, equal for equal positions (bit for bit; `-0.0` as `0.0`).
@@ -220,6 +251,23 @@ mod tests {
                 "{s:?}"
             );
         }
+    }
+
+    #[test]
+    fn a_cube_is_convex_and_two_cubes_in_one_mesh_or_an_open_quad_are_not() {
+        let (p, i) = cube();
+        assert!(mesh_edges(&p, &i).convex);
+        // A second cube beside the first, in the same mesh: each part is convex, the mesh is
+        // not (the first's face towards it has the second's corners in front of it).
+        let mut two = p.clone();
+        two.extend(p.iter().map(|q| *q + Vec3::new(3.0, 0.0, 0.0)));
+        let n = p.len() as u32;
+        let mut both = i.clone();
+        both.extend(i.iter().map(|k| k + n));
+        let e = mesh_edges(&two, &both);
+        assert!(e.closed && !e.convex, "{e:?}");
+        let flat = [Vec3::ZERO, Vec3::X, Vec3::new(1.0, 0.0, 1.0), Vec3::Z];
+        assert!(!mesh_edges(&flat, &[0, 2, 1, 0, 3, 2]).convex);
     }
 
     #[test]

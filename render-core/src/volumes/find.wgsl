@@ -141,8 +141,11 @@ fn occupied_under(
     var bins: array<u32, MAX_SLICES>;
     clear_found(found, &bins);
     var steps = 0;
+    // Discrete clamping keeps Lloyd's image precision: cells only.
+    var box = caster_box(c, !centres);
     let within = gather_footprint(
         &q,
+        &box,
         true,
         array<vec4<i32>, 2>(vec4<i32>(first, last), vec4<i32>(vec2<i32>(0), grid_last())),
         vec3<f32>(volume.cell.x, half, pad),

@@ -52,12 +52,26 @@ fn depth_bin(depth: f32) -> u32 {
     return min(u32(max(depth / volume.cell.z, 0.0)), DEPTH_BINS - 1u);
 }
 
+// Per grid cell (row by row, no slices): its visible receiver points' count and where they
+// start in `points`.
+@group(2) @binding(10) var<storage, read_write> cells: array<atomic<u32>>;
+// The visible receiver points listed by cell: world position as bits (xyz); slice
+// (POINT_SLICE_BITS), whether it faces the light (FACING_LIGHT) and its instance above (w).
+@group(2) @binding(11) var<storage, read_write> points: array<vec4<u32>>;
+@group(2) @binding(12) var surface_normals: texture_2d<f32>;
+
+const POINT_SLICE_BITS: u32 = 0x1fu;
+const FACING_LIGHT: u32 = 0x20u;
+const POINT_INSTANCE_SHIFT: u32 = 6u;
+
 // A visible pixel's receiver point as the grid takes it (`found`: it is one).
 struct ReceiverPixel {
     found: bool,
     cell: vec2<i32>,
     slice: u32,
     depth: f32,
+    instance: u32,
+    at: vec3<f32>,
 }
 
 fn receiver_pixel(pixel: vec2<u32>) -> ReceiverPixel {
@@ -70,15 +84,16 @@ fn receiver_pixel(pixel: vec2<u32>) -> ReceiverPixel {
     if (object == 0u || (bounds[object - 1u].flags & FLAG_RECEIVER) == 0u) {
         return r;
     }
-    let at = textureLoad(surface_positions, vec2<i32>(pixel), 0).xyz;
-    var p = in_light(at);
+    r.at = textureLoad(surface_positions, vec2<i32>(pixel), 0).xyz;
+    var p = in_light(r.at);
     if (from_point()) {
-        p = in_point_light(at);
+        p = in_point_light(r.at);
     }
     r.found = true;
     r.cell = clamp(cell_of(p.xy), vec2<i32>(0), grid_last());
     r.slice = slice_of(pixel, size);
     r.depth = max(p.z, 0.0);
+    r.instance = object - 1u;
     return r;
 }
 
@@ -95,6 +110,53 @@ fn mark_receivers(@builtin(global_invocation_id) id: vec3<u32>) {
     atomicMax(&grid[grid_word(r.slice, r.cell, DEEPEST)], bits);
     atomicOr(&grid[grid_word(r.slice, r.cell, BINS)], 1u << depth_bin(r.depth));
     atomicOr(&grid[slices_word(r.cell)], 1u << r.slice);
+    atomicAdd(&cells[2u * slices_word(r.cell)], 1u);
+}
+
+// Each cell's room in `points` (counters[7]: taken so far), its count back to 0 for
+// `list_receivers` to count again.
+@compute @workgroup_size(64)
+fn place_cells(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (id.x >= volume.grid.y * volume.grid.z) {
+        return;
+    }
+    let count = atomicLoad(&cells[2u * id.x]);
+    if (count > 0u) {
+        atomicStore(&cells[2u * id.x + 1u], atomicAdd(&counters[7], count));
+        atomicStore(&cells[2u * id.x], 0u);
+    }
+}
+
+// Every visible receiver point into its cell's room in `points`.
+@compute @workgroup_size(8, 8)
+fn list_receivers(@builtin(global_invocation_id) id: vec3<u32>) {
+    let r = receiver_pixel(id.xy);
+    if (!r.found) {
+        return;
+    }
+    let word = 2u * slices_word(r.cell);
+    let slot = atomicLoad(&cells[word + 1u]) + atomicAdd(&cells[word], 1u);
+    let normal = textureLoad(surface_normals, vec2<i32>(id.xy), 0).xyz;
+    let facing = dot(normal, to_volume_light(r.at)) > 0.0;
+    let tag = r.slice | select(0u, FACING_LIGHT, facing) | (r.instance << POINT_INSTANCE_SHIFT);
+    points[slot] = vec4<u32>(bitcast<vec3<u32>>(r.at), tag);
+}
+
+// The unit vector from `p` towards the light.
+fn to_volume_light(p: vec3<f32>) -> vec3<f32> {
+    if (from_point()) {
+        return normalize(volume.point.xyz - p);
+    }
+    return volume.to_light.xyz;
+}
+
+// A point's depth as the grid measures it: along the sun past the scene's nearest, or its
+// distance from a point light.
+fn light_depth(p: vec3<f32>) -> f32 {
+    if (from_point()) {
+        return distance(p, volume.point.xyz);
+    }
+    return max(in_light(p).z, 0.0);
 }
 
 // Every slice of `found` without receiver depths yet, and no bins, for `gather_cell`.
@@ -200,7 +262,7 @@ fn add_found(found: ptr<function, array<vec2<f32>, MAX_SLICES>>, n: u32, depths:
 // What `occupied_under` and `occupied_from_point` return past the budget of loop steps.
 const TOO_MANY_CELLS: u32 = 0xffffffffu;
 
-// Gathers into `found` and `bins` (`gather_cell`) the cells from `cells[0].xy` to
+// Gathers into `found` and `bins` (`gather_receivers`, for the caster's `box`) the cells from `cells[0].xy` to
 // `cells[0].zw` that the footprint of `q` meets (where `tested`; else all of them), row by
 // row (`footprint_row`), and always the rows and columns at `cells[1]` (lowest xy, highest
 // zw: the border cells, which also hold points beyond). `units`: the cells' size in `q`'s
@@ -209,6 +271,7 @@ const TOO_MANY_CELLS: u32 = 0xffffffffu;
 // the frame's budget (`VolumeFrame::cell.w`).
 fn gather_footprint(
     q: ptr<function, array<vec2<f32>, 8>>,
+    box: ptr<function, CasterBox>,
     tested: bool,
     cells: array<vec4<i32>, 2>,
     units: vec3<f32>,
@@ -234,7 +297,8 @@ fn gather_footprint(
         }
         *steps += 3;
         for (var x = xs.x; x <= xs.y; x++) {
-            *steps += 1 + gather_cell(vec2<i32>(x, y), depth.x, depth.y, found, bins);
+            let room = i32(volume.cell.w) - *steps;
+            *steps += 1 + gather_receivers(vec2<i32>(x, y), depth, box, found, bins, room);
             if (*steps > i32(volume.cell.w)) {
                 return false;
             }
@@ -243,9 +307,133 @@ fn gather_footprint(
         for (var side = 0u; side < 2u; side++) {
             let x = select(border.x, border.z, side == 1u);
             if (x >= range.x && x <= range.z && (x < xs.x || x > xs.y)) {
-                *steps += gather_cell(vec2<i32>(x, y), depth.x, depth.y, found, bins);
+                let room = i32(volume.cell.w) - *steps;
+                *steps += gather_receivers(vec2<i32>(x, y), depth, box, found, bins, room);
             }
         }
     }
     return *steps <= i32(volume.cell.w);
+}
+
+// A caster as the per-point test sees it (`caster_box`): its mesh's box in the world as
+// three pairs of faces, each a unit normal (xyz) with its offset at the first face (w), and
+// how far along it the second lies (`widths`).
+struct CasterBox {
+    a: vec4<f32>,
+    b: vec4<f32>,
+    c: vec4<f32>,
+    widths: vec3<f32>,
+    instance: u32,
+    // Whether its cells' points are tested one by one; whether its mesh is convex.
+    points: bool,
+    convex: bool,
+}
+
+// Caster `c`'s box (`CasterBox`), tested point by point where `points`. A box flat in one
+// way gets 2 mm of thickness; one flat in two ways is tested by cells only.
+fn caster_box(c: Caster, points: bool) -> CasterBox {
+    var box: CasterBox;
+    box.instance = c.instance;
+    box.convex = c.convex != 0u;
+    var o = oriented_corner(c, 0u);
+    var e = array<vec3<f32>, 3>(
+        oriented_corner(c, 1u) - o,
+        oriented_corner(c, 2u) - o,
+        oriented_corner(c, 4u) - o,
+    );
+    var flat = 0u;
+    for (var i = 0u; i < 3u; i++) {
+        flat += select(0u, 1u, length(e[i]) < 1e-4);
+    }
+    if (flat > 1u || !points) {
+        return box;
+    }
+    for (var i = 0u; i < 3u; i++) {
+        if (length(e[i]) < 1e-4) {
+            let n = normalize(cross(e[(i + 1u) % 3u], e[(i + 2u) % 3u]));
+            e[i] = n * 2e-3;
+            o -= n * 1e-3;
+        }
+    }
+    var slabs: array<vec4<f32>, 3>;
+    for (var i = 0u; i < 3u; i++) {
+        let n = cross(e[(i + 1u) % 3u], e[(i + 2u) % 3u]);
+        if (length(n) < 1e-12) {
+            return box;
+        }
+        let u = normalize(n);
+        slabs[i] = vec4<f32>(u, dot(u, o));
+        box.widths[i] = dot(u, e[i]);
+    }
+    box.a = slabs[0];
+    box.b = slabs[1];
+    box.c = slabs[2];
+    box.points = true;
+    return box;
+}
+
+// Narrows `t` (distances along the ray from `p` towards `towards`) to where the ray lies
+// between the two faces of `slab` (`width` apart), with `pad` to spare; false where the ray
+// runs beside them.
+fn within_slab(
+    slab: vec4<f32>,
+    width: f32,
+    ray: array<vec3<f32>, 2>,
+    pad: f32,
+    t: ptr<function, vec2<f32>>,
+) -> bool {
+    let s = dot(slab.xyz, ray[0]) - slab.w;
+    let rate = dot(slab.xyz, ray[1]);
+    let lo = min(0.0, width) - pad;
+    let hi = max(0.0, width) + pad;
+    if (abs(rate) < 1e-7) {
+        return s >= lo && s <= hi;
+    }
+    let a = (lo - s) / rate;
+    let b = (hi - s) / rate;
+    *t = vec2<f32>(max((*t).x, min(a, b)), min((*t).y, max(a, b)));
+    return true;
+}
+
+// Whether the ray from `p` towards the light meets `box`: whether the caster in it can
+// shadow `p` (its mesh lies in the box), with `pad` to spare.
+fn ray_meets_box(p: vec3<f32>, box: ptr<function, CasterBox>, pad: f32) -> bool {
+    let ray = array<vec3<f32>, 2>(p, to_volume_light(p));
+    var t = vec2<f32>(-pad, select(1e30, distance(volume.point.xyz, p), from_point()));
+    let w = (*box).widths;
+    return within_slab((*box).a, w.x, ray, pad, &t) && within_slab((*box).b, w.y, ray, pad, &t)
+        && within_slab((*box).c, w.z, ray, pad, &t) && t.x <= t.y;
+}
+
+// `gather_cell` for a caster's `box`: while `room` loop iterations are left for the cell's
+// listed points, only those the caster can shadow (`ray_meets_box`; its own points facing
+// the light left out where its mesh is convex). Returns the iterations taken.
+fn gather_receivers(
+    cell: vec2<i32>,
+    depth: vec2<f32>,
+    box: ptr<function, CasterBox>,
+    found: ptr<function, array<vec2<f32>, MAX_SLICES>>,
+    bins: ptr<function, array<u32, MAX_SLICES>>,
+    room: i32,
+) -> i32 {
+    let word = 2u * slices_word(cell);
+    let count = atomicLoad(&cells[word]);
+    if (!(*box).points || i32(count) >= room) {
+        return gather_cell(cell, depth.x, depth.y, found, bins);
+    }
+    let start = atomicLoad(&cells[word + 1u]);
+    for (var k = start; k < start + count; k++) {
+        let point = points[k];
+        let p = bitcast<vec3<f32>>(point.xyz);
+        let own = (point.w >> POINT_INSTANCE_SHIFT) == (*box).instance;
+        if ((own && (*box).convex && (point.w & FACING_LIGHT) != 0u) || !ray_meets_box(p, box, depth.y)) {
+            continue;
+        }
+        let slice = point.w & POINT_SLICE_BITS;
+        let d = light_depth(p);
+        let was = (*found)[slice];
+        (*found)[slice] = vec2<f32>(min(was.x, d), max(was.y, d));
+        (*bins)[slice] |= 1u << depth_bin(d);
+    }
+    return i32(count);
 }

@@ -43,8 +43,8 @@ use fill::{Fill, FillDraw};
 #[cfg(test)]
 pub(crate) use pipelines::shader_sources;
 use pipelines::{
-    VolumeFrameGpu, VolumePass, VolumePipelines, depth_pipeline, depth_stencil_pass, dispatch_size,
-    shader_source,
+    RECEIVER_CELLS, VolumeFrameGpu, VolumePass, VolumePipelines, depth_pipeline,
+    depth_stencil_pass, dispatch_size, shader_source,
 };
 use scene::{SceneLayouts, SceneVolumes};
 
@@ -56,6 +56,7 @@ struct StencilTarget {
     size: (u32, u32),
     depth_stencil: wgpu::TextureView,
     light_group: wgpu::BindGroup,
+    points: receivers::ReceiverPoints,
 }
 
 /// Stencil shadow volumes of the sun: long-lived pipelines, the scene's edges and the
@@ -70,6 +71,9 @@ pub struct VolumeTechnique {
     fill: Fill,
     reset: wgpu::ComputePipeline,
     receivers: wgpu::ComputePipeline,
+    /// Each grid cell's start in the view's receiver points, then the points listed there.
+    place: wgpu::ComputePipeline,
+    list: wgpu::ComputePipeline,
     cull: wgpu::ComputePipeline,
     silhouettes: wgpu::ComputePipeline,
     caps: wgpu::ComputePipeline,
@@ -180,6 +184,8 @@ impl VolumeTechnique {
             depth_clamped,
             reset: find("reset_draws"),
             receivers: find("mark_receivers"),
+            place: find("place_cells"),
+            list: find("list_receivers"),
             cull: find("cull_casters"),
             silhouettes: find("find_silhouettes"),
             caps: find("find_caps"),
@@ -274,6 +280,7 @@ impl VolumeTechnique {
             size,
             depth_stencil: texture.create_view(&wgpu::TextureViewDescriptor::default()),
             light_group,
+            points: receivers::ReceiverPoints::new(device, size),
         });
     }
 }
@@ -348,8 +355,11 @@ impl ShadowTechnique for VolumeTechnique {
             unreachable!("ensured in prepare and above");
         };
         let find_group =
-            receivers::find_group(&draw.ctx.device, &self.find_layout, scene, draw.targets);
+            target
+                .points
+                .find_group(&draw.ctx.device, &self.find_layout, scene, draw.targets);
         encoder.clear_buffer(&scene.grid, 0, Some(scene::grid_bytes(self.slices)));
+        encoder.clear_buffer(&scene.cells, 0, None);
         if input.volumes.clamp == VolumeClamp::Exact {
             let size = (draw.targets.width, draw.targets.height);
             self.exact
@@ -365,6 +375,8 @@ impl ShadowTechnique for VolumeTechnique {
                 &[
                     (&self.reset, [1, 1]),
                     (&self.receivers, [width.div_ceil(8), height.div_ceil(8)]),
+                    (&self.place, [RECEIVER_CELLS.div_ceil(64), 1]),
+                    (&self.list, [width.div_ceil(8), height.div_ceil(8)]),
                 ],
             ),
             (

@@ -159,6 +159,7 @@ fn occupied_from_point(
     var bins: array<u32, MAX_SLICES>;
     clear_found(found, &bins);
     var steps = 0;
+    var box = caster_box(c, true);
     for (var f = 0u; f < 6u; f++) {
         let origin = face_origin(f);
         var q: array<vec2<f32>, 8>;
@@ -172,6 +173,7 @@ fn occupied_from_point(
         // A face's border cells also hold the points clamped onto it (`in_point_light`).
         let within = gather_footprint(
             &q,
+            &box,
             in_front,
             array<vec4<i32>, 2>(vec4<i32>((*first)[f], (*last)[f]), vec4<i32>(vec2<i32>(origin), top)),
             vec3<f32>(1.0, 0.5, 1e-3),

@@ -23,7 +23,8 @@ struct CasterGpu {
     edge_start: u32,
     triangle_start: u32,
     closed: u32,
-    padding: u32,
+    /// 1 where the mesh is convex (`MeshEdges::convex`).
+    convex: u32,
     /// The mesh's own box (w unused): with the instance's transform, an oriented box.
     local_min: [f32; 4],
     local_max: [f32; 4],
@@ -46,6 +47,9 @@ pub(super) struct SceneVolumes {
     pub kept: wgpu::Buffer,
     pub intervals: wgpu::Buffer,
     pub grid: wgpu::Buffer,
+    /// Per grid cell, its visible receiver points' count and first index in the view's list
+    /// (`volumes/grid.wgsl`).
+    pub cells: wgpu::Buffer,
     pub counters: wgpu::Buffer,
     pub outcomes: wgpu::Buffer,
     pub instances: u32,
@@ -74,7 +78,7 @@ impl SceneVolumes {
         for mesh in &scene.meshes {
             let e = mesh_edges(&mesh.positions, &mesh.indices);
             closed_meshes += u32::from(e.closed);
-            mesh_info.push((edges.len() as u32, e.edges.len() as u32, e.closed));
+            mesh_info.push((edges.len() as u32, e.edges.len() as u32, e.closed, e.convex));
             edges.extend(e.edges);
         }
         let mut casters = Vec::new();
@@ -87,7 +91,7 @@ impl SceneVolumes {
             {
                 continue;
             }
-            let (first_edge, edge_count, closed) = mesh_info[instance.mesh as usize];
+            let (first_edge, edge_count, closed, convex) = mesh_info[instance.mesh as usize];
             let mesh = &scene.meshes[instance.mesh as usize];
             outcomes[i as usize] = OUTCOME_RENDERED;
             caster_of[i as usize] = Some(casters.len() as u32);
@@ -99,7 +103,7 @@ impl SceneVolumes {
                 edge_start: edge_items,
                 triangle_start: triangle_items,
                 closed: u32::from(closed),
-                padding: 0,
+                convex: u32::from(convex),
                 local_min: mesh.aabb_in_local.min.extend(0.0).to_array(),
                 local_max: mesh.aabb_in_local.max.extend(0.0).to_array(),
             });
@@ -167,6 +171,11 @@ impl SceneVolumes {
             grid_bytes(MAX_SLICES),
             wgpu::BufferUsages::COPY_DST,
         );
+        let cells = storage_buffer(
+            "Volumes::receiver_cells",
+            u64::from(RECEIVER_CELLS) * 8,
+            wgpu::BufferUsages::COPY_DST,
+        );
         let counters = storage_buffer(
             "Volumes::counters",
             32,
@@ -210,6 +219,7 @@ impl SceneVolumes {
             kept,
             intervals,
             grid,
+            cells,
             counters,
             outcomes: init(
                 "Volumes::outcomes",
