@@ -54,10 +54,12 @@ fn in_light(p: vec3<f32>) -> vec3<f32> {
 // an occupied depth interval (culling, options.y bit 0: no interval, no volume); with
 // clamping (bit 1) the volume is drawn only across the union of those intervals, merged to
 // at most MAX_INTERVALS, else from the caster to past the scene. Bit 2: only the cells whose
-// centres the footprint covers (discrete clamping's image-precision test), else every cell
-// it touches (conservative). Conservative otherwise: each cell keeps the shallowest and deepest
-// point in it, and an interval [a, b] becomes extrusions from a past the box's far side to b
-// past its near side, so every vertex's volume covers it.
+// centres the footprint covers (discrete clamping's image-precision test, each cell's
+// depths whole), else every cell it touches, whose points are tested one by one against the
+// caster's box (volumes/grid.wgsl `gather_receivers`). An interval [a, b] becomes extrusions
+// from a past the box's far side to b past its near side, so every vertex's volume covers
+// it. A caster whose cells would take more loop iterations than the frame allows keeps its
+// whole volume.
 @compute @workgroup_size(64)
 fn cull_casters(@builtin(global_invocation_id) id: vec3<u32>) {
     let ci = id.x + id.y * 65535u * 64u;
@@ -90,7 +92,6 @@ fn cull_casters(@builtin(global_invocation_id) id: vec3<u32>) {
         first = clamp(vec2<i32>(ceil(lo.xy / volume.cell.x - 0.5)), vec2<i32>(0), top + 1);
         last = clamp(vec2<i32>(floor(hi.xy / volume.cell.x - 0.5)), vec2<i32>(-1), top);
     }
-    let span = max(last - first + 1, vec2<i32>(0));
     var found: array<vec2<f32>, MAX_SLICES>;
     var n = 0u;
     if (given()) {
@@ -121,8 +122,8 @@ fn cull_casters(@builtin(global_invocation_id) id: vec3<u32>) {
 // Per slice, the depths of the visible receiver points under caster `c`'s footprint
 // (volumes/footprint.wgsl) in the cells `first` to `last`, no nearer than the caster
 // (`depth.x`, with `depth.y` to spare): the cells the footprint meets, or with `centres`
-// those whose centre it holds. Into `found`, one interval per slice that has any; returns
-// how many.
+// those whose centre it holds. Into `found`, the occupied intervals (`compact_found`);
+// returns how many, or TOO_MANY_CELLS.
 fn occupied_under(
     c: Caster,
     first: vec2<i32>,

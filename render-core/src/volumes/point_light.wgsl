@@ -146,7 +146,7 @@ fn outside_face(b: InstanceBounds, f: u32) -> bool {
 // visible receiver points in the cells `first` to `last` of each cube face that the
 // caster's footprint there meets (its mesh's box turned with it, projected from the light;
 // where a corner lies behind the face's plane, every cell), no nearer than the caster
-// (`depth.x`, with `depth.y` to spare). Into `found`; returns how many.
+// (`depth.x`, with `depth.y` to spare). Into `found`; returns how many, or TOO_MANY_CELLS.
 fn occupied_from_point(
     c: Caster,
     first: ptr<function, array<vec2<i32>, 6>>,
