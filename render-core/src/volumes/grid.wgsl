@@ -1,10 +1,12 @@
 // The receiver grid (Lloyd's potential shadow receivers, at pixel precision): the visible
 // receiver points in the light's view, per slice of the picture and cell across the light.
-// Each (slice, cell) holds three words: the shallowest and the deepest point's depth along
-// the light (past the scene's nearest, or from a point light; plus 1, as bits, the
-// shallowest inverted so both grow with atomicMax; 0: none), and which of DEPTH_BINS equal
-// bins of depth hold a point. A cell over a truss and the floor far below it keeps the two
-// apart: the air between is in no bin, and a volume over the cell is not drawn through it.
+// Each cell holds a word of the slices that hold points there, and each (slice, cell) three
+// words: the shallowest and the deepest point's depth along the light (past the scene's
+// nearest, or from a point light; plus 1, as bits, the shallowest inverted so both grow with
+// atomicMax; 0: none), and which of DEPTH_BINS equal bins of depth hold a point. A cell over
+// a truss and the floor far below it keeps the two apart: the air between is in no bin, and
+// a volume over the cell is not drawn through it. The points themselves are listed per cell
+// too (`cells`, `points`), for casters to test one by one (`gather_receivers`).
 // Part of volumes/find.wgsl.
 
 // Bins of a (slice, cell)'s depths, one bit each (`VolumeFrame::cell.z` their size).
@@ -258,12 +260,11 @@ fn add_found(found: ptr<function, array<vec2<f32>, MAX_SLICES>>, n: u32, depths:
     return n;
 }
 
-
 // What `occupied_under` and `occupied_from_point` return past the budget of loop steps.
 const TOO_MANY_CELLS: u32 = 0xffffffffu;
 
-// Gathers into `found` and `bins` (`gather_receivers`, for the caster's `box`) the cells from `cells[0].xy` to
-// `cells[0].zw` that the footprint of `q` meets (where `tested`; else all of them), row by
+// Gathers into `found` and `bins` (`gather_receivers`, for the caster's `box`) the cells
+// from `cells[0].xy` to `cells[0].zw` that the footprint of `q` meets (where `tested`; else all of them), row by
 // row (`footprint_row`), and always the rows and columns at `cells[1]` (lowest xy, highest
 // zw: the border cells, which also hold points beyond). `units`: the cells' size in `q`'s
 // units, their half-size there (0: their centres only) and the padding; `depth`: the
