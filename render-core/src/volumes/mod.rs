@@ -64,6 +64,8 @@ struct StencilTarget {
 pub struct VolumeTechnique {
     format: wgpu::TextureFormat,
     depth_clamped: bool,
+    /// The adapter's kind, which sets the grid test's budget of loop iterations.
+    device_type: wgpu::DeviceType,
     scene_layout: wgpu::BindGroupLayout,
     find_layout: wgpu::BindGroupLayout,
     draw_layout: wgpu::BindGroupLayout,
@@ -182,6 +184,7 @@ impl VolumeTechnique {
             fill,
             format,
             depth_clamped,
+            device_type: ctx.adapter.get_info().device_type,
             reset: find("reset_draws"),
             receivers: find("mark_receivers"),
             place: find("place_cells"),
@@ -336,7 +339,7 @@ impl ShadowTechnique for VolumeTechnique {
             scene,
             self.method,
             (self.slices, pixels_per_vertex),
-            ctx.adapter.get_info().device_type,
+            self.device_type,
         );
         self.travel = uniforms.travel;
         ctx.queue
