@@ -80,6 +80,10 @@ const FILES: &[(&str, &str)] = &[
         include_str!("volumes/footprint.wgsl"),
     ),
     ("volumes/grid.wgsl", include_str!("volumes/grid.wgsl")),
+    (
+        "volumes/big_casters.wgsl",
+        include_str!("volumes/big_casters.wgsl"),
+    ),
     ("volumes/draw.wgsl", include_str!("volumes/draw.wgsl")),
     ("volumes/light.wgsl", include_str!("volumes/light.wgsl")),
     (

@@ -6,6 +6,7 @@
 #import volumes/point_light.wgsl
 #import volumes/footprint.wgsl
 #import volumes/grid.wgsl
+#import volumes/big_casters.wgsl
 #import culling/codes.wgsl
 
 // vertex_count, instance_count, first_vertex, first_instance; quads then caps.
@@ -58,107 +59,147 @@ fn in_light(p: vec3<f32>) -> vec3<f32> {
 // depths whole), else every cell it touches, whose points are tested one by one against the
 // caster's box (volumes/grid.wgsl `gather_receivers`). An interval [a, b] becomes extrusions
 // from a past the box's far side to b past its near side, so every vertex's volume covers
-// it. A caster whose cells would take more loop iterations than the frame allows keeps its
-// whole volume.
+// it. A caster whose cells would take more loop iterations than the frame allows one
+// invocation is left to a workgroup (volumes/big_casters.wgsl).
 @compute @workgroup_size(64)
 fn cull_casters(@builtin(global_invocation_id) id: vec3<u32>) {
     let ci = id.x + id.y * 65535u * 64u;
     if (ci >= volume.counts.z) {
         return;
     }
-    let c = casters[ci];
-    let culling = (volume.options.y & 1u) != 0u;
-    let clamping = (volume.options.y & 2u) != 0u;
-    let centres = (volume.options.y & 4u) != 0u;
     if (from_point()) {
-        cull_from_point(ci, culling, clamping);
+        cull_from_point(ci);
         return;
     }
-    let b = bounds[c.instance];
-    var lo = vec3<f32>(1e30);
-    var hi = vec3<f32>(-1e30);
-    for (var k = 0u; k < 8u; k++) {
-        let p = in_light(box_corner(b, k));
-        lo = min(lo, p);
-        hi = max(hi, p);
-    }
-    // Rounded outwards by a millimetre and a bit of the box.
-    let pad = 1e-3 + length(hi - lo) * 1e-5;
-    let top = grid_last();
-    var first = clamp(cell_of(lo.xy - pad), vec2<i32>(0), top);
-    var last = clamp(cell_of(hi.xy + pad), vec2<i32>(0), top);
-    if (centres) {
-        // Cells whose centre lies in the box.
-        first = clamp(vec2<i32>(ceil(lo.xy / volume.cell.x - 0.5)), vec2<i32>(0), top + 1);
-        last = clamp(vec2<i32>(floor(hi.xy / volume.cell.x - 0.5)), vec2<i32>(-1), top);
-    }
+    let s = sun_caster(ci);
     var found: array<vec2<f32>, MAX_SLICES>;
+    var bins: array<u32, MAX_SLICES>;
     var n = 0u;
     if (given()) {
-        n = given_intervals(ci, lo.z, &found);
-    } else if (culling || clamping) {
-        n = occupied_under(c, first, last, vec2<f32>(lo.z, pad), centres, &found);
+        n = given_intervals(ci, s.lo.z, &found);
+    } else if (culling() || clamping()) {
+        clear_found(&found, &bins);
+        if (gather_under(ci, s, vec2<u32>(0u, 1u), &found, &bins)) {
+            n = compact_found(s.lo.z, s.pad, &found, &bins);
+        } else if (defer_caster(ci)) {
+            return;
+        } else {
+            n = TOO_MANY_CELLS;
+        }
     }
-    if (n == TOO_MANY_CELLS || (!culling && !clamping)) {
-        found[0] = vec2<f32>(lo.z, 1e30);
+    finish_sun_caster(ci, s, n, &found);
+}
+
+fn culling() -> bool {
+    return (volume.options.y & 1u) != 0u;
+}
+
+fn clamping() -> bool {
+    return (volume.options.y & 2u) != 0u;
+}
+
+fn centres() -> bool {
+    return (volume.options.y & 4u) != 0u;
+}
+
+// A caster's world box in the sun's frame (lo, hi, rounded outwards by `pad`) and the grid
+// cells under it, first and last (with `centres`, those whose centre it holds).
+struct SunCaster {
+    lo: vec3<f32>,
+    hi: vec3<f32>,
+    pad: f32,
+    first: vec2<i32>,
+    last: vec2<i32>,
+}
+
+fn sun_caster(ci: u32) -> SunCaster {
+    let b = bounds[casters[ci].instance];
+    var s: SunCaster;
+    s.lo = vec3<f32>(1e30);
+    s.hi = vec3<f32>(-1e30);
+    for (var k = 0u; k < 8u; k++) {
+        let p = in_light(box_corner(b, k));
+        s.lo = min(s.lo, p);
+        s.hi = max(s.hi, p);
+    }
+    // Rounded outwards by a millimetre and a bit of the box.
+    s.pad = 1e-3 + length(s.hi - s.lo) * 1e-5;
+    let top = grid_last();
+    s.first = clamp(cell_of(s.lo.xy - s.pad), vec2<i32>(0), top);
+    s.last = clamp(cell_of(s.hi.xy + s.pad), vec2<i32>(0), top);
+    if (centres()) {
+        // Cells whose centre lies in the box.
+        s.first = clamp(vec2<i32>(ceil(s.lo.xy / volume.cell.x - 0.5)), vec2<i32>(0), top + 1);
+        s.last = clamp(vec2<i32>(floor(s.hi.xy / volume.cell.x - 0.5)), vec2<i32>(-1), top);
+    }
+    return s;
+}
+
+// Caster `ci`'s volume from its `n` occupied depth intervals in `found` (TOO_MANY_CELLS:
+// unknown, the whole volume): culled, clamped to them, or whole, as the options ask.
+fn finish_sun_caster(
+    ci: u32,
+    s: SunCaster,
+    occupied: u32,
+    found: ptr<function, array<vec2<f32>, MAX_SLICES>>,
+) {
+    var n = occupied;
+    if (n == TOO_MANY_CELLS || (!culling() && !clamping())) {
+        (*found)[0] = vec2<f32>(s.lo.z, 1e30);
         n = 1u;
     }
-    let keep = !culling || n > 0u;
+    let keep = !culling() || n > 0u;
     var count = 0u;
-    if (keep && clamping && n > 0u) {
-        count = merged_intervals(ci, &found, n, array<vec3<f32>, 3>(lo, hi, vec3<f32>(pad)));
+    if (keep && clamping() && n > 0u) {
+        count = merged_intervals(ci, found, n, array<vec3<f32>, 3>(s.lo, s.hi, vec3<f32>(s.pad)));
         count = within_room(ci, count);
     } else if (keep) {
-        count = whole_or_a_centimetre(ci, clamping);
+        count = whole_or_a_centimetre(ci, clamping());
     }
     var reach = 0.0;
     for (var r = 0u; r < count; r++) {
         reach = max(reach, intervals[ci * MAX_INTERVALS + r].y);
     }
-    let z_pass = counts_z_pass(lo - pad, hi + pad, reach);
+    let z_pass = counts_z_pass(s.lo - s.pad, s.hi + s.pad, reach);
     keep_caster(ci, count, z_pass);
 }
 
-// Per slice, the depths of the visible receiver points under caster `c`'s footprint
-// (volumes/footprint.wgsl) in the cells `first` to `last`, no nearer than the caster
-// (`depth.x`, with `depth.y` to spare): the cells the footprint meets, or with `centres`
-// those whose centre it holds. Into `found`, the occupied intervals (`compact_found`);
-// returns how many, or TOO_MANY_CELLS.
-fn occupied_under(
-    c: Caster,
-    first: vec2<i32>,
-    last: vec2<i32>,
-    depth: vec2<f32>,
-    centres: bool,
+// Gathers into `found` and `bins` the depths of the visible receiver points under caster
+// `ci`'s footprint (volumes/footprint.wgsl) in its cells (`s`), no nearer than the caster
+// (with its padding to spare): the cells the footprint meets, or with `centres` those whose
+// centre it holds; of their rows, every `lanes.y`-th from the `lanes.x`-th. False once past
+// the budget of loop iterations.
+fn gather_under(
+    ci: u32,
+    s: SunCaster,
+    lanes: vec2<u32>,
     found: ptr<function, array<vec2<f32>, MAX_SLICES>>,
-) -> u32 {
-    let nearest = depth.x;
-    let pad = depth.y;
+    bins: ptr<function, array<u32, MAX_SLICES>>,
+) -> bool {
+    let c = casters[ci];
     var q: array<vec2<f32>, 8>;
     for (var k = 0u; k < 8u; k++) {
         q[k] = in_light(oriented_corner(c, k)).xy;
     }
-    let half = select(0.5 * volume.cell.x, 0.0, centres);
-    var bins: array<u32, MAX_SLICES>;
-    clear_found(found, &bins);
+    let half = select(0.5 * volume.cell.x, 0.0, centres());
     var steps = 0;
     // Discrete clamping keeps Lloyd's image precision: cells only.
-    var box = caster_box(c, !centres);
-    let within = gather_footprint(
+    var box = caster_box(c, !centres());
+    return gather_footprint(
         &q,
         &box,
         true,
-        array<vec4<i32>, 2>(vec4<i32>(first, last), vec4<i32>(vec2<i32>(0), grid_last())),
-        vec3<f32>(volume.cell.x, half, pad),
-        depth,
+        array<vec4<i32>, 3>(
+            vec4<i32>(s.first, s.last),
+            vec4<i32>(vec2<i32>(0), grid_last()),
+            vec4<i32>(vec2<i32>(lanes), 0, 0),
+        ),
+        vec3<f32>(volume.cell.x, half, s.pad),
+        vec2<f32>(s.lo.z, s.pad),
         found,
-        &bins,
+        bins,
         &steps,
     );
-    if (!within) {
-        return TOO_MANY_CELLS;
-    }
-    return compact_found(nearest, pad, found, &bins);
 }
 
 // Exact clamping (options.y bit 3, volumes/exact.rs): the CPU has written each caster's
@@ -489,5 +530,6 @@ fn reset_draws() {
     for (var k = 0u; k < 8u; k++) {
         atomicStore(&counters[k], 0u);
     }
+    atomicStore(&big[0], 0u);
 }
 

@@ -260,13 +260,14 @@ fn add_found(found: ptr<function, array<vec2<f32>, MAX_SLICES>>, n: u32, depths:
     return n;
 }
 
-// What `occupied_under` and `occupied_from_point` return past the budget of loop steps.
+// What stands for a caster's intervals where its cells ran past the budget of loop steps.
 const TOO_MANY_CELLS: u32 = 0xffffffffu;
 
 // Gathers into `found` and `bins` (`gather_receivers`, for the caster's `box`) the cells
-// from `cells[0].xy` to `cells[0].zw` that the footprint of `q` meets (where `tested`; else all of them), row by
-// row (`footprint_row`), and always the rows and columns at `cells[1]` (lowest xy, highest
-// zw: the border cells, which also hold points beyond). `units`: the cells' size in `q`'s
+// from `cells[0].xy` to `cells[0].zw` that the footprint of `q` meets (where `tested`; else
+// all of them), row by row (`footprint_row`), and always the rows and columns at `cells[1]`
+// (lowest xy, highest zw: the border cells, which also hold points beyond); of the rows,
+// every `cells[2].y`-th from the `cells[2].x`-th (a workgroup's lanes share them). `units`: the cells' size in `q`'s
 // units, their half-size there (0: their centres only) and the padding; `depth`: the
 // caster's nearest depth and its padding. Counts loop iterations in `steps`; false once past
 // the frame's budget (`VolumeFrame::cell.w`).
@@ -274,7 +275,7 @@ fn gather_footprint(
     q: ptr<function, array<vec2<f32>, 8>>,
     box: ptr<function, CasterBox>,
     tested: bool,
-    cells: array<vec4<i32>, 2>,
+    cells: array<vec4<i32>, 3>,
     units: vec3<f32>,
     depth: vec2<f32>,
     found: ptr<function, array<vec2<f32>, MAX_SLICES>>,
@@ -283,7 +284,7 @@ fn gather_footprint(
 ) -> bool {
     let range = cells[0];
     let border = cells[1];
-    for (var y = range.y; y <= range.w; y++) {
+    for (var y = range.y + cells[2].x; y <= range.w; y += cells[2].y) {
         var xs = range.xz;
         if (tested && y != border.y && y != border.w) {
             let centre = (f32(y) + 0.5) * units.x;
@@ -396,14 +397,46 @@ fn within_slab(
     return true;
 }
 
-// Whether the ray from `p` towards the light meets `box`: whether the caster in it can
-// shadow `p` (its mesh lies in the box), with `pad` to spare.
+// Whether the ray from `p` towards the light meets `box` ahead of `p`: whether the caster in
+// it can shadow `p` (its mesh lies in the box), with `pad` to spare around the box. A point
+// within that padding (a crate's foot on the floor, the floor beside a wall) counts only
+// where its ray meets the box itself: one whose ray runs away from the box is not shadowed
+// by it, however close it lies.
 fn ray_meets_box(p: vec3<f32>, box: ptr<function, CasterBox>, pad: f32) -> bool {
     let ray = array<vec3<f32>, 2>(p, to_volume_light(p));
-    var t = vec2<f32>(-pad, select(1e30, distance(volume.point.xyz, p), from_point()));
+    let end = select(1e30, distance(volume.point.xyz, p), from_point());
+    var t = vec2<f32>(0.0, end);
+    if (!ray_within_box(ray, box, pad, &t)) {
+        return false;
+    }
+    if (t.x > 0.0) {
+        return true;
+    }
+    t = vec2<f32>(0.0, end);
+    return ray_within_box(ray, box, 0.0, &t);
+}
+
+// Narrows `t` to where `ray` lies in `box` grown by `pad`; false where it misses it there.
+fn ray_within_box(
+    ray: array<vec3<f32>, 2>,
+    box: ptr<function, CasterBox>,
+    pad: f32,
+    t: ptr<function, vec2<f32>>,
+) -> bool {
     let w = (*box).widths;
-    return within_slab((*box).a, w.x, ray, pad, &t) && within_slab((*box).b, w.y, ray, pad, &t)
-        && within_slab((*box).c, w.z, ray, pad, &t) && t.x <= t.y;
+    return within_slab((*box).a, w.x, ray, pad, t) && within_slab((*box).b, w.y, ray, pad, t)
+        && within_slab((*box).c, w.z, ray, pad, t) && (*t).x <= (*t).y;
+}
+
+// The room the per-point test leaves a point at `p` (world space): a hundredth of a
+// millimetre and 16 steps of a float at its distance from the origin, what its position and
+// the box's corners may have lost. A neighbour's point a tenth of a millimetre beside the
+// caster (a crate on the floor, a wall's foot), whose ray to the light runs away from it, is
+// not counted: the caster's own padding would count it and stretch the caster's volume to
+// that point's depth.
+fn point_pad(p: vec3<f32>) -> f32 {
+    let a = abs(p);
+    return 1e-5 + 2e-6 * max(a.x, max(a.y, a.z));
 }
 
 // `gather_cell` for a caster's `box`: while `room` loop iterations are left for the cell's
@@ -427,7 +460,7 @@ fn gather_receivers(
         let point = points[k];
         let p = bitcast<vec3<f32>>(point.xyz);
         let own = (point.w >> POINT_INSTANCE_SHIFT) == (*box).instance;
-        if ((own && (*box).convex && (point.w & FACING_LIGHT) != 0u) || !ray_meets_box(p, box, depth.y)) {
+        if ((own && (*box).convex && (point.w & FACING_LIGHT) != 0u) || !ray_meets_box(p, box, point_pad(p))) {
             continue;
         }
         let slice = point.w & POINT_SLICE_BITS;

@@ -43,7 +43,7 @@ use fill::{Fill, FillDraw};
 #[cfg(test)]
 pub(crate) use pipelines::shader_sources;
 use pipelines::{
-    RECEIVER_CELLS, VolumeFrameGpu, VolumePass, VolumePipelines, depth_pipeline,
+    BIG_CASTERS, RECEIVER_CELLS, VolumeFrameGpu, VolumePass, VolumePipelines, depth_pipeline,
     depth_stencil_pass, dispatch_size, shader_source,
 };
 use scene::{SceneLayouts, SceneVolumes};
@@ -77,6 +77,9 @@ pub struct VolumeTechnique {
     place: wgpu::ComputePipeline,
     list: wgpu::ComputePipeline,
     cull: wgpu::ComputePipeline,
+    /// The casters too big for one invocation of `cull`, a workgroup each, then finished.
+    gather_big: wgpu::ComputePipeline,
+    finish_big: wgpu::ComputePipeline,
     silhouettes: wgpu::ComputePipeline,
     caps: wgpu::ComputePipeline,
     depth: wgpu::RenderPipeline,
@@ -190,6 +193,8 @@ impl VolumeTechnique {
             place: find("place_cells"),
             list: find("list_receivers"),
             cull: find("cull_casters"),
+            gather_big: find("gather_big_casters"),
+            finish_big: find("finish_big_casters"),
             silhouettes: find("find_silhouettes"),
             caps: find("find_caps"),
             depth,
@@ -384,7 +389,11 @@ impl ShadowTechnique for VolumeTechnique {
             ),
             (
                 pass_label::volumes::CULL_AND_CLAMP,
-                &[(&self.cull, dispatch_groups(scene.casters))],
+                &[
+                    (&self.cull, dispatch_groups(scene.casters)),
+                    (&self.gather_big, [BIG_CASTERS, 1]),
+                    (&self.finish_big, [1, 1]),
+                ],
             ),
             (
                 pass_label::volumes::EDGES,

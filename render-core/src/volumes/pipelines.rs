@@ -58,6 +58,13 @@ pub(super) const MAX_SLICES: u32 = crate::shadow_view::VolumeSettings::MAX_SLICE
 
 /// The most cells of the grid of visible receiver points in the light's view, per slice.
 pub(super) const RECEIVER_CELLS: u32 = 512 * 512;
+/// The most casters a frame leaves to a workgroup each (`BIG_CASTERS` in
+/// `volumes/big_casters.wgsl`).
+pub(super) const BIG_CASTERS: u32 = 64;
+/// The bytes of their list: a count, the casters, and what each one's lanes merged
+/// (`BIG_WORDS`: three words per slice and one more).
+pub(super) const BIG_CASTERS_BYTES: u64 =
+    4 * (1 + BIG_CASTERS as u64 * (2 + 3 * MAX_SLICES as u64));
 /// The depth bins of each grid cell (`DEPTH_BINS` in `volumes/grid.wgsl`).
 pub(super) const DEPTH_BINS: u32 = 32;
 

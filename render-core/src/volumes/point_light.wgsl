@@ -58,24 +58,54 @@ fn in_point_light(p: vec3<f32>) -> vec3<f32> {
 // clamped, its end caps, flat between points at an interval's end, are moved out by the
 // cosine of the box's angular radius so that they sag no nearer than the interval's end,
 // and a box too close to the light for that (over 45 degrees) keeps its whole volume.
-fn cull_from_point(ci: u32, culling: bool, clamping: bool) {
+fn cull_from_point(ci: u32) {
+    let p = point_caster(ci);
+    var found: array<vec2<f32>, MAX_SLICES>;
+    var bins: array<u32, MAX_SLICES>;
+    var n = 0u;
+    if (given() && !p.whole) {
+        n = given_intervals(ci, p.nearest, &found);
+    }
+    if (!p.whole && !given()) {
+        clear_found(&found, &bins);
+        if (gather_from_point(ci, p, vec2<u32>(0u, 1u), &found, &bins)) {
+            n = compact_found(p.nearest, p.pad, &found, &bins);
+        } else if (defer_caster(ci)) {
+            return;
+        } else {
+            n = TOO_MANY_CELLS;
+        }
+    }
+    finish_point_caster(ci, p, n, &found);
+}
+
+// A caster's world box seen from a point light: its nearest and farthest distance from the
+// light, its padding, whether it keeps its whole volume whatever lies under it, and per cube
+// face the cells the box covers, first and last.
+struct PointCaster {
+    nearest: f32,
+    farthest: f32,
+    pad: f32,
+    whole: bool,
+    first: array<vec2<i32>, 6>,
+    last: array<vec2<i32>, 6>,
+}
+
+fn point_caster(ci: u32) -> PointCaster {
     let b = bounds[casters[ci].instance];
     let light = volume.point.xyz;
-    let nearest = length(clamp(light, b.min, b.max) - light);
-    var farthest = 0.0;
+    var p: PointCaster;
+    p.nearest = length(clamp(light, b.min, b.max) - light);
     for (var k = 0u; k < 8u; k++) {
-        farthest = max(farthest, length(box_corner(b, k) - light));
+        p.farthest = max(p.farthest, length(box_corner(b, k) - light));
     }
     let centre = 0.5 * (b.min + b.max);
     let sine = 0.5 * length(b.max - b.min) / max(length(centre - light), 1e-6);
-    let pad = 1e-3 + farthest * 1e-5;
-    var whole = nearest <= pad || sine > 0.7071 || (!culling && !clamping);
-    // Per face, the cells the box covers: first and last.
-    var first: array<vec2<i32>, 6>;
-    var last: array<vec2<i32>, 6>;
-    for (var f = 0u; f < 6u && !whole; f++) {
-        first[f] = vec2<i32>(1);
-        last[f] = vec2<i32>(0);
+    p.pad = 1e-3 + p.farthest * 1e-5;
+    p.whole = p.nearest <= p.pad || sine > 0.7071 || (!culling() && !clamping());
+    for (var f = 0u; f < 6u && !p.whole; f++) {
+        p.first[f] = vec2<i32>(1);
+        p.last[f] = vec2<i32>(0);
         var lo = vec2<f32>(1e30);
         var hi = vec2<f32>(-1e30);
         var behind = 0u;
@@ -100,27 +130,31 @@ fn cull_from_point(ci: u32, culling: bool, clamping: bool) {
         }
         let origin = face_origin(f);
         let top = vec2<i32>(origin) + vec2<i32>(i32(face_cells()) - 1);
-        first[f] = clamp(cell_of(origin + (lo * 0.5 + 0.5) * face_cells() - 1e-3), vec2<i32>(origin), top);
-        last[f] = clamp(cell_of(origin + (hi * 0.5 + 0.5) * face_cells() + 1e-3), vec2<i32>(origin), top);
+        p.first[f] = clamp(cell_of(origin + (lo * 0.5 + 0.5) * face_cells() - 1e-3), vec2<i32>(origin), top);
+        p.last[f] = clamp(cell_of(origin + (hi * 0.5 + 0.5) * face_cells() + 1e-3), vec2<i32>(origin), top);
     }
-    var found: array<vec2<f32>, MAX_SLICES>;
-    var n = 0u;
-    if (given() && !whole) {
-        n = given_intervals(ci, nearest, &found);
-    }
-    if (!whole && !given()) {
-        n = occupied_from_point(casters[ci], &first, &last, vec2<f32>(nearest, pad), &found);
-        whole = n == TOO_MANY_CELLS;
-    }
+    return p;
+}
+
+// Caster `ci`'s volume from its `n` occupied intervals of distance in `found`
+// (TOO_MANY_CELLS: unknown, the whole volume), as `finish_sun_caster` (volumes/find.wgsl).
+fn finish_point_caster(
+    ci: u32,
+    p: PointCaster,
+    n: u32,
+    found: ptr<function, array<vec2<f32>, MAX_SLICES>>,
+) {
+    let b = bounds[casters[ci].instance];
+    let whole = p.whole || n == TOO_MANY_CELLS;
     var count = 0u;
     if (whole) {
         count = whole_or_a_centimetre(ci, false);
-    } else if (n > 0u && clamping) {
-        let reach = vec3<f32>(pad, nearest, farthest);
-        count = merged_intervals(ci, &found, n, array<vec3<f32>, 3>(b.min, b.max, reach));
+    } else if (n > 0u && clamping()) {
+        let reach = vec3<f32>(p.pad, p.nearest, p.farthest);
+        count = merged_intervals(ci, found, n, array<vec3<f32>, 3>(b.min, b.max, reach));
         count = within_room(ci, count);
-    } else if (n > 0u || !culling) {
-        count = whole_or_a_centimetre(ci, clamping && n == 0u);
+    } else if (n > 0u || !culling()) {
+        count = whole_or_a_centimetre(ci, clamping() && n == 0u);
     }
     keep_caster(ci, count, counts_z_pass_from_point(b));
 }
@@ -142,25 +176,23 @@ fn outside_face(b: InstanceBounds, f: u32) -> bool {
     return any(beyond);
 }
 
-// `occupied_under` (volumes/find.wgsl) for a point light: per slice, the depths of the
-// visible receiver points in the cells `first` to `last` of each cube face that the
-// caster's footprint there meets (its mesh's box turned with it, projected from the light;
-// where a corner lies behind the face's plane, every cell), no nearer than the caster
-// (`depth.x`, with `depth.y` to spare). Into `found`; returns how many, or TOO_MANY_CELLS.
-fn occupied_from_point(
-    c: Caster,
-    first: ptr<function, array<vec2<i32>, 6>>,
-    last: ptr<function, array<vec2<i32>, 6>>,
-    depth: vec2<f32>,
+// `gather_under` (volumes/find.wgsl) for a point light: the depths of the visible receiver
+// points in the cells of each cube face (`p`) that the caster's footprint there meets (its
+// mesh's box turned with it, projected from the light; where a corner lies behind the
+// face's plane, every cell), no nearer than the caster; of their rows, every `lanes.y`-th
+// from the `lanes.x`-th. False once past the budget of loop iterations.
+fn gather_from_point(
+    ci: u32,
+    p: PointCaster,
+    lanes: vec2<u32>,
     found: ptr<function, array<vec2<f32>, MAX_SLICES>>,
-) -> u32 {
-    let nearest = depth.x;
-    let pad = depth.y;
-    var bins: array<u32, MAX_SLICES>;
-    clear_found(found, &bins);
+    bins: ptr<function, array<u32, MAX_SLICES>>,
+) -> bool {
+    let c = casters[ci];
     var steps = 0;
     var box = caster_box(c, true);
-    for (var f = 0u; f < 6u; f++) {
+    var within = true;
+    for (var f = 0u; f < 6u && within; f++) {
         let origin = face_origin(f);
         var q: array<vec2<f32>, 8>;
         var in_front = true;
@@ -171,22 +203,23 @@ fn occupied_from_point(
         }
         let top = vec2<i32>(origin) + vec2<i32>(i32(face_cells()) - 1);
         // A face's border cells also hold the points clamped onto it (`in_point_light`).
-        let within = gather_footprint(
+        within = gather_footprint(
             &q,
             &box,
             in_front,
-            array<vec4<i32>, 2>(vec4<i32>((*first)[f], (*last)[f]), vec4<i32>(vec2<i32>(origin), top)),
+            array<vec4<i32>, 3>(
+                vec4<i32>(p.first[f], p.last[f]),
+                vec4<i32>(vec2<i32>(origin), top),
+                vec4<i32>(vec2<i32>(lanes), 0, 0),
+            ),
             vec3<f32>(1.0, 0.5, 1e-3),
-            depth,
+            vec2<f32>(p.nearest, p.pad),
             found,
-            &bins,
+            bins,
             &steps,
         );
-        if (!within) {
-            return TOO_MANY_CELLS;
-        }
     }
-    return compact_found(nearest, pad, found, &bins);
+    return within;
 }
 
 // DOOM 3's test for a point light: a volume can hold a point of the camera's near rectangle

@@ -21,6 +21,7 @@ pub(super) fn find_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
         storage(false),
         storage(false),
         surface(position),
+        storage(false),
     ]);
     bind_group_layout(
         device,
@@ -72,6 +73,7 @@ impl ReceiverPoints {
                 buffer_entry(10, &scene.cells),
                 buffer_entry(11, &self.points),
                 view_entry(12, &targets.normals_view),
+                buffer_entry(13, &scene.big),
             ],
         })
     }

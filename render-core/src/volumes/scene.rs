@@ -6,7 +6,7 @@ use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
 use super::edges::{Edge, mesh_edges};
-use super::pipelines::{MAX_INTERVALS, MAX_SLICES, RECEIVER_CELLS};
+use super::pipelines::{BIG_CASTERS_BYTES, MAX_INTERVALS, MAX_SLICES, RECEIVER_CELLS};
 use crate::culling::codes::{OUTCOME_NOT_CASTER, OUTCOME_RENDERED};
 use crate::gpu::buffer_entry;
 use crate::scene::Scene;
@@ -50,6 +50,9 @@ pub(super) struct SceneVolumes {
     /// Per grid cell, its visible receiver points' count and first index in the view's list
     /// (`volumes/grid.wgsl`).
     pub cells: wgpu::Buffer,
+    /// The casters too big for one invocation of the cull, and what their workgroups
+    /// gathered (`volumes/big_casters.wgsl`).
+    pub big: wgpu::Buffer,
     pub counters: wgpu::Buffer,
     pub outcomes: wgpu::Buffer,
     pub instances: u32,
@@ -176,6 +179,11 @@ impl SceneVolumes {
             u64::from(RECEIVER_CELLS) * 8,
             wgpu::BufferUsages::COPY_DST,
         );
+        let big = storage_buffer(
+            "Volumes::big_casters",
+            BIG_CASTERS_BYTES,
+            wgpu::BufferUsages::empty(),
+        );
         let counters = storage_buffer(
             "Volumes::counters",
             32,
@@ -220,6 +228,7 @@ impl SceneVolumes {
             intervals,
             grid,
             cells,
+            big,
             counters,
             outcomes: init(
                 "Volumes::outcomes",

@@ -1,0 +1,113 @@
+// Casters too big for one invocation (part of volumes/find.wgsl): a caster whose cells would
+// take `cull_casters` past the frame's budget of loop iterations (`VolumeFrame::cell.w`;
+// llvmpipe silently ends a shader's loops after 65,535 iterations) is listed here instead, up
+// to BIG_CASTERS of them. Then a workgroup per listed caster shares its rows among
+// BIG_LANES lanes, each within the budget (`gather_big_casters`), merging what they gather
+// with atomics, and one invocation per caster finishes it as `cull_casters` would have
+// (`finish_big_casters`). A floor or a wall, whose box lies over every cell, is culled or
+// clamped like any strut, where it would keep its whole volume. Past BIG_CASTERS, or where a
+// lane still runs past the budget, the volume is whole.
+
+const BIG_CASTERS: u32 = 64u;
+const BIG_LANES: u32 = 256u;
+
+// Per listed caster, what its lanes have merged: per slice the shallowest depth's bits, the
+// deepest's plus 1 (0: none) and the bins (depths are never negative, so their bits order
+// as they do); then whether a lane ran past the budget.
+const BIG_WORDS: u32 = 3u * MAX_SLICES + 1u;
+const BIG_OVER: u32 = 3u * MAX_SLICES;
+
+// 0: how many casters were listed; 1 to BIG_CASTERS: the casters; then BIG_WORDS per caster.
+@group(2) @binding(13) var<storage, read_write> big: array<atomic<u32>>;
+
+fn big_word(g: u32, word: u32) -> u32 {
+    return 1u + BIG_CASTERS + g * BIG_WORDS + word;
+}
+
+// How many casters are listed.
+fn big_count() -> u32 {
+    return min(atomicLoad(&big[0]), BIG_CASTERS);
+}
+
+// Lists caster `ci` for the workgroups, with nothing merged yet; false where the list is full.
+fn defer_caster(ci: u32) -> bool {
+    let g = atomicAdd(&big[0], 1u);
+    if (g >= BIG_CASTERS) {
+        return false;
+    }
+    atomicStore(&big[1u + g], ci);
+    for (var slice = 0u; slice < MAX_SLICES; slice++) {
+        atomicStore(&big[big_word(g, 3u * slice)], 0xffffffffu);
+        atomicStore(&big[big_word(g, 3u * slice + 1u)], 0u);
+        atomicStore(&big[big_word(g, 3u * slice + 2u)], 0u);
+    }
+    atomicStore(&big[big_word(g, BIG_OVER)], 0u);
+    return true;
+}
+
+// Listed caster `group.x`: this lane's rows of its cells, merged into the list.
+@compute @workgroup_size(BIG_LANES)
+fn gather_big_casters(
+    @builtin(workgroup_id) group: vec3<u32>,
+    @builtin(local_invocation_index) lane: u32,
+) {
+    let g = group.x;
+    if (g >= big_count()) {
+        return;
+    }
+    let ci = atomicLoad(&big[1u + g]);
+    var found: array<vec2<f32>, MAX_SLICES>;
+    var bins: array<u32, MAX_SLICES>;
+    clear_found(&found, &bins);
+    let lanes = vec2<u32>(lane, BIG_LANES);
+    var within: bool;
+    if (from_point()) {
+        within = gather_from_point(ci, point_caster(ci), lanes, &found, &bins);
+    } else {
+        within = gather_under(ci, sun_caster(ci), lanes, &found, &bins);
+    }
+    if (!within) {
+        atomicStore(&big[big_word(g, BIG_OVER)], 1u);
+    }
+    for (var slice = 0u; slice < volume.grid.x; slice++) {
+        let depths = found[slice];
+        if (depths.y >= 0.0) {
+            atomicMin(&big[big_word(g, 3u * slice)], bitcast<u32>(max(depths.x, 0.0)));
+            atomicMax(&big[big_word(g, 3u * slice + 1u)], bitcast<u32>(depths.y + 1.0));
+            atomicOr(&big[big_word(g, 3u * slice + 2u)], bins[slice]);
+        }
+    }
+}
+
+// Listed caster `id.x`, from what its lanes merged, as `cull_casters` finishes the others.
+@compute @workgroup_size(64)
+fn finish_big_casters(@builtin(global_invocation_id) id: vec3<u32>) {
+    let g = id.x;
+    if (g >= big_count()) {
+        return;
+    }
+    let ci = atomicLoad(&big[1u + g]);
+    var found: array<vec2<f32>, MAX_SLICES>;
+    var bins: array<u32, MAX_SLICES>;
+    clear_found(&found, &bins);
+    for (var slice = 0u; slice < volume.grid.x; slice++) {
+        let deepest = atomicLoad(&big[big_word(g, 3u * slice + 1u)]);
+        if (deepest != 0u) {
+            found[slice] = vec2<f32>(
+                bitcast<f32>(atomicLoad(&big[big_word(g, 3u * slice)])),
+                bitcast<f32>(deepest) - 1.0,
+            );
+        }
+        bins[slice] = atomicLoad(&big[big_word(g, 3u * slice + 2u)]);
+    }
+    let within = atomicLoad(&big[big_word(g, BIG_OVER)]) == 0u;
+    if (from_point()) {
+        let p = point_caster(ci);
+        let n = select(TOO_MANY_CELLS, compact_found(p.nearest, p.pad, &found, &bins), within);
+        finish_point_caster(ci, p, n, &found);
+    } else {
+        let s = sun_caster(ci);
+        let n = select(TOO_MANY_CELLS, compact_found(s.lo.z, s.pad, &found, &bins), within);
+        finish_sun_caster(ci, s, n, &found);
+    }
+}
