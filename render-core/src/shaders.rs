@@ -81,6 +81,10 @@ const FILES: &[(&str, &str)] = &[
     ),
     ("volumes/grid.wgsl", include_str!("volumes/grid.wgsl")),
     (
+        "volumes/shadowing.wgsl",
+        include_str!("volumes/shadowing.wgsl"),
+    ),
+    (
         "volumes/big_casters.wgsl",
         include_str!("volumes/big_casters.wgsl"),
     ),

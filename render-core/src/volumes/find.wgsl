@@ -5,6 +5,7 @@
 #import volumes/common.wgsl
 #import volumes/point_light.wgsl
 #import volumes/footprint.wgsl
+#import volumes/shadowing.wgsl
 #import volumes/grid.wgsl
 #import volumes/big_casters.wgsl
 #import culling/codes.wgsl
@@ -184,7 +185,7 @@ fn gather_under(
     let half = select(0.5 * volume.cell.x, 0.0, centres());
     var steps = 0;
     // Discrete clamping keeps Lloyd's image precision: cells only.
-    var box = caster_box(c, !centres());
+    var box = caster_box(ci, !centres(), &steps);
     return gather_footprint(
         &q,
         &box,

@@ -74,6 +74,8 @@ struct ReceiverPixel {
     depth: f32,
     instance: u32,
     at: vec3<f32>,
+    // Whether its geometric normal faces the light.
+    facing: bool,
 }
 
 fn receiver_pixel(pixel: vec2<u32>) -> ReceiverPixel {
@@ -87,6 +89,16 @@ fn receiver_pixel(pixel: vec2<u32>) -> ReceiverPixel {
         return r;
     }
     r.at = textureLoad(surface_positions, vec2<i32>(pixel), 0).xyz;
+    // A point whose normals both face away from the light is dark whatever shadows it, and
+    // the exact shadow does not count it: no volume need reach it. The geometric normal
+    // comes from the picture's derivatives, so one that grazes the light (within 3 degrees,
+    // where the exact surface may face it) still counts.
+    let normal = textureLoad(surface_normals, vec2<i32>(pixel), 0);
+    let towards = dot(normal.xyz, to_volume_light(r.at));
+    r.facing = towards > 0.0;
+    if (towards < -0.05 && normal.w == 0.0) {
+        return r;
+    }
     var p = in_light(r.at);
     if (from_point()) {
         p = in_point_light(r.at);
@@ -99,8 +111,8 @@ fn receiver_pixel(pixel: vec2<u32>) -> ReceiverPixel {
     return r;
 }
 
-// Lloyd's potential shadow receivers, exactly: every visible receiver pixel marks the grid
-// cell under it, in its slice, with its depth along the light.
+// Lloyd's potential shadow receivers, exactly: every visible receiver pixel that shadow
+// can change marks the grid cell under it, in its slice, with its depth along the light.
 @compute @workgroup_size(8, 8)
 fn mark_receivers(@builtin(global_invocation_id) id: vec3<u32>) {
     let r = receiver_pixel(id.xy);
@@ -138,9 +150,7 @@ fn list_receivers(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let word = 2u * slices_word(r.cell);
     let slot = atomicLoad(&cells[word + 1u]) + atomicAdd(&cells[word], 1u);
-    let normal = textureLoad(surface_normals, vec2<i32>(id.xy), 0).xyz;
-    let facing = dot(normal, to_volume_light(r.at)) > 0.0;
-    let tag = r.slice | select(0u, FACING_LIGHT, facing) | (r.instance << POINT_INSTANCE_SHIFT);
+    let tag = r.slice | select(0u, FACING_LIGHT, r.facing) | (r.instance << POINT_INSTANCE_SHIFT);
     points[slot] = vec4<u32>(bitcast<vec3<u32>>(r.at), tag);
 }
 
@@ -315,128 +325,6 @@ fn gather_footprint(
         }
     }
     return *steps <= i32(volume.cell.w);
-}
-
-// A caster as the per-point test sees it (`caster_box`): its mesh's box in the world as
-// three pairs of faces, each a unit normal (xyz) with its offset at the first face (w), and
-// how far along it the second lies (`widths`).
-struct CasterBox {
-    a: vec4<f32>,
-    b: vec4<f32>,
-    c: vec4<f32>,
-    widths: vec3<f32>,
-    instance: u32,
-    // Whether its cells' points are tested one by one; whether its mesh is convex.
-    points: bool,
-    convex: bool,
-}
-
-// Caster `c`'s box (`CasterBox`), tested point by point where `points`. A box flat in one
-// way gets 2 mm of thickness; one flat in two ways is tested by cells only.
-fn caster_box(c: Caster, points: bool) -> CasterBox {
-    var box: CasterBox;
-    box.instance = c.instance;
-    box.convex = c.convex != 0u;
-    var o = oriented_corner(c, 0u);
-    var e = array<vec3<f32>, 3>(
-        oriented_corner(c, 1u) - o,
-        oriented_corner(c, 2u) - o,
-        oriented_corner(c, 4u) - o,
-    );
-    var flat = 0u;
-    for (var i = 0u; i < 3u; i++) {
-        flat += select(0u, 1u, length(e[i]) < 1e-4);
-    }
-    if (flat > 1u || !points) {
-        return box;
-    }
-    for (var i = 0u; i < 3u; i++) {
-        if (length(e[i]) < 1e-4) {
-            let n = normalize(cross(e[(i + 1u) % 3u], e[(i + 2u) % 3u]));
-            e[i] = n * 2e-3;
-            o -= n * 1e-3;
-        }
-    }
-    var slabs: array<vec4<f32>, 3>;
-    for (var i = 0u; i < 3u; i++) {
-        let n = cross(e[(i + 1u) % 3u], e[(i + 2u) % 3u]);
-        if (length(n) < 1e-12) {
-            return box;
-        }
-        let u = normalize(n);
-        slabs[i] = vec4<f32>(u, dot(u, o));
-        box.widths[i] = dot(u, e[i]);
-    }
-    box.a = slabs[0];
-    box.b = slabs[1];
-    box.c = slabs[2];
-    box.points = true;
-    return box;
-}
-
-// Narrows `t` (distances along the ray from `p` towards `towards`) to where the ray lies
-// between the two faces of `slab` (`width` apart), with `pad` to spare; false where the ray
-// runs beside them.
-fn within_slab(
-    slab: vec4<f32>,
-    width: f32,
-    ray: array<vec3<f32>, 2>,
-    pad: f32,
-    t: ptr<function, vec2<f32>>,
-) -> bool {
-    let s = dot(slab.xyz, ray[0]) - slab.w;
-    let rate = dot(slab.xyz, ray[1]);
-    let lo = min(0.0, width) - pad;
-    let hi = max(0.0, width) + pad;
-    if (abs(rate) < 1e-7) {
-        return s >= lo && s <= hi;
-    }
-    let a = (lo - s) / rate;
-    let b = (hi - s) / rate;
-    *t = vec2<f32>(max((*t).x, min(a, b)), min((*t).y, max(a, b)));
-    return true;
-}
-
-// Whether the ray from `p` towards the light meets `box` ahead of `p`: whether the caster in
-// it can shadow `p` (its mesh lies in the box), with `pad` to spare around the box. A point
-// within that padding (a crate's foot on the floor, the floor beside a wall) counts only
-// where its ray meets the box itself: one whose ray runs away from the box is not shadowed
-// by it, however close it lies.
-fn ray_meets_box(p: vec3<f32>, box: ptr<function, CasterBox>, pad: f32) -> bool {
-    let ray = array<vec3<f32>, 2>(p, to_volume_light(p));
-    let end = select(1e30, distance(volume.point.xyz, p), from_point());
-    var t = vec2<f32>(0.0, end);
-    if (!ray_within_box(ray, box, pad, &t)) {
-        return false;
-    }
-    if (t.x > 0.0) {
-        return true;
-    }
-    t = vec2<f32>(0.0, end);
-    return ray_within_box(ray, box, 0.0, &t);
-}
-
-// Narrows `t` to where `ray` lies in `box` grown by `pad`; false where it misses it there.
-fn ray_within_box(
-    ray: array<vec3<f32>, 2>,
-    box: ptr<function, CasterBox>,
-    pad: f32,
-    t: ptr<function, vec2<f32>>,
-) -> bool {
-    let w = (*box).widths;
-    return within_slab((*box).a, w.x, ray, pad, t) && within_slab((*box).b, w.y, ray, pad, t)
-        && within_slab((*box).c, w.z, ray, pad, t) && (*t).x <= (*t).y;
-}
-
-// The room the per-point test leaves a point at `p` (world space): a hundredth of a
-// millimetre and 16 steps of a float at its distance from the origin, what its position and
-// the box's corners may have lost. A neighbour's point a tenth of a millimetre beside the
-// caster (a crate on the floor, a wall's foot), whose ray to the light runs away from it, is
-// not counted: the caster's own padding would count it and stretch the caster's volume to
-// that point's depth.
-fn point_pad(p: vec3<f32>) -> f32 {
-    let a = abs(p);
-    return 1e-5 + 2e-6 * max(a.x, max(a.y, a.z));
 }
 
 // `gather_cell` for a caster's `box`: while `room` loop iterations are left for the cell's

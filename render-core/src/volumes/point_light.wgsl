@@ -190,7 +190,7 @@ fn gather_from_point(
 ) -> bool {
     let c = casters[ci];
     var steps = 0;
-    var box = caster_box(c, true);
+    var box = caster_box(ci, true, &steps);
     var within = true;
     for (var f = 0u; f < 6u && within; f++) {
         let origin = face_origin(f);
