@@ -250,8 +250,8 @@ pub fn shot(args: &ShotArgs) -> anyhow::Result<()> {
     );
     if let Some(passes) = report.volume_passes {
         println!(
-            "shadow volumes: {} counted z-pass, {} z-fail",
-            passes.z_pass, passes.z_fail
+            "shadow volumes: {} counted z-pass, {} z-fail; {} casters gathered by workgroups, {} kept whole past the cull's budget",
+            passes.z_pass, passes.z_fail, passes.big_casters, passes.whole_past_budget
         );
     }
     if let Some(fill) = report.volume_fill {

@@ -720,3 +720,109 @@ fn a_diagonal_struts_volume_is_culled_where_only_its_world_box_covers_receivers(
         }
     }
 }
+
+/// The light at the view's exact points, every caster's intervals and the report of one
+/// frame of CC volumes (`bvol`) clamped by `clamp` with the cull's budget `cull_steps`.
+fn clamped_with_budget(
+    scene: &Scene,
+    camera: &Camera,
+    clamp: VolumeClamp,
+    cull_steps: Option<u32>,
+) -> (Vec<f32>, Vec<Option<Vec<[f32; 2]>>>, FrameReport) {
+    let mut truth = TruthCache::default();
+    let exact = truth.exact(scene, camera, SIZE, scene.sun.direction_to_sun);
+    let mut settings = FrameSettings {
+        method: Method::Bvol,
+        ..volumes(scene.sun)
+    };
+    settings.volumes.clamp = clamp;
+    settings.volumes.vertex_pixels = Some(0);
+    settings.volumes.cull_steps = cull_steps;
+    settings.overlays.fill = true;
+    let (_, _, renderer, report) = against_truth(scene, camera, &settings);
+    let light = renderer.light_at(gpu(), &exact.points).expect("read back");
+    let intervals = (0..scene.instances.len() as u32)
+        .map(|i| renderer.read_volume_intervals(gpu(), i).expect("read back"))
+        .collect();
+    (light, intervals, report)
+}
+
+#[test]
+fn casters_left_to_workgroups_get_the_volumes_one_invocation_gives_them() {
+    // A caster whose receivers would take one invocation of the cull past its budget of
+    // loop iterations is gathered by workgroups of its own, whose lanes share its rows and
+    // each row's cells (`volumes/big_casters.wgsl`, `grid.wgsl` `gather_footprint`). With a
+    // budget of one iteration every caster goes there, and nothing may change: the same
+    // intervals to the bit, the same light at every point, the same fill.
+    let (scene, camera) = caster_over_a_platform_edge();
+    for clamp in [VolumeClamp::Continuous, VolumeClamp::Conservative] {
+        let (light, intervals, report) = clamped_with_budget(&scene, &camera, clamp, None);
+        let passes = report.volume_passes.expect("counted");
+        assert_eq!(passes.whole_past_budget, 0, "{clamp:?}: {passes:?}");
+        assert!(
+            passes.big_casters < 3,
+            "{clamp:?}: the caster is small: {passes:?}"
+        );
+        let (split_light, split_intervals, split_report) =
+            clamped_with_budget(&scene, &camera, clamp, Some(1));
+        let split = split_report.volume_passes.expect("counted");
+        assert_eq!(
+            (split.big_casters, split.whole_past_budget),
+            (3, 0),
+            "{clamp:?}: {split:?}"
+        );
+        assert_eq!(split_intervals, intervals, "{clamp:?}");
+        assert!(
+            intervals[CASTER as usize].is_some(),
+            "{clamp:?}: the caster is drawn"
+        );
+        assert_eq!(differing(&split_light, &light), 0, "{clamp:?}");
+        assert_eq!(split_report.volume_fill, report.volume_fill, "{clamp:?}");
+    }
+}
+
+#[test]
+fn casters_past_every_budget_keep_their_whole_volume_and_are_counted() {
+    // 70 crates on a ground and a budget of one loop iteration: every caster is left to
+    // workgroups, which a CPU adapter gives 64 casters a frame (`volumes/frame.rs`
+    // `StepBudget`); the other 7 keep their whole volumes, which the report counts and
+    // notes, and no point's light changes.
+    let ground = box_mesh("ground", Vec3::new(40.0, 0.5, 40.0));
+    let crate_mesh = box_mesh("crate", Vec3::new(0.5, 0.5, 0.5));
+    let mut parts = vec![(ground, Vec3::new(0.0, -0.5, 0.0))];
+    for k in 0..70 {
+        let at = Vec3::new(
+            (k % 10) as f32 * 3.0 - 14.0,
+            0.5 + (k / 10) as f32,
+            (k / 10) as f32 * 3.0 - 10.0,
+        );
+        parts.push((crate_mesh.clone(), at));
+    }
+    let scene = scene_of("test:crates", sun(), parts);
+    let camera = Camera::look_at(
+        Vec3::new(0.0, 30.0, 30.0),
+        Vec3::ZERO,
+        60f32.to_radians(),
+        0.1,
+        200.0,
+    );
+    let clamp = VolumeClamp::Continuous;
+    let (light, _, report) = clamped_with_budget(&scene, &camera, clamp, None);
+    assert_eq!(report.volume_passes.expect("counted").whole_past_budget, 0);
+    let (starved, _, starved_report) = clamped_with_budget(&scene, &camera, clamp, Some(1));
+    let passes = starved_report.volume_passes.expect("counted");
+    assert_eq!(
+        (passes.big_casters, passes.whole_past_budget),
+        (64, 7),
+        "{passes:?}"
+    );
+    assert!(
+        starved_report
+            .notes
+            .iter()
+            .any(|n| n.contains("7 casters kept their whole volume")),
+        "{:?}",
+        starved_report.notes
+    );
+    assert_eq!(differing(&starved, &light), 0);
+}

@@ -54,6 +54,12 @@ struct BenchRow {
     /// The first setting's baseline fill over this row's, frame by frame: the mean and the
     /// largest ratio (Lloyd's average and peak savings).
     fill_saved: Option<(f64, f64)>,
+    /// Each measured frame's GPU time of the shadow volumes' stencil pass, ms (Lloyd's
+    /// "shadow volume rendering time": the culling's and clamping's compute is apart).
+    volume_pass_frames: Vec<f64>,
+    /// The first setting's baseline stencil-pass time over this row's, frame by frame: the
+    /// mean and the largest ratio (Lloyd's average and peak speed-up).
+    volume_pass_saved: Option<(f64, f64)>,
     /// Baseline GPU frame time / this method's, under the same setting.
     speed_up: Option<f64>,
     /// Median GPU ms per pass label (and depth: steps inside a pass are 1), in frame order.
@@ -257,8 +263,9 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Per row, the fill the first setting's baseline row draws over the row's own, frame by
-/// frame (the same path, so frame k is the same view): its mean and its peak.
+/// Per row, the fill the first setting's baseline row draws over the row's own, and the
+/// same for the stencil pass's time, frame by frame (the same path, so frame k is the same
+/// view): their means and their peaks.
 fn set_fill_saved(rows: &mut [BenchRow], baseline: &str) {
     let Some(first) = rows.first().map(|r| r.setting.clone()) else {
         return;
@@ -266,22 +273,30 @@ fn set_fill_saved(rows: &mut [BenchRow], baseline: &str) {
     let Some(reference) = rows
         .iter()
         .find(|r| r.setting == first && r.method == baseline)
-        .map(|r| r.fill_frames.clone())
+        .cloned()
     else {
         return;
     };
+    let fill = |r: &BenchRow| r.fill_frames.iter().map(|&f| f as f64).collect::<Vec<_>>();
     for row in rows.iter_mut() {
-        let ratios: Vec<f64> = reference
-            .iter()
-            .zip(&row.fill_frames)
-            .filter(|(_, own)| **own > 0)
-            .map(|(base, own)| *base as f64 / *own as f64)
-            .collect();
-        if !ratios.is_empty() && ratios.len() == row.fill_frames.len() {
-            let mean = ratios.iter().sum::<f64>() / ratios.len() as f64;
-            row.fill_saved = Some((mean, ratios.iter().copied().fold(0.0, f64::max)));
-        }
+        row.fill_saved = saved(&fill(&reference), &fill(row));
+        row.volume_pass_saved = saved(&reference.volume_pass_frames, &row.volume_pass_frames);
     }
+}
+
+/// The mean and the largest of `reference[k] / own[k]`, when every frame of `own` has a
+/// positive figure to divide by.
+fn saved(reference: &[f64], own: &[f64]) -> Option<(f64, f64)> {
+    let ratios: Vec<f64> = reference
+        .iter()
+        .zip(own)
+        .filter(|(_, own)| **own > 0.0)
+        .map(|(base, own)| base / own)
+        .collect();
+    (!ratios.is_empty() && ratios.len() == own.len()).then(|| {
+        let mean = ratios.iter().sum::<f64>() / ratios.len() as f64;
+        (mean, ratios.iter().copied().fold(0.0, f64::max))
+    })
 }
 
 /// `--baseline`, or when that method is not among those run, the first one.
@@ -417,6 +432,11 @@ fn summarise(setting: &str, method: &str, reports: &[(f64, FrameReport)]) -> Ben
             .filter_map(|(_, r)| r.volume_fill.map(|f| f.fragments))
             .collect(),
         fill_saved: None,
+        volume_pass_frames: reports
+            .iter()
+            .filter_map(|(_, r)| r.gpu_ms(pass_label::SHADOW_VOLUMES))
+            .collect(),
+        volume_pass_saved: None,
         speed_up: None,
         passes: median_passes(reports),
     }

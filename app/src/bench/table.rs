@@ -35,7 +35,7 @@ pub(super) fn format_passes(rows: &[BenchRow]) -> String {
     aligned(&lines, 1)
 }
 
-const COLUMNS: [&str; 20] = [
+const COLUMNS: [&str; 21] = [
     "setting",
     "method",
     "frames",
@@ -55,10 +55,11 @@ const COLUMNS: [&str; 20] = [
     "under p95",
     "fill M (max)",
     "fill saved mean/peak",
+    "volume pass saved mean/peak",
     "speed-up",
 ];
 
-fn row_cells(r: &BenchRow) -> [String; 20] {
+fn row_cells(r: &BenchRow) -> [String; 21] {
     let opt =
         |v: Option<f64>, digits: usize| v.map_or_else(|| "n/a".into(), |v| format!("{v:.digits$}"));
     [
@@ -88,19 +89,25 @@ fn row_cells(r: &BenchRow) -> [String; 20] {
             (Some(median), Some(max)) => format!("{median:.1} ({max:.1})"),
             _ => "-".into(),
         },
-        r.fill_saved.map_or_else(
-            || "-".into(),
-            |(mean, peak)| format!("{mean:.1}x/{peak:.1}x"),
-        ),
+        saved_cell(r.fill_saved),
+        saved_cell(r.volume_pass_saved),
         opt(r.speed_up, 2),
     ]
+}
+
+/// A mean and peak ratio, `3.1x/7.0x`.
+fn saved_cell(saved: Option<(f64, f64)>) -> String {
+    saved.map_or_else(
+        || "-".into(),
+        |(mean, peak)| format!("{mean:.1}x/{peak:.1}x"),
+    )
 }
 
 /// An aligned table; the setting column only when sweeping. Speed-up is against `baseline`.
 pub(super) fn format_table(rows: &[BenchRow], baseline: &str) -> String {
     let skip = usize::from(rows.iter().all(|r| r.setting.is_empty()));
     let mut header = COLUMNS.map(str::to_owned);
-    header[19] = format!("speed-up vs {baseline}");
+    header[20] = format!("speed-up vs {baseline}");
     let lines: Vec<Vec<String>> = std::iter::once(header.to_vec())
         .chain(rows.iter().map(|r| row_cells(r).to_vec()))
         .map(|l| l[skip..].to_vec())
@@ -142,13 +149,13 @@ fn aligned(lines: &[Vec<String>], left: usize) -> String {
 
 pub(super) fn format_csv(rows: &[BenchRow]) -> String {
     let mut out = String::from(
-        "setting,method,frames,frame_ms,gpu_frame_ms,shadow_pass_ms,casters_drawn,casters_oracle,tightness,shadow_triangles,error_px_max,casters_total,speed_up,culling_ms,undersampling_p50,undersampling_p95,exact_error_px,exact_error_percent,exact_error_off_edge_px_max,flicker_moved_px,flicker_turned_px,fill_mfragments,fill_mfragments_max,fill_saved_mean,fill_saved_peak\n",
+        "setting,method,frames,frame_ms,gpu_frame_ms,shadow_pass_ms,casters_drawn,casters_oracle,tightness,shadow_triangles,error_px_max,casters_total,speed_up,culling_ms,undersampling_p50,undersampling_p95,exact_error_px,exact_error_percent,exact_error_off_edge_px_max,flicker_moved_px,flicker_turned_px,fill_mfragments,fill_mfragments_max,fill_saved_mean,fill_saved_peak,volume_pass_saved_mean,volume_pass_saved_peak\n",
     );
     let opt = |v: Option<f64>| v.map_or_else(String::new, |v| format!("{v:.4}"));
     for r in rows {
         let _ = writeln!(
             out,
-            "{},{},{},{:.4},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{:.4},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             r.setting,
             r.method,
             r.frames,
@@ -174,7 +181,9 @@ pub(super) fn format_csv(rows: &[BenchRow]) -> String {
             opt(r.fill_m.0),
             opt(r.fill_m.1),
             opt(r.fill_saved.map(|f| f.0)),
-            opt(r.fill_saved.map(|f| f.1))
+            opt(r.fill_saved.map(|f| f.1)),
+            opt(r.volume_pass_saved.map(|f| f.0)),
+            opt(r.volume_pass_saved.map(|f| f.1))
         );
     }
     out

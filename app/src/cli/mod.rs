@@ -212,6 +212,11 @@ pub struct ViewArgs {
     /// caps).
     #[arg(long, value_name = "PIXELS")]
     pub volume_vertex_pixels: Option<u32>,
+    /// Loop iterations the shadow volumes' cull may spend on one caster in one invocation
+    /// before workgroups of its own take it (default: the adapter's, 2,048 on a GPU; on a
+    /// CPU adapter at most 6,991).
+    #[arg(long, value_name = "N")]
+    pub volume_cull_steps: Option<u32>,
     /// `--volume-clamp discrete|conservative`: the view's slices (Lloyd's K), 1 to 32.
     #[arg(long, value_name = "K")]
     pub volume_slices: Option<u32>,
@@ -382,6 +387,12 @@ impl ViewArgs {
         }
         if let Some(pass) = self.volume_pass {
             settings.volumes.pass = pass;
+        }
+        if let Some(steps) = self.volume_cull_steps {
+            if steps == 0 {
+                bail!("--volume-cull-steps must be at least 1");
+            }
+            settings.volumes.cull_steps = Some(steps);
         }
         if let Some(pixels) = self.volume_vertex_pixels {
             settings.volumes.vertex_pixels = Some(pixels);

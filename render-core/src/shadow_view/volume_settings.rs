@@ -125,6 +125,11 @@ pub struct VolumeSettings {
     /// for the cost measured on this device at start-up (`0`: split at every gap that
     /// costs more than its caps).
     pub vertex_pixels: Option<u32>,
+    /// Loop iterations the cull may spend on one caster in one invocation before
+    /// workgroups of its own gather its receivers (`volumes/frame.rs` `StepBudget`), or
+    /// `None` for the adapter's (2,048 on a GPU; on a CPU adapter, which silently ends long
+    /// shader loops, at most 6,991 whatever is set).
+    pub cull_steps: Option<u32>,
 }
 
 impl VolumeSettings {
@@ -138,6 +143,7 @@ impl Default for VolumeSettings {
             pass: VolumePassChoice::default(),
             slices: 8,
             vertex_pixels: None,
+            cull_steps: None,
         }
     }
 }

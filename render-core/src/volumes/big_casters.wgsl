@@ -1,19 +1,23 @@
 // Casters too big for one invocation (part of volumes/find.wgsl): a caster whose cells would
-// take `cull_casters` past the frame's budget of loop iterations (`VolumeFrame::cell.w`;
-// llvmpipe silently ends a shader's loops after 65,535 iterations) is listed here instead, up
-// to BIG_CASTERS of them. Then a workgroup per listed caster shares its rows among
-// BIG_LANES lanes, each within the budget (`gather_big_casters`), merging what they gather
-// with atomics, and one invocation per caster finishes it as `cull_casters` would have
+// take `cull_casters` past its budget of loop iterations (`VolumeFrame::steps.x`: llvmpipe
+// silently ends a shader's loops after 65,535 iterations, and on a GPU one invocation's loop
+// is serial) is listed here instead, up to `steps.z` of them (at most BIG_CASTERS). Then
+// `steps.w / BIG_LANES` workgroups per listed caster share its cells among their lanes, each
+// within `steps.y` iterations (`gather_big_casters`), merging what they gather with atomics,
+// and one invocation per caster finishes it as `cull_casters` would have
 // (`finish_big_casters`). A floor or a wall, whose box lies over every cell, is culled or
-// clamped like any strut, where it would keep its whole volume. Past BIG_CASTERS, or where a
-// lane still runs past the budget, the volume is whole.
+// clamped like any strut, where it would keep its whole volume. Past `steps.z` casters, or
+// where a lane still runs past its budget, the volume is whole; counters 8 and 9 count the
+// casters listed and those kept whole so (volumes/mod.rs reports them).
 
-const BIG_CASTERS: u32 = 64u;
+// Keep in sync with volumes/pipelines.rs.
+const BIG_CASTERS: u32 = 1024u;
 const BIG_LANES: u32 = 256u;
 
 // Per listed caster, what its lanes have merged: per slice the shallowest depth's bits, the
-// deepest's plus 1 (0: none) and the bins (depths are never negative, so their bits order
-// as they do); then whether a lane ran past the budget.
+// deepest's bits plus 1 (0: none; an integer step, so the depth comes back to the bit) and
+// the bins (depths are never negative, so their bits order as they do); then whether a
+// lane ran past the budget.
 const BIG_WORDS: u32 = 3u * MAX_SLICES + 1u;
 const BIG_OVER: u32 = 3u * MAX_SLICES;
 
@@ -26,15 +30,21 @@ fn big_word(g: u32, word: u32) -> u32 {
 
 // How many casters are listed.
 fn big_count() -> u32 {
-    return min(atomicLoad(&big[0]), BIG_CASTERS);
+    return min(atomicLoad(&big[0]), big_room());
+}
+
+// The most casters this frame lists.
+fn big_room() -> u32 {
+    return min(volume.steps.z, BIG_CASTERS);
 }
 
 // Lists caster `ci` for the workgroups, with nothing merged yet; false where the list is full.
 fn defer_caster(ci: u32) -> bool {
     let g = atomicAdd(&big[0], 1u);
-    if (g >= BIG_CASTERS) {
+    if (g >= big_room()) {
         return false;
     }
+    atomicAdd(&counters[8], 1u);
     atomicStore(&big[1u + g], ci);
     for (var slice = 0u; slice < MAX_SLICES; slice++) {
         atomicStore(&big[big_word(g, 3u * slice)], 0xffffffffu);
@@ -45,11 +55,13 @@ fn defer_caster(ci: u32) -> bool {
     return true;
 }
 
-// Listed caster `group.x`: this lane's rows of its cells, merged into the list.
+// Listed caster `group.x`: this lane's share of its cells (the `group.y`-th of its
+// workgroups), merged into the list.
 @compute @workgroup_size(BIG_LANES)
 fn gather_big_casters(
     @builtin(workgroup_id) group: vec3<u32>,
-    @builtin(local_invocation_index) lane: u32,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) local: u32,
 ) {
     let g = group.x;
     if (g >= big_count()) {
@@ -59,7 +71,7 @@ fn gather_big_casters(
     var found: array<vec2<f32>, MAX_SLICES>;
     var bins: array<u32, MAX_SLICES>;
     clear_found(&found, &bins);
-    let lanes = vec2<u32>(lane, BIG_LANES);
+    let lanes = vec2<u32>(group.y * BIG_LANES + local, groups.y * BIG_LANES);
     var within: bool;
     if (from_point()) {
         within = gather_from_point(ci, point_caster(ci), lanes, &found, &bins);
@@ -73,7 +85,7 @@ fn gather_big_casters(
         let depths = found[slice];
         if (depths.y >= 0.0) {
             atomicMin(&big[big_word(g, 3u * slice)], bitcast<u32>(max(depths.x, 0.0)));
-            atomicMax(&big[big_word(g, 3u * slice + 1u)], bitcast<u32>(depths.y + 1.0));
+            atomicMax(&big[big_word(g, 3u * slice + 1u)], bitcast<u32>(max(depths.y, 0.0)) + 1u);
             atomicOr(&big[big_word(g, 3u * slice + 2u)], bins[slice]);
         }
     }
@@ -95,7 +107,7 @@ fn finish_big_casters(@builtin(global_invocation_id) id: vec3<u32>) {
         if (deepest != 0u) {
             found[slice] = vec2<f32>(
                 bitcast<f32>(atomicLoad(&big[big_word(g, 3u * slice)])),
-                bitcast<f32>(deepest) - 1.0,
+                bitcast<f32>(deepest - 1u),
             );
         }
         bins[slice] = atomicLoad(&big[big_word(g, 3u * slice + 2u)]);

@@ -18,9 +18,12 @@ struct VolumeFrame {
     travel: vec4<f32>,
     // x: the grid's cell size, metres; y: pixels a volume vertex costs as much as
     // (volumes/calibrate.rs); z: the size of the grid's depth bins, metres (DEPTH_BINS of
-    // them span the scene's depths, volumes/grid.wgsl); w: the loop iterations a caster's
-    // cells may take before its volume is kept whole (volumes/frame.rs `cell_steps`).
+    // them span the scene's depths, volumes/grid.wgsl); w: unused.
     cell: vec4<f32>,
+    // The cull's budget of loop iterations (volumes/frame.rs `StepBudget`): x per caster in
+    // `cull_casters`, past which it goes to workgroups of its own; y per lane of those; z
+    // the most casters a frame gives workgroups (at most BIG_CASTERS); w their lanes each.
+    steps: vec4<u32>,
     // The camera's near rectangle in the light's frame (as `in_light` places points): its
     // box, xyz.
     near_lo: vec4<f32>,

@@ -32,8 +32,11 @@ struct DrawArgs {
 @group(2) @binding(5) var<storage, read_write> grid: array<atomic<u32>>;
 // 0: casters counted z-pass, 1: casters kept, 2, 3: fill (volumes/fill.rs), 4: intervals
 // drawn, 5, 6: edges and triangles of the intervals past each caster's first
-// (`within_room`).
-@group(2) @binding(6) var<storage, read_write> counters: array<atomic<u32>, 8>;
+// (`within_room`), 7: receiver points listed (volumes/grid.wgsl), 8: casters handed to
+// workgroups, 9: casters kept whole past the budget (volumes/big_casters.wgsl).
+// Keep COUNTERS in sync with volumes/scene.rs.
+const COUNTERS: u32 = 10u;
+@group(2) @binding(6) var<storage, read_write> counters: array<atomic<u32>, COUNTERS>;
 // Per instance, the outcome code (the `casters` overlay).
 @group(2) @binding(7) var<storage, read_write> outcomes: array<u32>;
 // The camera's visible surface: object id + 1 (0: sky) and world position (view/targets.rs).
@@ -145,6 +148,9 @@ fn finish_sun_caster(
     found: ptr<function, array<vec2<f32>, MAX_SLICES>>,
 ) {
     var n = occupied;
+    if (n == TOO_MANY_CELLS) {
+        atomicAdd(&counters[9], 1u);
+    }
     if (n == TOO_MANY_CELLS || (!culling() && !clamping())) {
         (*found)[0] = vec2<f32>(s.lo.z, 1e30);
         n = 1u;
@@ -168,7 +174,8 @@ fn finish_sun_caster(
 // Gathers into `found` and `bins` the depths of the visible receiver points under caster
 // `ci`'s footprint (volumes/footprint.wgsl) in its cells (`s`), no nearer than the caster
 // (with its padding to spare): the cells the footprint meets, or with `centres` those whose
-// centre it holds; of their rows, every `lanes.y`-th from the `lanes.x`-th. False once past
+// centre it holds; shared among `lanes.y` lanes as `gather_footprint` shares them, this
+// one `lanes.x`. False once past
 // the budget of loop iterations.
 fn gather_under(
     ci: u32,
@@ -193,7 +200,7 @@ fn gather_under(
         array<vec4<i32>, 3>(
             vec4<i32>(s.first, s.last),
             vec4<i32>(vec2<i32>(0), grid_last()),
-            vec4<i32>(vec2<i32>(lanes), 0, 0),
+            vec4<i32>(vec2<i32>(lanes), lane_budget(lanes), 0),
         ),
         vec3<f32>(volume.cell.x, half, s.pad),
         vec2<f32>(s.lo.z, s.pad),
@@ -528,7 +535,7 @@ fn reset_draws() {
         draws[k].first_vertex = 0u;
         draws[k].first_instance = 0u;
     }
-    for (var k = 0u; k < 8u; k++) {
+    for (var k = 0u; k < COUNTERS; k++) {
         atomicStore(&counters[k], 0u);
     }
     atomicStore(&big[0], 0u);

@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 
-use super::pipelines::{DEPTH_BINS, RECEIVER_CELLS, VolumeFrameGpu};
+use super::pipelines::{BIG_CASTERS, BIG_LANES, DEPTH_BINS, RECEIVER_CELLS, VolumeFrameGpu};
 use super::scene::SceneVolumes;
 use crate::culling::codes::culled_code;
 use crate::culling::{Method, StageKind};
@@ -95,12 +95,16 @@ pub(super) fn uniforms(
         right: right.extend(x.0).to_array(),
         up: up.extend(y.0).to_array(),
         travel: travel.extend(z.0).to_array(),
-        cell: [
-            cell,
-            pixels_per_vertex,
-            depth_bin,
-            cell_steps(adapter) as f32,
-        ],
+        cell: [cell, pixels_per_vertex, depth_bin, 0.0],
+        steps: {
+            let budget = StepBudget::of(adapter, input.volumes.cull_steps);
+            [
+                budget.caster,
+                budget.lane,
+                budget.big_casters,
+                budget.lanes_per_big_caster(),
+            ]
+        },
         near_lo: near_lo.extend(0.0).to_array(),
         near_hi: near_hi.extend(0.0).to_array(),
         slicing,
@@ -114,16 +118,69 @@ pub(super) fn uniforms(
     }
 }
 
-/// The loop iterations one caster's cells may take in the grid test (`gather_footprint` in
-/// `volumes/grid.wgsl`) before its volume is kept whole. llvmpipe ends every loop of a
-/// shader, silently, once 65,535 iterations of all its loops have run, counted for the eight
-/// invocations it runs side by side (Mesa's `LP_MAX_TGSI_LOOP_ITERATIONS`): an eighth of
-/// that, less the test's other loops, keeps every caster whole or exact there. A GPU has no
-/// such limit; there the budget only bounds one invocation's time.
-pub(super) fn cell_steps(adapter: wgpu::DeviceType) -> u32 {
-    match adapter {
-        wgpu::DeviceType::Cpu => 65_535 / 8 - 1_200,
-        _ => 1 << 20,
+/// How much looping the cull of one frame may do per invocation
+/// (`VolumeFrame::steps` in `volumes/common.wgsl`), by the adapter's kind.
+///
+/// Each caster is culled by one invocation that walks its cells and their receiver points
+/// (`gather_footprint` in `volumes/grid.wgsl`). Past `caster` loop iterations it is handed to
+/// workgroups of its own (`volumes/big_casters.wgsl`), up to `big_casters` of them a frame,
+/// whose `lanes_per_big_caster()` lanes share its cells, each within `lane` iterations;
+/// past either, its volume is kept whole (counted in the report).
+///
+/// llvmpipe ends every loop of a shader, silently, once 65,535 iterations of all its loops
+/// have run, counted for the eight invocations it runs side by side (Mesa's
+/// `LP_MAX_TGSI_LOOP_ITERATIONS`): an eighth of that, less the test's other loops, keeps
+/// every caster whole or exact there. A GPU has no such limit, but one invocation's loop is
+/// serial: on an H200 an iteration cost about 0.18 µs, so a floor walked by one invocation
+/// (2^20 iterations) held the whole dispatch for 180 ms. There a caster gets a short budget
+/// and the big ones many lanes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) struct StepBudget {
+    /// Loop iterations one invocation of `cull_casters` may take on a caster.
+    pub caster: u32,
+    /// Loop iterations one lane of a big caster's workgroups may take.
+    pub lane: u32,
+    /// The most casters a frame hands to workgroups (at most `BIG_CASTERS`).
+    pub big_casters: u32,
+    /// Workgroups of `BIG_LANES` lanes per big caster.
+    pub groups_per_big_caster: u32,
+}
+
+impl StepBudget {
+    /// The adapter's budget, with a user's `caster` budget where one is set (on a CPU
+    /// adapter no more than its own).
+    pub(super) fn of(adapter: wgpu::DeviceType, caster: Option<u32>) -> Self {
+        let budget = Self::of_adapter(adapter);
+        let most = if adapter == wgpu::DeviceType::Cpu {
+            budget.caster
+        } else {
+            u32::MAX
+        };
+        Self {
+            caster: caster.map_or(budget.caster, |steps| steps.clamp(1, most)),
+            ..budget
+        }
+    }
+
+    fn of_adapter(adapter: wgpu::DeviceType) -> Self {
+        match adapter {
+            wgpu::DeviceType::Cpu => Self {
+                caster: 65_535 / 8 - 1_200,
+                lane: 65_535 / 8 - 1_200,
+                big_casters: 64,
+                groups_per_big_caster: 2,
+            },
+            _ => Self {
+                caster: 2_048,
+                lane: 16_384,
+                big_casters: BIG_CASTERS,
+                groups_per_big_caster: 4,
+            },
+        }
+    }
+
+    pub(super) fn lanes_per_big_caster(self) -> u32 {
+        BIG_LANES * self.groups_per_big_caster
     }
 }
 

@@ -276,11 +276,14 @@ const TOO_MANY_CELLS: u32 = 0xffffffffu;
 // Gathers into `found` and `bins` (`gather_receivers`, for the caster's `box`) the cells
 // from `cells[0].xy` to `cells[0].zw` that the footprint of `q` meets (where `tested`; else
 // all of them), row by row (`footprint_row`), and always the rows and columns at `cells[1]`
-// (lowest xy, highest zw: the border cells, which also hold points beyond); of the rows,
-// every `cells[2].y`-th from the `cells[2].x`-th (a workgroup's lanes share them). `units`: the cells' size in `q`'s
-// units, their half-size there (0: their centres only) and the padding; `depth`: the
+// (lowest xy, highest zw: the border cells, which also hold points beyond). `cells[2]`:
+// this lane, the lanes sharing the cells (a big caster's workgroups; 1 in `cull_casters`)
+// and the budget of loop iterations. The lanes take every n-th row, n the lanes or the
+// rows if fewer, and the lanes left over for each row share its cells, so a wall seen
+// edge-on (few rows, long ones) spreads as well as a floor. `units`: the cells' size in
+// `q`'s units, their half-size there (0: their centres only) and the padding; `depth`: the
 // caster's nearest depth and its padding. Counts loop iterations in `steps`; false once past
-// the frame's budget (`VolumeFrame::cell.w`).
+// the budget.
 fn gather_footprint(
     q: ptr<function, array<vec2<f32>, 8>>,
     box: ptr<function, CasterBox>,
@@ -294,7 +297,15 @@ fn gather_footprint(
 ) -> bool {
     let range = cells[0];
     let border = cells[1];
-    for (var y = range.y + cells[2].x; y <= range.w; y += cells[2].y) {
+    let budget = cells[2].z;
+    let row_lanes = clamp(range.w - range.y + 1, 1, max(cells[2].y, 1));
+    let row_lane = cells[2].x % row_lanes;
+    let column_lanes = max(cells[2].y / row_lanes, 1);
+    let column_lane = cells[2].x / row_lanes;
+    if (column_lane >= column_lanes) {
+        return true;
+    }
+    for (var y = range.y + row_lane; y <= range.w; y += row_lanes) {
         var xs = range.xz;
         if (tested && y != border.y && y != border.w) {
             let centre = (f32(y) + 0.5) * units.x;
@@ -308,23 +319,29 @@ fn gather_footprint(
             *steps += i32(FOOTPRINT_STEPS);
         }
         *steps += 3;
-        for (var x = xs.x; x <= xs.y; x++) {
-            let room = i32(volume.cell.w) - *steps;
+        for (var x = xs.x + column_lane; x <= xs.y; x += column_lanes) {
+            let room = budget - *steps;
             *steps += 1 + gather_receivers(vec2<i32>(x, y), depth, box, found, bins, room);
-            if (*steps > i32(volume.cell.w)) {
+            if (*steps > budget) {
                 return false;
             }
         }
-        // The border columns, where the footprint's cells leave them out.
-        for (var side = 0u; side < 2u; side++) {
+        // The border columns, where the footprint's cells leave them out (one lane a row).
+        for (var side = 0u; side < 2u && column_lane == 0; side++) {
             let x = select(border.x, border.z, side == 1u);
             if (x >= range.x && x <= range.z && (x < xs.x || x > xs.y)) {
-                let room = i32(volume.cell.w) - *steps;
+                let room = budget - *steps;
                 *steps += gather_receivers(vec2<i32>(x, y), depth, box, found, bins, room);
             }
         }
     }
-    return *steps <= i32(volume.cell.w);
+    return *steps <= budget;
+}
+
+// The budget of loop iterations of one of `lanes.y` lanes sharing a caster's cells
+// (volumes/frame.rs `StepBudget`).
+fn lane_budget(lanes: vec2<u32>) -> i32 {
+    return i32(select(volume.steps.y, volume.steps.x, lanes.y == 1u));
 }
 
 // `gather_cell` for a caster's `box`: while `room` loop iterations are left for the cell's

@@ -43,7 +43,7 @@ use fill::{Fill, FillDraw};
 #[cfg(test)]
 pub(crate) use pipelines::shader_sources;
 use pipelines::{
-    BIG_CASTERS, RECEIVER_CELLS, VolumeFrameGpu, VolumePass, VolumePipelines, depth_pipeline,
+    RECEIVER_CELLS, VolumeFrameGpu, VolumePass, VolumePipelines, depth_pipeline,
     depth_stencil_pass, dispatch_size, shader_source,
 };
 use scene::{SceneLayouts, SceneVolumes};
@@ -98,10 +98,9 @@ pub struct VolumeTechnique {
     exact: exact::ExactClamp,
     travel: [f32; 4],
 
-    /// The counters of the frames in flight, and the newest that came back: (frame, casters
-    /// kept, of which z-pass, intervals drawn).
+    /// The counters of the frames in flight, and the newest that came back with its frame.
     readback: AsyncReadback,
-    latest: Option<(u64, u32, u32, u32)>,
+    latest: Option<(u64, VolumePasses)>,
     /// Whether the frames in flight count fill, and the newest fill that came back.
     fill_counted: bool,
     latest_fill: Option<VolumeFill>,
@@ -218,7 +217,12 @@ impl VolumeTechnique {
             slices: 1,
             exact: exact::ExactClamp::default(),
             travel: [0.0; 4],
-            readback: AsyncReadback::new(device, "Volumes::counters_readback", 32, 3),
+            readback: AsyncReadback::new(
+                device,
+                "Volumes::counters_readback",
+                scene::COUNTERS_BYTES,
+                3,
+            ),
             latest: None,
             fill_counted: false,
             latest_fill: None,
@@ -377,6 +381,7 @@ impl ShadowTechnique for VolumeTechnique {
             .timer
             .open_scope(pass_label::VOLUME_SILHOUETTES, encoder);
         let (width, height) = (draw.targets.width, draw.targets.height);
+        let budget = frame::StepBudget::of(self.device_type, input.volumes.cull_steps);
         let steps: [(&str, &[Dispatch<'_>]); 3] = [
             (
                 pass_label::volumes::RECEIVER_GRID,
@@ -391,8 +396,11 @@ impl ShadowTechnique for VolumeTechnique {
                 pass_label::volumes::CULL_AND_CLAMP,
                 &[
                     (&self.cull, dispatch_groups(scene.casters)),
-                    (&self.gather_big, [BIG_CASTERS, 1]),
-                    (&self.finish_big, [1, 1]),
+                    (
+                        &self.gather_big,
+                        [budget.big_casters, budget.groups_per_big_caster],
+                    ),
+                    (&self.finish_big, [budget.big_casters.div_ceil(64), 1]),
                 ],
             ),
             (
@@ -480,7 +488,16 @@ impl ShadowTechnique for VolumeTechnique {
     fn collect(&mut self) -> ShadowReport {
         if let Some((frame, bytes)) = self.readback.take_latest() {
             let words: &[u32] = bytemuck::cast_slice(&bytes);
-            self.latest = Some((frame, words[1], words[0], words[4]));
+            self.latest = Some((
+                frame,
+                VolumePasses {
+                    z_pass: words[0],
+                    z_fail: words[1].saturating_sub(words[0]),
+                    intervals: words[4],
+                    big_casters: words[8],
+                    whole_past_budget: words[9],
+                },
+            ));
             self.latest_fill = self.fill_counted.then(|| VolumeFill {
                 fragments: u64::from(words[2]),
                 stencil_writes: u64::from(words[3]),
@@ -489,7 +506,7 @@ impl ShadowTechnique for VolumeTechnique {
         let Some(scene) = self.scene.as_ref() else {
             return ShadowReport::default();
         };
-        let kept = self.latest.map(|(_, kept, ..)| kept);
+        let kept = self.latest.map(|(_, passes)| passes.z_pass + passes.z_fail);
         let mut stages = vec![Stage::new("scene casters", scene.casters)];
         if self.method != Method::None {
             stages.push(Stage::new(
@@ -498,6 +515,13 @@ impl ShadowTechnique for VolumeTechnique {
             ));
         }
         let mut notes = Vec::new();
+        if let Some((_, passes)) = self.latest.filter(|(_, p)| p.whole_past_budget > 0) {
+            notes.push(format!(
+                "{} casters kept their whole volume: gathering their receivers ran past the \
+                 cull's budget of loop iterations",
+                passes.whole_past_budget
+            ));
+        }
         if !self.depth_clamped {
             notes.push(
                 "this adapter has no DEPTH_CLIP_CONTROL: volumes past the far plane are clipped"
@@ -513,20 +537,14 @@ impl ShadowTechnique for VolumeTechnique {
             stages,
             culled_frame_index: self.latest.map(|(frame, ..)| frame),
             volume_fill: self.latest_fill,
-            volume_passes: self
-                .latest
-                .map(|(_, kept, z_pass, intervals)| VolumePasses {
-                    z_pass,
-                    z_fail: kept - z_pass,
-                    intervals,
-                }),
+            volume_passes: self.latest.map(|(_, passes)| passes),
             notes,
             ..ShadowReport::default()
         }
     }
 
     fn has_results_of(&self, frame_index: u64) -> bool {
-        self.latest.is_some_and(|(frame, ..)| frame >= frame_index)
+        self.latest.is_some_and(|(frame, _)| frame >= frame_index)
     }
 
     fn draw_overlay(

@@ -42,6 +42,7 @@ pub(super) struct VolumeFrameGpu {
     pub up: [f32; 4],
     pub travel: [f32; 4],
     pub cell: [f32; 4],
+    pub steps: [u32; 4],
     pub near_lo: [f32; 4],
     pub near_hi: [f32; 4],
     pub slicing: [f32; 4],
@@ -58,9 +59,11 @@ pub(super) const MAX_SLICES: u32 = crate::shadow_view::VolumeSettings::MAX_SLICE
 
 /// The most cells of the grid of visible receiver points in the light's view, per slice.
 pub(super) const RECEIVER_CELLS: u32 = 512 * 512;
-/// The most casters a frame leaves to a workgroup each (`BIG_CASTERS` in
-/// `volumes/big_casters.wgsl`).
-pub(super) const BIG_CASTERS: u32 = 64;
+/// The most casters a frame can leave to workgroups of their own (`BIG_CASTERS` in
+/// `volumes/big_casters.wgsl`); how many it does is the adapter's `StepBudget::big_casters`.
+pub(super) const BIG_CASTERS: u32 = 1024;
+/// Lanes per workgroup of a big caster (`BIG_LANES` in `volumes/big_casters.wgsl`).
+pub(super) const BIG_LANES: u32 = 256;
 /// The bytes of their list: a count, the casters, and what each one's lanes merged
 /// (`BIG_WORDS`: three words per slice and one more).
 pub(super) const BIG_CASTERS_BYTES: u64 =

@@ -146,6 +146,9 @@ fn finish_point_caster(
 ) {
     let b = bounds[casters[ci].instance];
     let whole = p.whole || n == TOO_MANY_CELLS;
+    if (n == TOO_MANY_CELLS) {
+        atomicAdd(&counters[9], 1u);
+    }
     var count = 0u;
     if (whole) {
         count = whole_or_a_centimetre(ci, false);
@@ -179,8 +182,9 @@ fn outside_face(b: InstanceBounds, f: u32) -> bool {
 // `gather_under` (volumes/find.wgsl) for a point light: the depths of the visible receiver
 // points in the cells of each cube face (`p`) that the caster's footprint there meets (its
 // mesh's box turned with it, projected from the light; where a corner lies behind the
-// face's plane, every cell), no nearer than the caster; of their rows, every `lanes.y`-th
-// from the `lanes.x`-th. False once past the budget of loop iterations.
+// face's plane, every cell), no nearer than the caster; shared among `lanes.y` lanes as
+// `gather_footprint` shares them, this one `lanes.x`. False once past the budget of loop
+// iterations.
 fn gather_from_point(
     ci: u32,
     p: PointCaster,
@@ -210,7 +214,7 @@ fn gather_from_point(
             array<vec4<i32>, 3>(
                 vec4<i32>(p.first[f], p.last[f]),
                 vec4<i32>(vec2<i32>(origin), top),
-                vec4<i32>(vec2<i32>(lanes), 0, 0),
+                vec4<i32>(vec2<i32>(lanes), lane_budget(lanes), 0),
             ),
             vec3<f32>(1.0, 0.5, 1e-3),
             vec2<f32>(p.nearest, p.pad),

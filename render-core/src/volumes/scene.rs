@@ -7,6 +7,9 @@ use wgpu::util::DeviceExt;
 
 use super::edges::{Edge, mesh_edges};
 use super::pipelines::{BIG_CASTERS_BYTES, MAX_INTERVALS, MAX_SLICES, RECEIVER_CELLS};
+
+/// The bytes of the volume passes' counters (`COUNTERS` words in `volumes/find.wgsl`).
+pub(super) const COUNTERS_BYTES: u64 = 4 * 10;
 use crate::culling::codes::{OUTCOME_NOT_CASTER, OUTCOME_RENDERED};
 use crate::gpu::buffer_entry;
 use crate::scene::Scene;
@@ -186,7 +189,7 @@ impl SceneVolumes {
         );
         let counters = storage_buffer(
             "Volumes::counters",
-            32,
+            COUNTERS_BYTES,
             wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
         );
         let scene_group = device.create_bind_group(&wgpu::BindGroupDescriptor {

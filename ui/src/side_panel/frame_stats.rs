@@ -60,6 +60,15 @@ fn counts(ui: &mut egui::Ui, report: &FrameReport) {
                     thousands(passes.z_fail.into())
                 ),
             );
+            grid::row(
+                ui,
+                "Cull: by workgroups / whole",
+                format!(
+                    "{} / {}",
+                    thousands(passes.big_casters.into()),
+                    thousands(passes.whole_past_budget.into())
+                ),
+            );
         }
         if let Some(fill) = report.volume_fill {
             grid::row(
