@@ -727,7 +727,7 @@ fn clamped_with_budget(
     scene: &Scene,
     camera: &Camera,
     clamp: VolumeClamp,
-    cull_steps: Option<u32>,
+    (cull_steps, cell_points): (Option<u32>, Option<u32>),
 ) -> (Vec<f32>, Vec<Option<Vec<[f32; 2]>>>, FrameReport) {
     let mut truth = TruthCache::default();
     let exact = truth.exact(scene, camera, SIZE, scene.sun.direction_to_sun);
@@ -738,6 +738,7 @@ fn clamped_with_budget(
     settings.volumes.clamp = clamp;
     settings.volumes.vertex_pixels = Some(0);
     settings.volumes.cull_steps = cull_steps;
+    settings.volumes.cell_points = cell_points;
     settings.overlays.fill = true;
     let (_, _, renderer, report) = against_truth(scene, camera, &settings);
     let light = renderer.light_at(gpu(), &exact.points).expect("read back");
@@ -756,7 +757,7 @@ fn casters_left_to_workgroups_get_the_volumes_one_invocation_gives_them() {
     // intervals to the bit, the same light at every point, the same fill.
     let (scene, camera) = caster_over_a_platform_edge();
     for clamp in [VolumeClamp::Continuous, VolumeClamp::Conservative] {
-        let (light, intervals, report) = clamped_with_budget(&scene, &camera, clamp, None);
+        let (light, intervals, report) = clamped_with_budget(&scene, &camera, clamp, (None, None));
         let passes = report.volume_passes.expect("counted");
         assert_eq!(passes.whole_past_budget, 0, "{clamp:?}: {passes:?}");
         assert!(
@@ -764,7 +765,7 @@ fn casters_left_to_workgroups_get_the_volumes_one_invocation_gives_them() {
             "{clamp:?}: the caster is small: {passes:?}"
         );
         let (split_light, split_intervals, split_report) =
-            clamped_with_budget(&scene, &camera, clamp, Some(1));
+            clamped_with_budget(&scene, &camera, clamp, (Some(1), None));
         let split = split_report.volume_passes.expect("counted");
         assert_eq!(
             (split.big_casters, split.whole_past_budget),
@@ -778,6 +779,28 @@ fn casters_left_to_workgroups_get_the_volumes_one_invocation_gives_them() {
         );
         assert_eq!(differing(&split_light, &light), 0, "{clamp:?}");
         assert_eq!(split_report.volume_fill, report.volume_fill, "{clamp:?}");
+        // No point tested one by one: each cell's depths whole, as discrete clamping's
+        // cells give them. Looser, never wrong.
+        let (cells_light, cells_intervals, cells_report) =
+            clamped_with_budget(&scene, &camera, clamp, (None, Some(0)));
+        assert_eq!(differing(&cells_light, &light), 0, "{clamp:?}");
+        let fill = |r: &FrameReport| r.volume_fill.expect("fill").fragments;
+        assert!(fill(&cells_report) >= fill(&report), "{clamp:?}");
+        let covers = |outer: &[[f32; 2]], inner: &[[f32; 2]]| {
+            inner
+                .iter()
+                .all(|i| outer.iter().any(|o| o[0] <= i[0] && o[1] >= i[1]))
+        };
+        let (Some(cells), Some(points)) = (
+            &cells_intervals[CASTER as usize],
+            &intervals[CASTER as usize],
+        ) else {
+            panic!("{clamp:?}: the caster is drawn");
+        };
+        assert!(
+            covers(cells, points),
+            "{clamp:?}: {cells:?} against {points:?}"
+        );
     }
 }
 
@@ -807,9 +830,9 @@ fn casters_past_every_budget_keep_their_whole_volume_and_are_counted() {
         200.0,
     );
     let clamp = VolumeClamp::Continuous;
-    let (light, _, report) = clamped_with_budget(&scene, &camera, clamp, None);
+    let (light, _, report) = clamped_with_budget(&scene, &camera, clamp, (None, None));
     assert_eq!(report.volume_passes.expect("counted").whole_past_budget, 0);
-    let (starved, _, starved_report) = clamped_with_budget(&scene, &camera, clamp, Some(1));
+    let (starved, _, starved_report) = clamped_with_budget(&scene, &camera, clamp, (Some(1), None));
     let passes = starved_report.volume_passes.expect("counted");
     assert_eq!(
         (passes.big_casters, passes.whole_past_budget),

@@ -217,6 +217,11 @@ pub struct ViewArgs {
     /// CPU adapter at most 6,991).
     #[arg(long, value_name = "N")]
     pub volume_cull_steps: Option<u32>,
+    /// The most receiver points of one grid cell the shadow volumes' cull tests one by one
+    /// against a caster; a cell with more gives its depths whole (default: 16 on a GPU,
+    /// every point on a CPU adapter).
+    #[arg(long, value_name = "N")]
+    pub volume_cell_points: Option<u32>,
     /// `--volume-clamp discrete|conservative`: the view's slices (Lloyd's K), 1 to 32.
     #[arg(long, value_name = "K")]
     pub volume_slices: Option<u32>,
@@ -393,6 +398,9 @@ impl ViewArgs {
                 bail!("--volume-cull-steps must be at least 1");
             }
             settings.volumes.cull_steps = Some(steps);
+        }
+        if let Some(points) = self.volume_cell_points {
+            settings.volumes.cell_points = Some(points);
         }
         if let Some(pixels) = self.volume_vertex_pixels {
             settings.volumes.vertex_pixels = Some(pixels);

@@ -130,6 +130,11 @@ pub struct VolumeSettings {
     /// `None` for the adapter's (2,048 on a GPU; on a CPU adapter, which silently ends long
     /// shader loops, at most 6,991 whatever is set).
     pub cull_steps: Option<u32>,
+    /// The most receiver points of one grid cell the cull tests one by one against a
+    /// caster (a cell with more gives its depths whole: less tight, much cheaper on a GPU
+    /// near the camera, where a cell holds hundreds of pixels), or `None` for the
+    /// adapter's (16 on a GPU, every point on a CPU adapter).
+    pub cell_points: Option<u32>,
 }
 
 impl VolumeSettings {
@@ -144,6 +149,7 @@ impl Default for VolumeSettings {
             slices: 8,
             vertex_pixels: None,
             cull_steps: None,
+            cell_points: None,
         }
     }
 }

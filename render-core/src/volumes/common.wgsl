@@ -18,7 +18,8 @@ struct VolumeFrame {
     travel: vec4<f32>,
     // x: the grid's cell size, metres; y: pixels a volume vertex costs as much as
     // (volumes/calibrate.rs); z: the size of the grid's depth bins, metres (DEPTH_BINS of
-    // them span the scene's depths, volumes/grid.wgsl); w: unused.
+    // them span the scene's depths, volumes/grid.wgsl); w: the most receiver points of a
+    // cell tested one by one against a caster (more: the cell's depths whole).
     cell: vec4<f32>,
     // The cull's budget of loop iterations (volumes/frame.rs `StepBudget`): x per caster in
     // `cull_casters`, past which it goes to workgroups of its own; y per lane of those; z

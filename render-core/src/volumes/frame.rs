@@ -9,7 +9,7 @@ use super::scene::SceneVolumes;
 use crate::culling::codes::culled_code;
 use crate::culling::{Method, StageKind};
 use crate::geom::{Camera, basis_for_direction};
-use crate::shadow_view::{VolumeClamp, VolumePassChoice};
+use crate::shadow_view::{VolumeClamp, VolumePassChoice, VolumeSettings};
 use crate::technique::TechniqueInput;
 
 /// This frame's uniforms: `method` the effective one, `slices` the clamping's, and the
@@ -95,9 +95,14 @@ pub(super) fn uniforms(
         right: right.extend(x.0).to_array(),
         up: up.extend(y.0).to_array(),
         travel: travel.extend(z.0).to_array(),
-        cell: [cell, pixels_per_vertex, depth_bin, 0.0],
+        cell: [
+            cell,
+            pixels_per_vertex,
+            depth_bin,
+            StepBudget::of(adapter, &input.volumes).cell_points as f32,
+        ],
         steps: {
-            let budget = StepBudget::of(adapter, input.volumes.cull_steps);
+            let budget = StepBudget::of(adapter, &input.volumes);
             [
                 budget.caster,
                 budget.lane,
@@ -144,12 +149,15 @@ pub(super) struct StepBudget {
     pub big_casters: u32,
     /// Workgroups of `BIG_LANES` lanes per big caster.
     pub groups_per_big_caster: u32,
+    /// The most receiver points of one grid cell tested one by one against a caster; a
+    /// cell with more gives its depths whole, as discrete clamping's cells do.
+    pub cell_points: u32,
 }
 
 impl StepBudget {
-    /// The adapter's budget, with a user's `caster` budget where one is set (on a CPU
-    /// adapter no more than its own).
-    pub(super) fn of(adapter: wgpu::DeviceType, caster: Option<u32>) -> Self {
+    /// The adapter's budget, with the user's caster budget and cell points where set (on a
+    /// CPU adapter no more steps than its own).
+    pub(super) fn of(adapter: wgpu::DeviceType, settings: &VolumeSettings) -> Self {
         let budget = Self::of_adapter(adapter);
         let most = if adapter == wgpu::DeviceType::Cpu {
             budget.caster
@@ -157,7 +165,10 @@ impl StepBudget {
             u32::MAX
         };
         Self {
-            caster: caster.map_or(budget.caster, |steps| steps.clamp(1, most)),
+            caster: settings
+                .cull_steps
+                .map_or(budget.caster, |steps| steps.clamp(1, most)),
+            cell_points: settings.cell_points.unwrap_or(budget.cell_points),
             ..budget
         }
     }
@@ -169,12 +180,14 @@ impl StepBudget {
                 lane: 65_535 / 8 - 1_200,
                 big_casters: 64,
                 groups_per_big_caster: 2,
+                cell_points: u32::MAX,
             },
             _ => Self {
                 caster: 2_048,
                 lane: 16_384,
                 big_casters: BIG_CASTERS,
-                groups_per_big_caster: 4,
+                groups_per_big_caster: 16,
+                cell_points: 16,
             },
         }
     }

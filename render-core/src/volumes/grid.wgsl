@@ -357,7 +357,7 @@ fn gather_receivers(
 ) -> i32 {
     let word = 2u * slices_word(cell);
     let count = atomicLoad(&cells[word]);
-    if (!(*box).points || i32(count) >= room) {
+    if (!(*box).points || i32(count) >= room || f32(count) > volume.cell.w) {
         return gather_cell(cell, depth.x, depth.y, found, bins);
     }
     let start = atomicLoad(&cells[word + 1u]);
