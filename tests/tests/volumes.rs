@@ -721,14 +721,22 @@ fn a_diagonal_struts_volume_is_culled_where_only_its_world_box_covers_receivers(
     }
 }
 
-/// The light at the view's exact points, every caster's intervals and the report of one
-/// frame of CC volumes (`bvol`) clamped by `clamp` with the cull's budget `cull_steps`.
+/// One frame of CC volumes: the light at the view's exact points, every instance's
+/// intervals (`None` where it casts none) and the report.
+struct Clamped {
+    light: Vec<f32>,
+    intervals: Vec<Option<Vec<[f32; 2]>>>,
+    report: FrameReport,
+}
+
+/// One frame of CC volumes (`bvol`) clamped by `clamp` with the cull's budget of loop
+/// iterations per caster and of points tested one by one per cell.
 fn clamped_with_budget(
     scene: &Scene,
     camera: &Camera,
     clamp: VolumeClamp,
     (cull_steps, cell_points): (Option<u32>, Option<u32>),
-) -> (Vec<f32>, Vec<Option<Vec<[f32; 2]>>>, FrameReport) {
+) -> Clamped {
     let mut truth = TruthCache::default();
     let exact = truth.exact(scene, camera, SIZE, scene.sun.direction_to_sun);
     let mut settings = FrameSettings {
@@ -745,7 +753,11 @@ fn clamped_with_budget(
     let intervals = (0..scene.instances.len() as u32)
         .map(|i| renderer.read_volume_intervals(gpu(), i).expect("read back"))
         .collect();
-    (light, intervals, report)
+    Clamped {
+        light,
+        intervals,
+        report,
+    }
 }
 
 #[test]
@@ -757,15 +769,22 @@ fn casters_left_to_workgroups_get_the_volumes_one_invocation_gives_them() {
     // intervals to the bit, the same light at every point, the same fill.
     let (scene, camera) = caster_over_a_platform_edge();
     for clamp in [VolumeClamp::Continuous, VolumeClamp::Conservative] {
-        let (light, intervals, report) = clamped_with_budget(&scene, &camera, clamp, (None, None));
+        let Clamped {
+            light,
+            intervals,
+            report,
+        } = clamped_with_budget(&scene, &camera, clamp, (None, None));
         let passes = report.volume_passes.expect("counted");
         assert_eq!(passes.whole_past_budget, 0, "{clamp:?}: {passes:?}");
         assert!(
             passes.big_casters < 3,
             "{clamp:?}: the caster is small: {passes:?}"
         );
-        let (split_light, split_intervals, split_report) =
-            clamped_with_budget(&scene, &camera, clamp, (Some(1), None));
+        let Clamped {
+            light: split_light,
+            intervals: split_intervals,
+            report: split_report,
+        } = clamped_with_budget(&scene, &camera, clamp, (Some(1), None));
         let split = split_report.volume_passes.expect("counted");
         assert_eq!(
             (split.big_casters, split.whole_past_budget),
@@ -781,8 +800,11 @@ fn casters_left_to_workgroups_get_the_volumes_one_invocation_gives_them() {
         assert_eq!(split_report.volume_fill, report.volume_fill, "{clamp:?}");
         // No point tested one by one: each cell's depths whole, as discrete clamping's
         // cells give them. Looser, never wrong.
-        let (cells_light, cells_intervals, cells_report) =
-            clamped_with_budget(&scene, &camera, clamp, (None, Some(0)));
+        let Clamped {
+            light: cells_light,
+            intervals: cells_intervals,
+            report: cells_report,
+        } = clamped_with_budget(&scene, &camera, clamp, (None, Some(0)));
         assert_eq!(differing(&cells_light, &light), 0, "{clamp:?}");
         let fill = |r: &FrameReport| r.volume_fill.expect("fill").fragments;
         assert!(fill(&cells_report) >= fill(&report), "{clamp:?}");
@@ -830,9 +852,13 @@ fn casters_past_every_budget_keep_their_whole_volume_and_are_counted() {
         200.0,
     );
     let clamp = VolumeClamp::Continuous;
-    let (light, _, report) = clamped_with_budget(&scene, &camera, clamp, (None, None));
+    let Clamped { light, report, .. } = clamped_with_budget(&scene, &camera, clamp, (None, None));
     assert_eq!(report.volume_passes.expect("counted").whole_past_budget, 0);
-    let (starved, _, starved_report) = clamped_with_budget(&scene, &camera, clamp, (Some(1), None));
+    let Clamped {
+        light: starved,
+        report: starved_report,
+        ..
+    } = clamped_with_budget(&scene, &camera, clamp, (Some(1), None));
     let passes = starved_report.volume_passes.expect("counted");
     assert_eq!(
         (passes.big_casters, passes.whole_past_budget),

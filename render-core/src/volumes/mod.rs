@@ -43,8 +43,8 @@ use fill::{Fill, FillDraw};
 #[cfg(test)]
 pub(crate) use pipelines::shader_sources;
 use pipelines::{
-    RECEIVER_CELLS, VolumeFrameGpu, VolumePass, VolumePipelines, depth_pipeline,
-    depth_stencil_pass, dispatch_size, shader_source,
+    Dispatch, RECEIVER_CELLS, VolumeFrameGpu, VolumePass, VolumePipelines, depth_pipeline,
+    depth_stencil_pass, dispatch_groups, shader_source,
 };
 use scene::{SceneLayouts, SceneVolumes};
 
@@ -388,7 +388,7 @@ impl ShadowTechnique for VolumeTechnique {
         let gathers = (self.method != Method::None || input.volumes.clamp != VolumeClamp::None)
             && input.volumes.clamp != VolumeClamp::Exact;
         let big_casters = if gathers { budget.big_casters } else { 0 };
-        let steps: [(&str, &[Dispatch<'_>]); 3] = [
+        let steps: [(&str, &[Dispatch<'_>]); 4] = [
             (
                 pass_label::volumes::RECEIVER_GRID,
                 &[
@@ -400,8 +400,11 @@ impl ShadowTechnique for VolumeTechnique {
             ),
             (
                 pass_label::volumes::CULL_AND_CLAMP,
+                &[(&self.cull, dispatch_groups(scene.casters))],
+            ),
+            (
+                pass_label::volumes::BIG_CASTERS,
                 &[
-                    (&self.cull, dispatch_groups(scene.casters)),
                     (
                         &self.gather_big,
                         [big_casters, budget.groups_per_big_caster],
@@ -493,21 +496,9 @@ impl ShadowTechnique for VolumeTechnique {
 
     fn collect(&mut self) -> ShadowReport {
         if let Some((frame, bytes)) = self.readback.take_latest() {
-            let words: &[u32] = bytemuck::cast_slice(&bytes);
-            self.latest = Some((
-                frame,
-                VolumePasses {
-                    z_pass: words[0],
-                    z_fail: words[1].saturating_sub(words[0]),
-                    intervals: words[4],
-                    big_casters: words[8],
-                    whole_past_budget: words[9],
-                },
-            ));
-            self.latest_fill = self.fill_counted.then(|| VolumeFill {
-                fragments: u64::from(words[2]),
-                stencil_writes: u64::from(words[3]),
-            });
+            let (passes, fill) = scene::read_counters(bytemuck::cast_slice(&bytes));
+            self.latest = Some((frame, passes));
+            self.latest_fill = self.fill_counted.then_some(fill);
         }
         let Some(scene) = self.scene.as_ref() else {
             return ShadowReport::default();
@@ -595,16 +586,4 @@ impl ShadowTechnique for VolumeTechnique {
         self.excluded = instances.to_vec();
         self.excluded.sort_unstable();
     }
-}
-
-/// A compute pipeline and its workgroups, x and y.
-type Dispatch<'a> = (&'a wgpu::ComputePipeline, [u32; 2]);
-
-/// Workgroups for `items` work items (none for none).
-fn dispatch_groups(items: u32) -> [u32; 2] {
-    if items == 0 {
-        return [0, 0];
-    }
-    let (x, y) = dispatch_size(items);
-    [x, y]
 }

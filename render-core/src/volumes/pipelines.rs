@@ -401,3 +401,15 @@ pub(super) fn read_only_pass<'e>(
         multiview_mask: None,
     })
 }
+
+/// A compute pipeline and its workgroups, x and y.
+pub(super) type Dispatch<'a> = (&'a wgpu::ComputePipeline, [u32; 2]);
+
+/// Workgroups for `items` work items (none for none).
+pub(super) fn dispatch_groups(items: u32) -> [u32; 2] {
+    if items == 0 {
+        return [0, 0];
+    }
+    let (x, y) = dispatch_size(items);
+    [x, y]
+}

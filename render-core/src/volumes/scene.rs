@@ -7,9 +7,27 @@ use wgpu::util::DeviceExt;
 
 use super::edges::{Edge, mesh_edges};
 use super::pipelines::{BIG_CASTERS_BYTES, MAX_INTERVALS, MAX_SLICES, RECEIVER_CELLS};
+use crate::technique::{VolumeFill, VolumePasses};
 
 /// The bytes of the volume passes' counters (`COUNTERS` words in `volumes/find.wgsl`).
 pub(super) const COUNTERS_BYTES: u64 = 4 * 10;
+
+/// One frame's counters as read back (`counters` in `volumes/find.wgsl`): how the volumes
+/// were counted and culled, and their fill.
+pub(super) fn read_counters(words: &[u32]) -> (VolumePasses, VolumeFill) {
+    let passes = VolumePasses {
+        z_pass: words[0],
+        z_fail: words[1].saturating_sub(words[0]),
+        intervals: words[4],
+        big_casters: words[8],
+        whole_past_budget: words[9],
+    };
+    let fill = VolumeFill {
+        fragments: u64::from(words[2]),
+        stencil_writes: u64::from(words[3]),
+    };
+    (passes, fill)
+}
 use crate::culling::codes::{OUTCOME_NOT_CASTER, OUTCOME_RENDERED};
 use crate::gpu::buffer_entry;
 use crate::scene::Scene;
