@@ -55,12 +55,29 @@ fn defer_caster(ci: u32) -> bool {
     return true;
 }
 
+// The words after the list (volumes/pipelines.rs `BIG_DISPATCH_OFFSET`): the workgroups of
+// `gather_big_casters` and of `finish_big_casters`, x y z each, copied to the indirect
+// dispatch buffer (volumes/find_passes.rs).
+const BIG_DISPATCH: u32 = 1u + BIG_CASTERS * (1u + BIG_WORDS);
+
+// After the cull: the listed casters' workgroups, `steps.w` lanes each, and the
+// invocations that finish them.
+@compute @workgroup_size(1)
+fn size_big_casters() {
+    let n = big_count();
+    atomicStore(&big[BIG_DISPATCH], n);
+    atomicStore(&big[BIG_DISPATCH + 1u], max(volume.steps.w / BIG_LANES, 1u));
+    atomicStore(&big[BIG_DISPATCH + 2u], 1u);
+    atomicStore(&big[BIG_DISPATCH + 4u], (n + 63u) / 64u);
+    atomicStore(&big[BIG_DISPATCH + 5u], 1u);
+    atomicStore(&big[BIG_DISPATCH + 6u], 1u);
+}
+
 // Listed caster `group.x`: this lane's share of its cells (the `group.y`-th of its
 // workgroups), merged into the list.
 @compute @workgroup_size(BIG_LANES)
 fn gather_big_casters(
     @builtin(workgroup_id) group: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
     @builtin(local_invocation_index) local: u32,
 ) {
     let g = group.x;
@@ -71,7 +88,7 @@ fn gather_big_casters(
     var found: array<vec2<f32>, MAX_SLICES>;
     var bins: array<u32, MAX_SLICES>;
     clear_found(&found, &bins);
-    let lanes = vec2<u32>(group.y * BIG_LANES + local, groups.y * BIG_LANES);
+    let lanes = vec2<u32>(group.y * BIG_LANES + local, max(volume.steps.w, BIG_LANES));
     var within: bool;
     if (from_point()) {
         within = gather_from_point(ci, point_caster(ci), lanes, &found, &bins);

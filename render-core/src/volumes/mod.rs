@@ -20,6 +20,7 @@ mod calibrate;
 pub mod edges;
 mod exact;
 mod fill;
+mod find_passes;
 mod frame;
 mod pipelines;
 mod receivers;
@@ -27,8 +28,8 @@ mod scene;
 
 use crate::culling::{CasterOutcome, Method, Stage};
 use crate::gpu::{
-    AsyncReadback, GpuContext, bind_group_layout, compute_pipeline, pass_label, pipeline_layout,
-    shader_module, storage, texture, uniform, view_entry,
+    AsyncReadback, GpuContext, bind_group_layout, pass_label, pipeline_layout, shader_module,
+    storage, texture, uniform, view_entry,
 };
 use crate::scene::Scene;
 use crate::scene_gpu::SceneGpu;
@@ -40,11 +41,11 @@ use crate::technique::{
 };
 pub use crate::technique::{VolumeFill, VolumePasses};
 use fill::{Fill, FillDraw};
+use find_passes::{FindInput, FindPasses};
 #[cfg(test)]
 pub(crate) use pipelines::shader_sources;
 use pipelines::{
-    Dispatch, RECEIVER_CELLS, VolumeFrameGpu, VolumePass, VolumePipelines, depth_pipeline,
-    depth_stencil_pass, dispatch_groups, shader_source,
+    VolumeFrameGpu, VolumePass, VolumePipelines, depth_pipeline, depth_stencil_pass, shader_source,
 };
 use scene::{SceneLayouts, SceneVolumes};
 
@@ -71,17 +72,8 @@ pub struct VolumeTechnique {
     draw_layout: wgpu::BindGroupLayout,
     light_layout: wgpu::BindGroupLayout,
     fill: Fill,
-    reset: wgpu::ComputePipeline,
-    receivers: wgpu::ComputePipeline,
-    /// Each grid cell's start in the view's receiver points, then the points listed there.
-    place: wgpu::ComputePipeline,
-    list: wgpu::ComputePipeline,
-    cull: wgpu::ComputePipeline,
-    /// The casters too big for one invocation of `cull`, a workgroup each, then finished.
-    gather_big: wgpu::ComputePipeline,
-    finish_big: wgpu::ComputePipeline,
-    silhouettes: wgpu::ComputePipeline,
-    caps: wgpu::ComputePipeline,
+    /// The receiver grid, the cull and the silhouettes in compute.
+    find: FindPasses,
     depth: wgpu::RenderPipeline,
     volumes: VolumePipelines,
     /// The `volumes` overlay's, and the frame group it draws with (the last frame's).
@@ -154,8 +146,6 @@ impl VolumeTechnique {
             "Volumes::find_pipeline_layout",
             &[frame_layout, &scene_layout, &find_layout],
         );
-        let find =
-            |entry| compute_pipeline(device, &find_module, Some(&find_pipeline_layout), entry);
         let depth = depth_pipeline(device, frame_layout, format);
         let draw_module =
             shader_module(device, "Volumes::draw", shader_source("volumes/draw.wgsl"));
@@ -187,15 +177,7 @@ impl VolumeTechnique {
             format,
             depth_clamped,
             device_type: ctx.adapter.get_info().device_type,
-            reset: find("reset_draws"),
-            receivers: find("mark_receivers"),
-            place: find("place_cells"),
-            list: find("list_receivers"),
-            cull: find("cull_casters"),
-            gather_big: find("gather_big_casters"),
-            finish_big: find("finish_big_casters"),
-            silhouettes: find("find_silhouettes"),
-            caps: find("find_caps"),
+            find: FindPasses::new(device, &find_module, &find_pipeline_layout),
             depth,
             volumes,
             overlay,
@@ -380,63 +362,21 @@ impl ShadowTechnique for VolumeTechnique {
         let scope = draw
             .timer
             .open_scope(pass_label::VOLUME_SILHOUETTES, encoder);
-        let (width, height) = (draw.targets.width, draw.targets.height);
-        let budget = frame::StepBudget::of(self.device_type, &input.volumes);
         // Only a cull that gathers receivers hands casters to workgroups: without it, or
-        // with exact clamping's intervals given, their dispatches are left out (on a GPU,
-        // 16,384 empty workgroups still cost a third of a millisecond).
+        // with exact clamping's intervals given, their dispatches are left out.
         let gathers = (self.method != Method::None || input.volumes.clamp != VolumeClamp::None)
             && input.volumes.clamp != VolumeClamp::Exact;
-        let big_casters = if gathers { budget.big_casters } else { 0 };
-        let steps: [(&str, &[Dispatch<'_>]); 4] = [
-            (
-                pass_label::volumes::RECEIVER_GRID,
-                &[
-                    (&self.reset, [1, 1]),
-                    (&self.receivers, [width.div_ceil(8), height.div_ceil(8)]),
-                    (&self.place, [RECEIVER_CELLS.div_ceil(64), 1]),
-                    (&self.list, [width.div_ceil(8), height.div_ceil(8)]),
-                ],
-            ),
-            (
-                pass_label::volumes::CULL_AND_CLAMP,
-                &[(&self.cull, dispatch_groups(scene.casters))],
-            ),
-            (
-                pass_label::volumes::BIG_CASTERS,
-                &[
-                    (
-                        &self.gather_big,
-                        [big_casters, budget.groups_per_big_caster],
-                    ),
-                    (&self.finish_big, [big_casters.div_ceil(64), 1]),
-                ],
-            ),
-            (
-                pass_label::volumes::EDGES,
-                &[
-                    (&self.silhouettes, dispatch_groups(scene.edge_items)),
-                    (&self.caps, dispatch_groups(scene.triangle_items)),
-                ],
-            ),
-        ];
-        for (label, dispatches) in steps {
-            scope.step(label, encoder, |encoder| {
-                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some(label),
-                    timestamp_writes: None,
-                });
-                pass.set_bind_group(0, draw.frame_group, &[]);
-                pass.set_bind_group(1, &scene.scene_group, &[]);
-                pass.set_bind_group(2, &find_group, &[]);
-                for (pipeline, [x, y]) in dispatches {
-                    if x * y > 0 {
-                        pass.set_pipeline(pipeline);
-                        pass.dispatch_workgroups(*x, *y, 1);
-                    }
-                }
-            });
-        }
+        self.find.encode(
+            encoder,
+            &scope,
+            &FindInput {
+                scene,
+                frame_group: draw.frame_group,
+                find_group: &find_group,
+                size: (draw.targets.width, draw.targets.height),
+                gathers,
+            },
+        );
         scope.close(encoder);
         let query = draw.timer.begin_pass(pass_label::VOLUME_DEPTH, encoder);
         {

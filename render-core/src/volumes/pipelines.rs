@@ -66,8 +66,12 @@ pub(super) const BIG_CASTERS: u32 = 1024;
 pub(super) const BIG_LANES: u32 = 256;
 /// The bytes of their list: a count, the casters, and what each one's lanes merged
 /// (`BIG_WORDS`: three words per slice and one more).
-pub(super) const BIG_CASTERS_BYTES: u64 =
+pub(super) const BIG_CASTERS_BYTES: u64 = BIG_DISPATCH_OFFSET + BIG_DISPATCH_BYTES;
+/// Where the big casters' dispatch sizes follow the list (`BIG_DISPATCH` in
+/// `volumes/big_casters.wgsl`), and their bytes: two indirect dispatches of 16 bytes.
+pub(super) const BIG_DISPATCH_OFFSET: u64 =
     4 * (1 + BIG_CASTERS as u64 * (2 + 3 * MAX_SLICES as u64));
+pub(super) const BIG_DISPATCH_BYTES: u64 = 32;
 /// The depth bins of each grid cell (`DEPTH_BINS` in `volumes/grid.wgsl`).
 pub(super) const DEPTH_BINS: u32 = 32;
 
@@ -401,9 +405,6 @@ pub(super) fn read_only_pass<'e>(
         multiview_mask: None,
     })
 }
-
-/// A compute pipeline and its workgroups, x and y.
-pub(super) type Dispatch<'a> = (&'a wgpu::ComputePipeline, [u32; 2]);
 
 /// Workgroups for `items` work items (none for none).
 pub(super) fn dispatch_groups(items: u32) -> [u32; 2] {

@@ -6,7 +6,9 @@ use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
 use super::edges::{Edge, mesh_edges};
-use super::pipelines::{BIG_CASTERS_BYTES, MAX_INTERVALS, MAX_SLICES, RECEIVER_CELLS};
+use super::pipelines::{
+    BIG_CASTERS_BYTES, BIG_DISPATCH_BYTES, MAX_INTERVALS, MAX_SLICES, RECEIVER_CELLS,
+};
 use crate::technique::{VolumeFill, VolumePasses};
 
 /// The bytes of the volume passes' counters (`COUNTERS` words in `volumes/find.wgsl`).
@@ -74,6 +76,9 @@ pub(super) struct SceneVolumes {
     /// The casters too big for one invocation of the cull, and what their workgroups
     /// gathered (`volumes/big_casters.wgsl`).
     pub big: wgpu::Buffer,
+    /// Their workgroups, copied from after the list for the indirect dispatches
+    /// (`volumes/find_passes.rs`).
+    pub big_dispatch: wgpu::Buffer,
     pub counters: wgpu::Buffer,
     pub outcomes: wgpu::Buffer,
     pub instances: u32,
@@ -203,8 +208,14 @@ impl SceneVolumes {
         let big = storage_buffer(
             "Volumes::big_casters",
             BIG_CASTERS_BYTES,
-            wgpu::BufferUsages::empty(),
+            wgpu::BufferUsages::COPY_SRC,
         );
+        let big_dispatch = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("Volumes::big_casters_dispatch"),
+            size: BIG_DISPATCH_BYTES,
+            usage: wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
         let counters = storage_buffer(
             "Volumes::counters",
             COUNTERS_BYTES,
@@ -250,6 +261,7 @@ impl SceneVolumes {
             grid,
             cells,
             big,
+            big_dispatch,
             counters,
             outcomes: init(
                 "Volumes::outcomes",

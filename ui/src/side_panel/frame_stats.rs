@@ -38,36 +38,29 @@ pub fn problems(ui: &mut egui::Ui, report: &FrameReport) {
     }
 }
 
+/// Two counts as "a / b", each grouped by thousands.
+fn of_two(a: u32, b: u32) -> String {
+    format!("{} / {}", thousands(a.into()), thousands(b.into()))
+}
+
 fn counts(ui: &mut egui::Ui, report: &FrameReport) {
     let c = &report.counts;
     grid::facts(ui, "frame_counts", |ui| {
         grid::row(
             ui,
             "Casters rendered",
-            format!(
-                "{} / {}",
-                thousands(c.casters_rendered.into()),
-                thousands(c.casters_total.into())
-            ),
+            of_two(c.casters_rendered, c.casters_total),
         );
         if let Some(passes) = report.volume_passes {
             grid::row(
                 ui,
                 "Volumes z-pass / z-fail",
-                format!(
-                    "{} / {}",
-                    thousands(passes.z_pass.into()),
-                    thousands(passes.z_fail.into())
-                ),
+                of_two(passes.z_pass, passes.z_fail),
             );
             grid::row(
                 ui,
                 "Cull: by workgroups / whole",
-                format!(
-                    "{} / {}",
-                    thousands(passes.big_casters.into()),
-                    thousands(passes.whole_past_budget.into())
-                ),
+                of_two(passes.big_casters, passes.whole_past_budget),
             );
         }
         if let Some(fill) = report.volume_fill {
