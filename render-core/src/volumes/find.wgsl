@@ -175,8 +175,7 @@ fn finish_sun_caster(
 // `ci`'s footprint (volumes/footprint.wgsl) in its cells (`s`), no nearer than the caster
 // (with its padding to spare): the cells the footprint meets, or with `centres` those whose
 // centre it holds; shared among `lanes.y` lanes as `gather_footprint` shares them, this
-// one `lanes.x`. False once past
-// the budget of loop iterations.
+// one `lanes.x`. False once past the budget of loop iterations.
 fn gather_under(
     ci: u32,
     s: SunCaster,

@@ -5,9 +5,11 @@
 //! How many casters went to workgroups (`volumes/big_casters.wgsl`) is known only on the
 //! GPU, so their dispatches are indirect: `size_big_casters` writes the workgroup counts
 //! after the cull, and they are copied to a buffer of their own (`SceneVolumes::big_dispatch`)
-//! before the big casters' pass, which binds the list itself for writing.
+//! before the big casters' pass, which binds the list itself for writing. Where the cull
+//! gathers nothing (standard volumes, exact clamping's given intervals) it lists none, and
+//! the indirect dispatches run no workgroup.
 
-use super::pipelines::{BIG_DISPATCH_OFFSET, RECEIVER_CELLS, dispatch_groups};
+use super::pipelines::{BIG_DISPATCH_OFFSET, RECEIVER_CELLS, dispatch_size};
 use super::scene::SceneVolumes;
 use crate::gpu::{Scope, compute_pipeline, pass_label};
 
@@ -35,9 +37,6 @@ pub(super) struct FindInput<'a> {
     pub find_group: &'a wgpu::BindGroup,
     /// The view's size, pixels.
     pub size: (u32, u32),
-    /// Whether the cull gathers receivers (it culls or clamps, and not from exact clamping's
-    /// given intervals): only then can casters go to workgroups.
-    pub gathers: bool,
 }
 
 /// A pipeline and its workgroups: x and y, or read from the big casters' dispatch buffer
@@ -78,22 +77,6 @@ impl FindPasses {
         let (width, height) = input.size;
         let scene = input.scene;
         let pixels = [width.div_ceil(8), height.div_ceil(8)];
-        let sizing: &[(&wgpu::ComputePipeline, Groups)] = if input.gathers {
-            &[
-                (&self.cull, Groups::Fixed(dispatch_groups(scene.casters))),
-                (&self.size_big, Groups::Fixed([1, 1])),
-            ]
-        } else {
-            &[(&self.cull, Groups::Fixed(dispatch_groups(scene.casters)))]
-        };
-        let big: &[(&wgpu::ComputePipeline, Groups)] = if input.gathers {
-            &[
-                (&self.gather_big, Groups::Indirect(0)),
-                (&self.finish_big, Groups::Indirect(16)),
-            ]
-        } else {
-            &[]
-        };
         let steps: [(&str, &[(&wgpu::ComputePipeline, Groups)]); 4] = [
             (
                 pass_label::volumes::RECEIVER_GRID,
@@ -104,8 +87,20 @@ impl FindPasses {
                     (&self.list, Groups::Fixed(pixels)),
                 ],
             ),
-            (pass_label::volumes::CULL_AND_CLAMP, sizing),
-            (pass_label::volumes::BIG_CASTERS, big),
+            (
+                pass_label::volumes::CULL_AND_CLAMP,
+                &[
+                    (&self.cull, Groups::Fixed(dispatch_groups(scene.casters))),
+                    (&self.size_big, Groups::Fixed([1, 1])),
+                ],
+            ),
+            (
+                pass_label::volumes::BIG_CASTERS,
+                &[
+                    (&self.gather_big, Groups::Indirect(0)),
+                    (&self.finish_big, Groups::Indirect(16)),
+                ],
+            ),
             (
                 pass_label::volumes::EDGES,
                 &[
@@ -157,4 +152,13 @@ impl FindPasses {
             });
         }
     }
+}
+
+/// Workgroups for `items` work items (none for none).
+fn dispatch_groups(items: u32) -> [u32; 2] {
+    if items == 0 {
+        return [0, 0];
+    }
+    let (x, y) = dispatch_size(items);
+    [x, y]
 }

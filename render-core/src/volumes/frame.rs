@@ -49,6 +49,7 @@ pub(super) fn uniforms(
     // The grid's depth bins span the scene's depths along the sun, or its reach from a lamp.
     let depth_bin = if point.is_some() { reach } else { z.1 - z.0 }.max(1e-3) / DEPTH_BINS as f32;
     let clamp = input.volumes.clamp;
+    let budget = StepBudget::of(adapter, &input.volumes);
     // A point light's rays cross planes through the eye that hold the axis across the view
     // and the way to the light, in turn, as the sun's cross the sun's slicing planes.
     let slicing = slicing(
@@ -99,17 +100,14 @@ pub(super) fn uniforms(
             cell,
             pixels_per_vertex,
             depth_bin,
-            StepBudget::of(adapter, &input.volumes).cell_points as f32,
+            budget.cell_points as f32,
         ],
-        steps: {
-            let budget = StepBudget::of(adapter, &input.volumes);
-            [
-                budget.caster,
-                budget.lane,
-                budget.big_casters,
-                budget.lanes_per_big_caster(),
-            ]
-        },
+        steps: [
+            budget.caster,
+            budget.lane,
+            budget.big_casters,
+            budget.lanes_per_big_caster(),
+        ],
         near_lo: near_lo.extend(0.0).to_array(),
         near_hi: near_hi.extend(0.0).to_array(),
         slicing,

@@ -362,10 +362,6 @@ impl ShadowTechnique for VolumeTechnique {
         let scope = draw
             .timer
             .open_scope(pass_label::VOLUME_SILHOUETTES, encoder);
-        // Only a cull that gathers receivers hands casters to workgroups: without it, or
-        // with exact clamping's intervals given, their dispatches are left out.
-        let gathers = (self.method != Method::None || input.volumes.clamp != VolumeClamp::None)
-            && input.volumes.clamp != VolumeClamp::Exact;
         self.find.encode(
             encoder,
             &scope,
@@ -374,7 +370,6 @@ impl ShadowTechnique for VolumeTechnique {
                 frame_group: draw.frame_group,
                 find_group: &find_group,
                 size: (draw.targets.width, draw.targets.height),
-                gathers,
             },
         );
         scope.close(encoder);

@@ -405,12 +405,3 @@ pub(super) fn read_only_pass<'e>(
         multiview_mask: None,
     })
 }
-
-/// Workgroups for `items` work items (none for none).
-pub(super) fn dispatch_groups(items: u32) -> [u32; 2] {
-    if items == 0 {
-        return [0, 0];
-    }
-    let (x, y) = dispatch_size(items);
-    [x, y]
-}

@@ -11,6 +11,11 @@ use super::pipelines::{
 };
 use crate::technique::{VolumeFill, VolumePasses};
 
+use crate::culling::codes::{OUTCOME_NOT_CASTER, OUTCOME_RENDERED};
+use crate::gpu::buffer_entry;
+use crate::scene::Scene;
+use crate::scene_gpu::SceneGpu;
+
 /// The bytes of the volume passes' counters (`COUNTERS` words in `volumes/find.wgsl`).
 pub(super) const COUNTERS_BYTES: u64 = 4 * 10;
 
@@ -30,10 +35,6 @@ pub(super) fn read_counters(words: &[u32]) -> (VolumePasses, VolumeFill) {
     };
     (passes, fill)
 }
-use crate::culling::codes::{OUTCOME_NOT_CASTER, OUTCOME_RENDERED};
-use crate::gpu::buffer_entry;
-use crate::scene::Scene;
-use crate::scene_gpu::SceneGpu;
 
 /// `Caster` in `volumes/common.wgsl`.
 #[repr(C)]
