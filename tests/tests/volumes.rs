@@ -729,13 +729,28 @@ struct Clamped {
     report: FrameReport,
 }
 
-/// One frame of CC volumes (`bvol`) clamped by `clamp` with the cull's budget of loop
-/// iterations per caster and of points tested one by one per cell.
+/// The cull's budget (`VolumeSettings`): loop iterations per lane of a caster, points
+/// tested one by one per cell, lanes per caster; `None` for the adapter's.
+#[derive(Clone, Copy, Default)]
+struct Budget {
+    cull_steps: Option<u32>,
+    cell_points: Option<u32>,
+    cull_lanes: Option<u32>,
+}
+
+/// A budget of one loop iteration: every caster goes to workgroups of its own.
+const ONE_STEP: Budget = Budget {
+    cull_steps: Some(1),
+    cell_points: None,
+    cull_lanes: None,
+};
+
+/// One frame of CC volumes (`bvol`) clamped by `clamp` within the cull's `budget`.
 fn clamped_with_budget(
     scene: &Scene,
     camera: &Camera,
     clamp: VolumeClamp,
-    (cull_steps, cell_points): (Option<u32>, Option<u32>),
+    budget: Budget,
 ) -> Clamped {
     let mut truth = TruthCache::default();
     let exact = truth.exact(scene, camera, SIZE, scene.sun.direction_to_sun);
@@ -745,8 +760,9 @@ fn clamped_with_budget(
     };
     settings.volumes.clamp = clamp;
     settings.volumes.vertex_pixels = Some(0);
-    settings.volumes.cull_steps = cull_steps;
-    settings.volumes.cell_points = cell_points;
+    settings.volumes.cull_steps = budget.cull_steps;
+    settings.volumes.cell_points = budget.cell_points;
+    settings.volumes.cull_lanes = budget.cull_lanes;
     settings.overlays.fill = true;
     let (_, _, renderer, report) = against_truth(scene, camera, &settings);
     let light = renderer.light_at(gpu(), &exact.points).expect("read back");
@@ -761,19 +777,54 @@ fn clamped_with_budget(
 }
 
 #[test]
-fn casters_left_to_workgroups_get_the_volumes_one_invocation_gives_them() {
-    // A caster whose receivers would take one invocation of the cull past its budget of
-    // loop iterations is gathered by workgroups of its own, whose lanes share its rows and
-    // each row's cells (`volumes/big_casters.wgsl`, `grid.wgsl` `gather_footprint`). With a
-    // budget of one iteration every caster goes there, and nothing may change: the same
-    // intervals to the bit, the same light at every point, the same fill.
-    let (scene, camera) = caster_over_a_platform_edge();
+fn the_culls_lanes_and_big_casters_workgroups_give_the_same_volumes() {
+    // The cull's workgroup culls a caster with lanes that share its rows, each row's cells
+    // and each cell's points (`volumes/find.wgsl` `cull_casters`, `grid.wgsl`
+    // `gather_footprint`); one whose receivers would take a lane past its budget of loop
+    // iterations is gathered by workgroups of its own, which share them likewise
+    // (`volumes/big_casters.wgsl`). However many lanes share a caster, and with a budget of
+    // one iteration, which sends every caster to those workgroups, nothing may change: the
+    // same intervals to the bit, the same light at every point, the same fill. Over the
+    // platform's edge the casters span more cells than lanes; the small cubes seen from
+    // close span a few dozen cells of about 50 points each, which the lanes left over share.
+    for (scene, camera) in [caster_over_a_platform_edge(), small_cubes_seen_from_close()] {
+        lanes_and_workgroups_give_the_same_volumes(&scene, &camera);
+    }
+}
+
+/// A ground and two cubes of 40 cm, one 2 m above it, seen from 3 m: each receiver grid
+/// cell (12 cm) under its shadow holds about 50 visible points.
+fn small_cubes_seen_from_close() -> (Scene, Camera) {
+    let cube = box_mesh("cube", Vec3::splat(0.2));
+    let scene = scene_of(
+        "test:small-cubes",
+        Sun::from_azimuth_elevation_deg(0.0, 80.0),
+        vec![
+            (
+                box_mesh("ground", Vec3::new(30.0, 0.5, 30.0)),
+                Vec3::new(0.0, -0.5, 0.0),
+            ),
+            (cube.clone(), Vec3::new(0.6, 0.2, -0.8)),
+            (cube, Vec3::new(0.0, 2.0, 0.0)),
+        ],
+    );
+    let camera = Camera::look_at(
+        Vec3::new(0.0, 1.5, 2.6),
+        Vec3::new(0.0, 0.0, -0.3),
+        60f32.to_radians(),
+        0.1,
+        200.0,
+    );
+    (scene, camera)
+}
+
+fn lanes_and_workgroups_give_the_same_volumes(scene: &Scene, camera: &Camera) {
     for clamp in [VolumeClamp::Continuous, VolumeClamp::Conservative] {
         let Clamped {
             light,
             intervals,
             report,
-        } = clamped_with_budget(&scene, &camera, clamp, (None, None));
+        } = clamped_with_budget(scene, camera, clamp, Budget::default());
         let passes = report.volume_passes.expect("counted");
         assert_eq!(passes.whole_past_budget, 0, "{clamp:?}: {passes:?}");
         assert!(
@@ -784,7 +835,7 @@ fn casters_left_to_workgroups_get_the_volumes_one_invocation_gives_them() {
             light: split_light,
             intervals: split_intervals,
             report: split_report,
-        } = clamped_with_budget(&scene, &camera, clamp, (Some(1), None));
+        } = clamped_with_budget(scene, camera, clamp, ONE_STEP);
         let split = split_report.volume_passes.expect("counted");
         assert_eq!(
             (split.big_casters, split.whole_past_budget),
@@ -798,13 +849,43 @@ fn casters_left_to_workgroups_get_the_volumes_one_invocation_gives_them() {
         );
         assert_eq!(differing(&split_light, &light), 0, "{clamp:?}");
         assert_eq!(split_report.volume_fill, report.volume_fill, "{clamp:?}");
+        // However many lanes of the cull share a caster (4 on a CPU adapter by default).
+        for lanes in [1, 32] {
+            let shared = clamped_with_budget(
+                scene,
+                camera,
+                clamp,
+                Budget {
+                    cull_lanes: Some(lanes),
+                    ..Budget::default()
+                },
+            );
+            assert_eq!(shared.intervals, intervals, "{clamp:?}, {lanes} lanes");
+            assert_eq!(
+                differing(&shared.light, &light),
+                0,
+                "{clamp:?}, {lanes} lanes"
+            );
+            assert_eq!(
+                shared.report.volume_fill, report.volume_fill,
+                "{clamp:?}, {lanes} lanes"
+            );
+        }
         // No point tested one by one: each cell's depths whole, as discrete clamping's
         // cells give them. Looser, never wrong.
         let Clamped {
             light: cells_light,
             intervals: cells_intervals,
             report: cells_report,
-        } = clamped_with_budget(&scene, &camera, clamp, (None, Some(0)));
+        } = clamped_with_budget(
+            scene,
+            camera,
+            clamp,
+            Budget {
+                cell_points: Some(0),
+                ..Budget::default()
+            },
+        );
         assert_eq!(differing(&cells_light, &light), 0, "{clamp:?}");
         let fill = |r: &FrameReport| r.volume_fill.expect("fill").fragments;
         assert!(fill(&cells_report) >= fill(&report), "{clamp:?}");
@@ -852,13 +933,14 @@ fn casters_past_every_budget_keep_their_whole_volume_and_are_counted() {
         200.0,
     );
     let clamp = VolumeClamp::Continuous;
-    let Clamped { light, report, .. } = clamped_with_budget(&scene, &camera, clamp, (None, None));
+    let Clamped { light, report, .. } =
+        clamped_with_budget(&scene, &camera, clamp, Budget::default());
     assert_eq!(report.volume_passes.expect("counted").whole_past_budget, 0);
     let Clamped {
         light: starved,
         report: starved_report,
         ..
-    } = clamped_with_budget(&scene, &camera, clamp, (Some(1), None));
+    } = clamped_with_budget(&scene, &camera, clamp, ONE_STEP);
     let passes = starved_report.volume_passes.expect("counted");
     assert_eq!(
         (passes.big_casters, passes.whole_past_budget),

@@ -16,6 +16,7 @@ use crate::scene_source::{LoadOptions, frame_scene};
 
 mod commands;
 mod light;
+mod volumes;
 
 pub use commands::{BenchArgs, ShotArgs, Sweep};
 
@@ -200,20 +201,20 @@ pub struct ViewArgs {
     /// (per slice of the view, an image-precision test), conservative (discrete, never
     /// losing an occupied interval) or exact (the limit, Lloyd's exact clamping: each caster's own
     /// shadowed points by rays on the CPU, seconds per frame).
-    #[arg(long, value_parser = parse_volume_clamp, value_name = "CLAMP")]
+    #[arg(long, value_parser = volumes::parse_volume_clamp, value_name = "CLAMP")]
     pub volume_clamp: Option<render_core::volumes::VolumeClamp>,
     /// `--shadow volumes`: how the stencil counts each volume: auto (z-pass where the camera's
     /// near rectangle cannot lie in it, else z-fail with caps, as DOOM 3 does), z-pass or
     /// z-fail for every volume.
-    #[arg(long, value_parser = parse_volume_pass, value_name = "PASS")]
+    #[arg(long, value_parser = volumes::parse_volume_pass, value_name = "PASS")]
     pub volume_pass: Option<render_core::volumes::VolumePassChoice>,
     /// Lloyd's V > R rule for clamped volumes: gap pixels a new interval's vertex is worth
     /// (default: measured on this device at start-up; 0 splits at every gap dearer than its
     /// caps).
     #[arg(long, value_name = "PIXELS")]
     pub volume_vertex_pixels: Option<u32>,
-    /// Loop iterations the shadow volumes' cull may spend on one caster in one invocation
-    /// before workgroups of its own take it (default: the adapter's, 2,048 on a GPU; on a
+    /// Loop iterations a lane of the shadow volumes' cull may spend on one caster before
+    /// workgroups of its own take it (default: the adapter's, 512 on a GPU; on a
     /// CPU adapter at most 6,991).
     #[arg(long, value_name = "N")]
     pub volume_cull_steps: Option<u32>,
@@ -222,6 +223,10 @@ pub struct ViewArgs {
     /// every point on a CPU adapter).
     #[arg(long, value_name = "N")]
     pub volume_cell_points: Option<u32>,
+    /// Lanes that share one caster's cells and points in the shadow volumes' cull, 1 to 32
+    /// (default: 32 on a GPU, 4 on a CPU adapter).
+    #[arg(long, value_name = "N")]
+    pub volume_cull_lanes: Option<u32>,
     /// `--volume-clamp discrete|conservative`: the view's slices (Lloyd's K), 1 to 32.
     #[arg(long, value_name = "K")]
     pub volume_slices: Option<u32>,
@@ -387,31 +392,7 @@ impl ViewArgs {
             }
             cascades.blend = blend;
         }
-        if let Some(clamp) = self.volume_clamp {
-            settings.volumes.clamp = clamp;
-        }
-        if let Some(pass) = self.volume_pass {
-            settings.volumes.pass = pass;
-        }
-        if let Some(steps) = self.volume_cull_steps {
-            if steps == 0 {
-                bail!("--volume-cull-steps must be at least 1");
-            }
-            settings.volumes.cull_steps = Some(steps);
-        }
-        if let Some(points) = self.volume_cell_points {
-            settings.volumes.cell_points = Some(points);
-        }
-        if let Some(pixels) = self.volume_vertex_pixels {
-            settings.volumes.vertex_pixels = Some(pixels);
-        }
-        if let Some(slices) = self.volume_slices {
-            let most = render_core::volumes::VolumeSettings::MAX_SLICES;
-            if !(1..=most).contains(&slices) {
-                bail!("--volume-slices {slices} is outside 1 to {most}");
-            }
-            settings.volumes.slices = slices;
-        }
+        self.volumes_into(settings)?;
         if let Some(scale) = self.lispsm_n {
             anyhow::ensure!(
                 scale.is_finite() && (0.01..=100.0).contains(&scale),
@@ -504,14 +485,6 @@ fn parse_pcf(s: &str) -> Result<PcfKernel, String> {
 }
 
 fn parse_setup(s: &str) -> Result<ShadowSetup, String> {
-    s.parse()
-}
-
-fn parse_volume_clamp(s: &str) -> Result<render_core::volumes::VolumeClamp, String> {
-    s.parse()
-}
-
-fn parse_volume_pass(s: &str) -> Result<render_core::volumes::VolumePassChoice, String> {
     s.parse()
 }
 

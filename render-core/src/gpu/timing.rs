@@ -44,8 +44,8 @@ pub mod pass_label {
         /// Culling and clamping: each caster's occupied intervals (Lloyd's 3.1 and 3.2, on
         /// the GPU here, where the paper spends CPU time).
         pub const CULL_AND_CLAMP: &str = "cull + clamp";
-        /// The casters too big for one invocation of the cull, gathered by workgroups of
-        /// their own and finished (`volumes/big_casters.wgsl`).
+        /// The casters too big for the cull's workgroup, gathered by workgroups of their
+        /// own and finished (`volumes/big_casters.wgsl`).
         pub const BIG_CASTERS: &str = "big casters";
         /// Silhouette edges and caps as records for the draws.
         pub const EDGES: &str = "edges + caps";

@@ -125,9 +125,9 @@ pub struct VolumeSettings {
     /// for the cost measured on this device at start-up (`0`: split at every gap that
     /// costs more than its caps).
     pub vertex_pixels: Option<u32>,
-    /// Loop iterations the cull may spend on one caster in one invocation before
-    /// workgroups of its own gather its receivers (`volumes/frame.rs` `StepBudget`), or
-    /// `None` for the adapter's (2,048 on a GPU; on a CPU adapter, which silently ends long
+    /// Loop iterations a lane of the cull may spend on one caster before workgroups of its
+    /// own gather its receivers (`volumes/frame.rs` `StepBudget`), or `None` for the
+    /// adapter's (512 on a GPU; on a CPU adapter, which silently ends long
     /// shader loops, at most 6,991 whatever is set).
     pub cull_steps: Option<u32>,
     /// The most receiver points of one grid cell the cull tests one by one against a
@@ -135,6 +135,9 @@ pub struct VolumeSettings {
     /// near the camera, where a cell holds hundreds of pixels), or `None` for the
     /// adapter's (16 on a GPU, every point on a CPU adapter).
     pub cell_points: Option<u32>,
+    /// Lanes of the cull's workgroup that share one caster's cells and points, 1 to 32, or
+    /// `None` for the adapter's (32 on a GPU, 4 on a CPU adapter).
+    pub cull_lanes: Option<u32>,
 }
 
 impl VolumeSettings {
@@ -150,6 +153,7 @@ impl Default for VolumeSettings {
             vertex_pixels: None,
             cull_steps: None,
             cell_points: None,
+            cull_lanes: None,
         }
     }
 }

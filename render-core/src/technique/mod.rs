@@ -187,8 +187,8 @@ pub struct VolumePasses {
     pub z_fail: u32,
     /// Intervals drawn over all volumes (clamping draws a volume in up to four).
     pub intervals: u32,
-    /// Casters whose receivers took one invocation of the cull past its budget of loop
-    /// iterations, so workgroups of their own gathered them (`volumes/big_casters.wgsl`).
+    /// Casters whose receivers took a lane of the cull past its budget of loop iterations,
+    /// so workgroups of their own gathered them (`volumes/big_casters.wgsl`).
     pub big_casters: u32,
     /// Casters that kept their whole volume, unculled and unclamped, because gathering
     /// their receivers ran past every budget (more big casters than the frame takes, or a

@@ -1,10 +1,11 @@
-// Casters too big for one invocation (part of volumes/find.wgsl): a caster whose cells would
-// take `cull_casters` past its budget of loop iterations (`VolumeFrame::steps.x`: llvmpipe
-// silently ends a shader's loops after 65,535 iterations, and on a GPU one invocation's loop
-// is serial) is listed here instead, up to `steps.z` of them (at most BIG_CASTERS). Then
-// `steps.w / BIG_LANES` workgroups per listed caster share its cells among their lanes, each
-// within `steps.y` iterations (`gather_big_casters`), merging what they gather with atomics,
-// and one invocation per caster finishes it as `cull_casters` would have
+// Casters too big for the cull's workgroup (part of volumes/find.wgsl): a caster whose cells
+// would take a lane of `cull_casters` past its budget of loop iterations
+// (`VolumeFrame::steps.x`: llvmpipe silently ends a shader's loops after 65,535 iterations,
+// and on a GPU one lane's loop is serial) is listed here instead, up to `steps.z` of them (at
+// most BIG_CASTERS). Then `steps.w / BIG_LANES` workgroups per listed caster share its cells
+// among their lanes, each within `steps.y` iterations (`gather_big_casters`), merging what
+// they gather in the workgroup and then into the list with atomics, and one invocation per
+// caster finishes it as `cull_casters` would have
 // (`finish_big_casters`). A floor or a wall, whose box lies over every cell, is culled or
 // clamped like any strut, where it would keep its whole volume. Past `steps.z` casters, or
 // where a lane still runs past its budget, the volume is whole; counters 8 and 9 count the
@@ -74,38 +75,95 @@ fn size_big_casters() {
 }
 
 // Listed caster `group.x`: this lane's share of its cells (the `group.y`-th of its
-// workgroups), merged into the list.
+// workgroups), merged in the workgroup, then by its first lane into the list.
 @compute @workgroup_size(BIG_LANES)
 fn gather_big_casters(
     @builtin(workgroup_id) group: vec3<u32>,
     @builtin(local_invocation_index) local: u32,
 ) {
     let g = group.x;
-    if (g >= big_count()) {
+    let listed = g < big_count();
+    clear_merged(local, BIG_LANES);
+    workgroupBarrier();
+    if (listed) {
+        let ci = atomicLoad(&big[1u + g]);
+        var found: array<vec2<f32>, MAX_SLICES>;
+        var bins: array<u32, MAX_SLICES>;
+        clear_found(&found, &bins);
+        let lanes = vec2<u32>(group.y * BIG_LANES + local, max(volume.steps.w, BIG_LANES));
+        var within: bool;
+        if (from_point()) {
+            within = gather_from_point(ci, point_caster(ci), lanes, &found, &bins);
+        } else {
+            within = gather_under(ci, sun_caster(ci), lanes, &found, &bins);
+        }
+        merge_lane(within, &found, &bins);
+    }
+    workgroupBarrier();
+    if (!listed || local != 0u) {
         return;
     }
-    let ci = atomicLoad(&big[1u + g]);
-    var found: array<vec2<f32>, MAX_SLICES>;
-    var bins: array<u32, MAX_SLICES>;
-    clear_found(&found, &bins);
-    let lanes = vec2<u32>(group.y * BIG_LANES + local, max(volume.steps.w, BIG_LANES));
-    var within: bool;
-    if (from_point()) {
-        within = gather_from_point(ci, point_caster(ci), lanes, &found, &bins);
-    } else {
-        within = gather_under(ci, sun_caster(ci), lanes, &found, &bins);
-    }
-    if (!within) {
-        atomicStore(&big[big_word(g, BIG_OVER)], 1u);
-    }
     for (var slice = 0u; slice < volume.grid.x; slice++) {
-        let depths = found[slice];
-        if (depths.y >= 0.0) {
-            atomicMin(&big[big_word(g, 3u * slice)], bitcast<u32>(max(depths.x, 0.0)));
-            atomicMax(&big[big_word(g, 3u * slice + 1u)], bitcast<u32>(max(depths.y, 0.0)) + 1u);
-            atomicOr(&big[big_word(g, 3u * slice + 2u)], bins[slice]);
+        let deepest = atomicLoad(&merged[3u * slice + 1u]);
+        if (deepest != 0u) {
+            atomicMin(&big[big_word(g, 3u * slice)], atomicLoad(&merged[3u * slice]));
+            atomicMax(&big[big_word(g, 3u * slice + 1u)], deepest);
+            atomicOr(&big[big_word(g, 3u * slice + 2u)], atomicLoad(&merged[3u * slice + 2u]));
         }
     }
+    if (atomicLoad(&merged[BIG_OVER]) != 0u) {
+        atomicStore(&big[big_word(g, BIG_OVER)], 1u);
+    }
+}
+
+// What the lanes of one workgroup gathered for one caster, laid out as a listed caster's
+// words (BIG_WORDS): per slice the shallowest depth's bits, the deepest's bits plus 1 and
+// the bins, then whether a lane ran past its budget.
+var<workgroup> merged: array<atomic<u32>, BIG_WORDS>;
+
+// Nothing merged yet: this lane's share of the words, of `lanes` lanes.
+fn clear_merged(lane: u32, lanes: u32) {
+    for (var w = lane; w < BIG_WORDS; w += lanes) {
+        atomicStore(&merged[w], select(0u, 0xffffffffu, w < BIG_OVER && w % 3u == 0u));
+    }
+}
+
+// One lane's `found` and `bins` (and whether it kept within its budget) into `merged`.
+fn merge_lane(
+    within: bool,
+    found: ptr<function, array<vec2<f32>, MAX_SLICES>>,
+    bins: ptr<function, array<u32, MAX_SLICES>>,
+) {
+    if (!within) {
+        atomicStore(&merged[BIG_OVER], 1u);
+    }
+    for (var slice = 0u; slice < volume.grid.x; slice++) {
+        let depths = (*found)[slice];
+        if (depths.y >= 0.0) {
+            atomicMin(&merged[3u * slice], bitcast<u32>(max(depths.x, 0.0)));
+            atomicMax(&merged[3u * slice + 1u], bitcast<u32>(max(depths.y, 0.0)) + 1u);
+            atomicOr(&merged[3u * slice + 2u], (*bins)[slice]);
+        }
+    }
+}
+
+// `merged` back into `found` and `bins`; whether every lane kept within its budget.
+fn read_merged(
+    found: ptr<function, array<vec2<f32>, MAX_SLICES>>,
+    bins: ptr<function, array<u32, MAX_SLICES>>,
+) -> bool {
+    clear_found(found, bins);
+    for (var slice = 0u; slice < volume.grid.x; slice++) {
+        let deepest = atomicLoad(&merged[3u * slice + 1u]);
+        if (deepest != 0u) {
+            (*found)[slice] = vec2<f32>(
+                bitcast<f32>(atomicLoad(&merged[3u * slice])),
+                bitcast<f32>(deepest - 1u),
+            );
+        }
+        (*bins)[slice] = atomicLoad(&merged[3u * slice + 2u]);
+    }
+    return atomicLoad(&merged[BIG_OVER]) == 0u;
 }
 
 // Listed caster `id.x`, from what its lanes merged, as `cull_casters` finishes the others.

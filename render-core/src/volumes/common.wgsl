@@ -8,8 +8,8 @@ struct VolumeFrame {
     // culled caster.
     counts: vec4<u32>,
     // x: instances; y: bit 0 culling, bit 1 clamping, bit 2 cell centres only, bit 3 the
-    // CPU's exact intervals (volumes/find.wgsl); z: unused; w: how volumes count (0: per caster, 1: all z-pass, 2: all
-    // z-fail).
+    // CPU's exact intervals (volumes/find.wgsl); z: the cull's lanes per caster; w: how
+    // volumes count (0: per caster, 1: all z-pass, 2: all z-fail).
     options: vec4<u32>,
     // The light's frame: xyz two axes across the light and the one it travels; w: where the
     // receiver grid starts along the first two, and the scene's nearest depth along the last.
@@ -21,8 +21,9 @@ struct VolumeFrame {
     // them span the scene's depths, volumes/grid.wgsl); w: the most receiver points of a
     // cell tested one by one against a caster (more: the cell's depths whole).
     cell: vec4<f32>,
-    // The cull's budget of loop iterations (volumes/frame.rs `StepBudget`): x per caster in
-    // `cull_casters`, past which it goes to workgroups of its own; y per lane of those; z
+    // The cull's budget of loop iterations (volumes/frame.rs `StepBudget`): x per lane of a
+    // caster in `cull_casters`, past which it goes to workgroups of its own; y per lane of
+    // those; z
     // the most casters a frame gives workgroups (at most BIG_CASTERS); w their lanes each.
     steps: vec4<u32>,
     // The camera's near rectangle in the light's frame (as `in_light` places points): its

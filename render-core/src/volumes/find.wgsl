@@ -63,12 +63,35 @@ fn in_light(p: vec3<f32>) -> vec3<f32> {
 // depths whole), else every cell it touches, whose points are tested one by one against the
 // caster's box (volumes/grid.wgsl `gather_receivers`). An interval [a, b] becomes extrusions
 // from a past the box's far side to b past its near side, so every vertex's volume covers
-// it. A caster whose cells would take more loop iterations than the frame allows one
+// it. A caster whose cells would take more loop iterations than the frame allows a lane
 // invocation is left to a workgroup (volumes/big_casters.wgsl).
-@compute @workgroup_size(64)
-fn cull_casters(@builtin(global_invocation_id) id: vec3<u32>) {
-    let ci = id.x + id.y * 65535u * 64u;
-    if (ci >= volume.counts.z) {
+// One workgroup culls each caster: `cull_lanes()` of its lanes share the caster's cells and
+// their points (`gather_footprint`), merge what they gather in the workgroup, and the first
+// finishes the caster.
+@compute @workgroup_size(CULL_LANES)
+fn cull_casters(
+    @builtin(workgroup_id) group: vec3<u32>,
+    @builtin(local_invocation_index) lane: u32,
+) {
+    let ci = group.x + group.y * 65535u;
+    let real = ci < volume.counts.z;
+    clear_merged(lane, CULL_LANES);
+    workgroupBarrier();
+    if (real && lane < cull_lanes() && gathers(ci)) {
+        var found: array<vec2<f32>, MAX_SLICES>;
+        var bins: array<u32, MAX_SLICES>;
+        clear_found(&found, &bins);
+        let lanes = vec2<u32>(lane, cull_lanes());
+        var within: bool;
+        if (from_point()) {
+            within = gather_from_point(ci, point_caster(ci), lanes, &found, &bins);
+        } else {
+            within = gather_under(ci, sun_caster(ci), lanes, &found, &bins);
+        }
+        merge_lane(within, &found, &bins);
+    }
+    workgroupBarrier();
+    if (!real || lane != 0u) {
         return;
     }
     if (from_point()) {
@@ -81,9 +104,8 @@ fn cull_casters(@builtin(global_invocation_id) id: vec3<u32>) {
     var n = 0u;
     if (given()) {
         n = given_intervals(ci, s.lo.z, &found);
-    } else if (culling() || clamping()) {
-        clear_found(&found, &bins);
-        if (gather_under(ci, s, vec2<u32>(0u, 1u), &found, &bins)) {
+    } else if (gathers(ci)) {
+        if (read_merged(&found, &bins)) {
             n = compact_found(s.lo.z, s.pad, &found, &bins);
         } else if (defer_caster(ci)) {
             return;
@@ -92,6 +114,23 @@ fn cull_casters(@builtin(global_invocation_id) id: vec3<u32>) {
         }
     }
     finish_sun_caster(ci, s, n, &found);
+}
+
+// Lanes of a `cull_casters` workgroup.
+const CULL_LANES: u32 = 32u;
+
+// How many of them share a caster's cells this frame (`VolumeFrame::options.z`).
+fn cull_lanes() -> u32 {
+    return clamp(volume.options.z, 1u, CULL_LANES);
+}
+
+// Whether the cull gathers caster `ci`'s receivers: to cull or clamp it, where the CPU has
+// not given its intervals and, from a point light, its volume is not whole anyway.
+fn gathers(ci: u32) -> bool {
+    if (given() || (!culling() && !clamping())) {
+        return false;
+    }
+    return !from_point() || !point_caster(ci).whole;
 }
 
 fn culling() -> bool {

@@ -9,7 +9,7 @@
 //! gathers nothing (standard volumes, exact clamping's given intervals) it lists none, and
 //! the indirect dispatches run no workgroup.
 
-use super::pipelines::{BIG_DISPATCH_OFFSET, RECEIVER_CELLS, dispatch_size};
+use super::pipelines::{BIG_DISPATCH_OFFSET, RECEIVER_CELLS, ROW_GROUPS, dispatch_size};
 use super::scene::SceneVolumes;
 use crate::gpu::{Scope, compute_pipeline, pass_label};
 
@@ -21,7 +21,7 @@ pub(super) struct FindPasses {
     place: wgpu::ComputePipeline,
     list: wgpu::ComputePipeline,
     cull: wgpu::ComputePipeline,
-    /// The workgroup counts of the casters too big for one invocation of `cull`.
+    /// The workgroup counts of the casters too big for `cull`'s workgroup.
     size_big: wgpu::ComputePipeline,
     /// Their workgroups, then one invocation each to finish them.
     gather_big: wgpu::ComputePipeline,
@@ -90,7 +90,7 @@ impl FindPasses {
             (
                 pass_label::volumes::CULL_AND_CLAMP,
                 &[
-                    (&self.cull, Groups::Fixed(dispatch_groups(scene.casters))),
+                    (&self.cull, Groups::Fixed(one_group_each(scene.casters))),
                     (&self.size_big, Groups::Fixed([1, 1])),
                 ],
             ),
@@ -161,4 +161,13 @@ fn dispatch_groups(items: u32) -> [u32; 2] {
     }
     let (x, y) = dispatch_size(items);
     [x, y]
+}
+
+/// One workgroup for each of `items`, in rows of [`ROW_GROUPS`] (`cull_casters`).
+fn one_group_each(items: u32) -> [u32; 2] {
+    if items <= ROW_GROUPS {
+        [items, 1]
+    } else {
+        [ROW_GROUPS, items.div_ceil(ROW_GROUPS)]
+    }
 }

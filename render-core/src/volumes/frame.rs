@@ -4,7 +4,9 @@
 
 use glam::Vec3;
 
-use super::pipelines::{BIG_CASTERS, BIG_LANES, DEPTH_BINS, RECEIVER_CELLS, VolumeFrameGpu};
+use super::pipelines::{
+    BIG_CASTERS, BIG_LANES, CULL_LANES, DEPTH_BINS, RECEIVER_CELLS, VolumeFrameGpu,
+};
 use super::scene::SceneVolumes;
 use crate::culling::codes::culled_code;
 use crate::culling::{Method, StageKind};
@@ -86,7 +88,7 @@ pub(super) fn uniforms(
                 | (u32::from(clamp != VolumeClamp::None) << 1)
                 | (u32::from(clamp == VolumeClamp::Discrete) << 2)
                 | (u32::from(clamp == VolumeClamp::Exact) << 3),
-            0,
+            budget.cull_lanes,
             match input.volumes.pass {
                 VolumePassChoice::Auto => 0,
                 VolumePassChoice::ZPass => 1,
@@ -124,24 +126,30 @@ pub(super) fn uniforms(
 /// How much looping the cull of one frame may do per invocation
 /// (`VolumeFrame::steps` in `volumes/common.wgsl`), by the adapter's kind.
 ///
-/// Each caster is culled by one invocation that walks its cells and their receiver points
-/// (`gather_footprint` in `volumes/grid.wgsl`). Past `caster` loop iterations it is handed to
-/// workgroups of its own (`volumes/big_casters.wgsl`), up to `big_casters` of them a frame,
-/// whose `lanes_per_big_caster()` lanes share its cells, each within `lane` iterations;
-/// past either, its volume is kept whole (counted in the report).
+/// Each caster is culled by one workgroup, whose first `cull_lanes` lanes share its cells
+/// and their receiver points (`gather_footprint` in `volumes/grid.wgsl`). Past `caster` loop
+/// iterations in a lane it is handed to workgroups of its own (`volumes/big_casters.wgsl`),
+/// up to `big_casters` of them a frame, whose `lanes_per_big_caster()` lanes share its
+/// cells, each within `lane` iterations; past either, its volume is kept whole (counted in
+/// the report).
 ///
 /// llvmpipe ends every loop of a shader, silently, once 65,535 iterations of all its loops
 /// have run, counted for the eight invocations it runs side by side (Mesa's
 /// `LP_MAX_TGSI_LOOP_ITERATIONS`): an eighth of that, less the test's other loops, keeps
-/// every caster whole or exact there. A GPU has no such limit, but one invocation's loop is
-/// serial: on an H200 a floor walked by one invocation (up to 2^20 iterations) held the
-/// whole dispatch for 180 ms. There a caster gets a short budget, a big one 4,096 lanes, and
-/// a cell dense with points (near the camera, hundreds of pixels) gives its depths whole
-/// past `cell_points`: on the H200 these settings took the corridor's cull to 2.1 ms
-/// (README, "Shadow volumes measured on a GPU").
+/// every caster whole or exact there. A GPU has no such limit, but one lane's loop is
+/// serial, and the dispatch lasts as long as its longest lane: on an H200 a floor walked by
+/// one invocation (up to 2^20 iterations) held it for 180 ms, and a step of the cull costs
+/// about 2 µs there, so the cull's time followed the budget (0.96 ms at 512 steps, 4.3 at
+/// 2,048 on the robots). There a caster gets 32 lanes of 512 steps, a big one 4,096 lanes,
+/// and a cell dense with points (near the camera, hundreds of pixels) gives its depths
+/// whole past `cell_points` per lane (README, "Shadow volumes measured on a GPU"). A CPU
+/// adapter runs lanes one after another: 4 share a caster there, enough to take the same
+/// path.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) struct StepBudget {
-    /// Loop iterations one invocation of `cull_casters` may take on a caster.
+    /// Lanes of `cull_casters`' workgroup that share a caster (1 to 32, `CULL_LANES`).
+    pub cull_lanes: u32,
+    /// Loop iterations one of them may take on a caster.
     pub caster: u32,
     /// Loop iterations one lane of a big caster's workgroups may take.
     pub lane: u32,
@@ -162,13 +170,16 @@ impl StepBudget {
         let most = if adapter == wgpu::DeviceType::Cpu {
             budget.caster
         } else {
-            u32::MAX
+            1 << 24
         };
         Self {
             caster: settings
                 .cull_steps
                 .map_or(budget.caster, |steps| steps.clamp(1, most)),
             cell_points: settings.cell_points.unwrap_or(budget.cell_points),
+            cull_lanes: settings
+                .cull_lanes
+                .map_or(budget.cull_lanes, |lanes| lanes.clamp(1, CULL_LANES)),
             ..budget
         }
     }
@@ -176,6 +187,7 @@ impl StepBudget {
     fn of_adapter(adapter: wgpu::DeviceType) -> Self {
         match adapter {
             wgpu::DeviceType::Cpu => Self {
+                cull_lanes: 4,
                 caster: 65_535 / 8 - 1_200,
                 lane: 65_535 / 8 - 1_200,
                 big_casters: 64,
@@ -183,7 +195,8 @@ impl StepBudget {
                 cell_points: u32::MAX,
             },
             _ => Self {
-                caster: 2_048,
+                cull_lanes: CULL_LANES,
+                caster: 512,
                 lane: 16_384,
                 big_casters: BIG_CASTERS,
                 groups_per_big_caster: 16,
@@ -269,4 +282,45 @@ fn slicing(camera: &Camera, aspect: f32, to_light: Vec3) -> [f32; 4] {
         weights.x.abs() + weights.y.abs(),
         camera.far_m,
     ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_users_budget_stays_within_what_each_adapter_can_run() {
+        let settings = |cull_steps, cull_lanes| VolumeSettings {
+            cull_steps,
+            cull_lanes,
+            ..VolumeSettings::default()
+        };
+        let cpu = StepBudget::of(wgpu::DeviceType::Cpu, &VolumeSettings::default());
+        assert_eq!(
+            (cpu.cull_lanes, cpu.caster, cpu.lanes_per_big_caster()),
+            (4, 6_991, 512)
+        );
+        let gpu = StepBudget::of(wgpu::DeviceType::DiscreteGpu, &VolumeSettings::default());
+        assert_eq!(
+            (
+                gpu.cull_lanes,
+                gpu.caster,
+                gpu.cell_points,
+                gpu.lanes_per_big_caster()
+            ),
+            (32, 512, 16, 4_096)
+        );
+        // llvmpipe ends long loops silently: no more steps than its own there.
+        let asked = settings(Some(100_000), Some(64));
+        let cpu = StepBudget::of(wgpu::DeviceType::Cpu, &asked);
+        assert_eq!((cpu.caster, cpu.cull_lanes), (6_991, CULL_LANES));
+        // A GPU's budget stays a positive i32 in the shader.
+        let gpu = StepBudget::of(
+            wgpu::DeviceType::IntegratedGpu,
+            &settings(Some(u32::MAX), Some(0)),
+        );
+        assert_eq!((gpu.caster, gpu.cull_lanes), (1 << 24, 1));
+        let gpu = StepBudget::of(wgpu::DeviceType::DiscreteGpu, &settings(Some(0), Some(8)));
+        assert_eq!((gpu.caster, gpu.cull_lanes), (1, 8));
+    }
 }

@@ -279,8 +279,9 @@ const TOO_MANY_CELLS: u32 = 0xffffffffu;
 // (lowest xy, highest zw: the border cells, which also hold points beyond). `cells[2]`:
 // this lane, the lanes sharing the cells (a big caster's workgroups; 1 in `cull_casters`)
 // and the budget of loop iterations. The lanes take every n-th row, n the lanes or the
-// rows if fewer, and the lanes left over for each row share its cells, so a wall seen
-// edge-on (few rows, long ones) spreads as well as a floor. `units`: the cells' size in
+// rows if fewer; the lanes left over for each row share its cells, so a wall seen edge-on
+// (few rows, long ones) spreads as well as a floor; and those left over for each cell share
+// its points, so a strut over a few dense cells spreads too. `units`: the cells' size in
 // `q`'s units, their half-size there (0: their centres only) and the padding; `depth`: the
 // caster's nearest depth and its padding. Counts loop iterations in `steps`; false once past
 // the budget.
@@ -298,30 +299,44 @@ fn gather_footprint(
     let range = cells[0];
     let border = cells[1];
     let budget = cells[2].z;
-    let row_lanes = clamp(range.w - range.y + 1, 1, max(cells[2].y, 1));
+    let lanes = max(cells[2].y, 1);
+    let row_lanes = clamp(range.w - range.y + 1, 1, lanes);
     let row_lane = cells[2].x % row_lanes;
-    let column_lanes = max(cells[2].y / row_lanes, 1);
-    let column_lane = cells[2].x / row_lanes;
-    if (column_lane >= column_lanes) {
+    let column_lanes = clamp(range.z - range.x + 1, 1, lanes / row_lanes);
+    let column_lane = (cells[2].x / row_lanes) % column_lanes;
+    let point_lanes = lanes / (row_lanes * column_lanes);
+    let point_lane = cells[2].x / (row_lanes * column_lanes);
+    if (point_lane >= point_lanes) {
         return true;
     }
-    for (var y = range.y + row_lane; y <= range.w; y += row_lanes) {
-        var xs = range.xz;
-        if (tested && y != border.y && y != border.w) {
-            let centre = (f32(y) + 0.5) * units.x;
-            let band = vec2<f32>(centre - units.y - units.z, centre + units.y + units.z);
-            let span = footprint_row(q, band);
-            xs = vec2<i32>(1, 0);
-            if (span.x <= span.y) {
-                let meets = cells_meeting(span, units.x, units.y, units.z);
-                xs = vec2<i32>(max(meets.x, range.x), min(meets.y, range.z));
+    let share = vec2<u32>(u32(point_lane), u32(point_lanes));
+    // Where its rows' cells could take a lane past its budget, it counts them first, and
+    // stops before it gathers once the count's own steps and the least its walk would take
+    // (its rows' steps and one per cell it meets) are past the budget: a floor or a wall
+    // seen by 32 lanes spends a short count, not its whole budget, before its workgroups
+    // take it (`cull_casters`).
+    let range_cells = (range.z - range.x + 1) * (range.w - range.y + 1);
+    if (range_cells > (budget - *steps) * row_lanes * column_lanes) {
+        var counted = 0;
+        var least = *steps;
+        for (var y = range.y + row_lane; y <= range.w; y += row_lanes) {
+            let xs = footprint_cells(q, tested, y, range, border, units);
+            let rows = row_steps(tested, y, border);
+            let after_first = xs.y - (xs.x + column_lane);
+            counted += rows;
+            least += 2 * rows + select(0, after_first / column_lanes + 1, after_first >= 0);
+            if (least > budget) {
+                return false;
             }
-            *steps += i32(FOOTPRINT_STEPS);
         }
-        *steps += 3;
+        *steps += counted;
+    }
+    for (var y = range.y + row_lane; y <= range.w; y += row_lanes) {
+        let xs = footprint_cells(q, tested, y, range, border, units);
+        *steps += row_steps(tested, y, border);
         for (var x = xs.x + column_lane; x <= xs.y; x += column_lanes) {
             let room = budget - *steps;
-            *steps += 1 + gather_receivers(vec2<i32>(x, y), depth, box, found, bins, room);
+            *steps += 1 + gather_receivers(vec2<i32>(x, y), depth, box, share, found, bins, room);
             if (*steps > budget) {
                 return false;
             }
@@ -331,37 +346,74 @@ fn gather_footprint(
             let x = select(border.x, border.z, side == 1u);
             if (x >= range.x && x <= range.z && (x < xs.x || x > xs.y)) {
                 let room = budget - *steps;
-                *steps += gather_receivers(vec2<i32>(x, y), depth, box, found, bins, room);
+                *steps += gather_receivers(vec2<i32>(x, y), depth, box, share, found, bins, room);
             }
         }
     }
     return *steps <= budget;
 }
 
-// The budget of loop iterations of one of `lanes.y` lanes sharing a caster's cells
-// (volumes/frame.rs `StepBudget`).
-fn lane_budget(lanes: vec2<u32>) -> i32 {
-    return i32(select(volume.steps.y, volume.steps.x, lanes.y == 1u));
+// The cells of row `y` from `range.x` to `range.z` that the footprint of `q` meets (where
+// `tested` and the row is not one of `border`'s; else all of them): first and last.
+fn footprint_cells(
+    q: ptr<function, array<vec2<f32>, 8>>,
+    tested: bool,
+    y: i32,
+    range: vec4<i32>,
+    border: vec4<i32>,
+    units: vec3<f32>,
+) -> vec2<i32> {
+    if (!tested || y == border.y || y == border.w) {
+        return range.xz;
+    }
+    let centre = (f32(y) + 0.5) * units.x;
+    let band = vec2<f32>(centre - units.y - units.z, centre + units.y + units.z);
+    let span = footprint_row(q, band);
+    if (span.x > span.y) {
+        return vec2<i32>(1, 0);
+    }
+    let meets = cells_meeting(span, units.x, units.y, units.z);
+    return vec2<i32>(max(meets.x, range.x), min(meets.y, range.z));
 }
 
-// `gather_cell` for a caster's `box`: while `room` loop iterations are left for the cell's
-// listed points, only those the caster can shadow (`ray_meets_box`; its own points facing
-// the light left out where its mesh is convex). Returns the iterations taken.
+// Loop iterations of a row of `gather_footprint`, besides its cells'.
+fn row_steps(tested: bool, y: i32, border: vec4<i32>) -> i32 {
+    return select(3, 3 + i32(FOOTPRINT_STEPS), tested && y != border.y && y != border.w);
+}
+
+// The budget of loop iterations of one of `lanes.y` lanes sharing a caster's cells: the
+// cull's, or a big caster's (volumes/frame.rs `StepBudget`).
+fn lane_budget(lanes: vec2<u32>) -> i32 {
+    return i32(select(volume.steps.y, volume.steps.x, lanes.y <= CULL_LANES));
+}
+
+// `gather_cell` for a caster's `box`: while `room` loop iterations are left for this lane's
+// share of the cell's listed points (every `share.y`-th from the `share.x`-th), only those
+// the caster can shadow (`ray_meets_box`; its own points facing the light left out where its
+// mesh is convex). A cell whose share is past the frame's cell points (`cell.w`) is taken
+// whole by the first of the lanes sharing it; one past this lane's room by this lane.
+// Returns the iterations taken.
 fn gather_receivers(
     cell: vec2<i32>,
     depth: vec2<f32>,
     box: ptr<function, CasterBox>,
+    share: vec2<u32>,
     found: ptr<function, array<vec2<f32>, MAX_SLICES>>,
     bins: ptr<function, array<u32, MAX_SLICES>>,
     room: i32,
 ) -> i32 {
     let word = 2u * slices_word(cell);
     let count = atomicLoad(&cells[word]);
-    if (!(*box).points || i32(count) >= room || f32(count) > volume.cell.w) {
+    let mine = (count + share.y - 1u - share.x) / share.y;
+    let whole = !(*box).points || f32((count + share.y - 1u) / share.y) > volume.cell.w;
+    if (whole || i32(mine) >= room) {
+        if (whole && share.x != 0u) {
+            return 0;
+        }
         return gather_cell(cell, depth.x, depth.y, found, bins);
     }
     let start = atomicLoad(&cells[word + 1u]);
-    for (var k = start; k < start + count; k++) {
+    for (var k = start + share.x; k < start + count; k += share.y) {
         let point = points[k];
         let p = bitcast<vec3<f32>>(point.xyz);
         let own = (point.w >> POINT_INSTANCE_SHIFT) == (*box).instance;
@@ -374,5 +426,5 @@ fn gather_receivers(
         (*found)[slice] = vec2<f32>(min(was.x, d), max(was.y, d));
         (*bins)[slice] |= 1u << depth_bin(d);
     }
-    return i32(count);
+    return i32(mine);
 }

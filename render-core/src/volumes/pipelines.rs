@@ -62,6 +62,8 @@ pub(super) const RECEIVER_CELLS: u32 = 512 * 512;
 /// The most casters a frame can leave to workgroups of their own (`BIG_CASTERS` in
 /// `volumes/big_casters.wgsl`); how many it does is the adapter's `StepBudget::big_casters`.
 pub(super) const BIG_CASTERS: u32 = 1024;
+/// Lanes of the cull's workgroup, one per caster (`CULL_LANES` in `volumes/find.wgsl`).
+pub(super) const CULL_LANES: u32 = 32;
 /// Lanes per workgroup of a big caster (`BIG_LANES` in `volumes/big_casters.wgsl`).
 pub(super) const BIG_LANES: u32 = 256;
 /// The bytes of their list: a count, the casters, and what each one's lanes merged

@@ -57,7 +57,9 @@ fn in_point_light(p: vec3<f32>) -> vec3<f32> {
 // merged as the sun's are (`merged_intervals`). A volume goes to infinity unless clamped;
 // clamped, its end caps, flat between points at an interval's end, are moved out by the
 // cosine of the box's angular radius so that they sag no nearer than the interval's end,
-// and a box too close to the light for that (over 45 degrees) keeps its whole volume.
+// and a box too close to the light for that (over 45 degrees) keeps its whole volume. The
+// workgroup's first lane finishes the caster here from what its lanes gathered
+// (`gather_from_point`, merged in `merged`).
 fn cull_from_point(ci: u32) {
     let p = point_caster(ci);
     var found: array<vec2<f32>, MAX_SLICES>;
@@ -66,9 +68,8 @@ fn cull_from_point(ci: u32) {
     if (given() && !p.whole) {
         n = given_intervals(ci, p.nearest, &found);
     }
-    if (!p.whole && !given()) {
-        clear_found(&found, &bins);
-        if (gather_from_point(ci, p, vec2<u32>(0u, 1u), &found, &bins)) {
+    if (gathers(ci)) {
+        if (read_merged(&found, &bins)) {
             n = compact_found(p.nearest, p.pad, &found, &bins);
         } else if (defer_caster(ci)) {
             return;

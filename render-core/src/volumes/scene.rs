@@ -74,7 +74,7 @@ pub(super) struct SceneVolumes {
     /// Per grid cell, its visible receiver points' count and first index in the view's list
     /// (`volumes/grid.wgsl`).
     pub cells: wgpu::Buffer,
-    /// The casters too big for one invocation of the cull, and what their workgroups
+    /// The casters too big for the cull's workgroup, and what their own workgroups
     /// gathered (`volumes/big_casters.wgsl`).
     pub big: wgpu::Buffer,
     /// Their workgroups, copied from after the list for the indirect dispatches
