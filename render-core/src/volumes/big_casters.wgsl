@@ -86,18 +86,8 @@ fn gather_big_casters(
     clear_merged(local, BIG_LANES);
     workgroupBarrier();
     if (listed) {
-        let ci = atomicLoad(&big[1u + g]);
-        var found: array<vec2<f32>, MAX_SLICES>;
-        var bins: array<u32, MAX_SLICES>;
-        clear_found(&found, &bins);
         let lanes = vec2<u32>(group.y * BIG_LANES + local, max(volume.steps.w, BIG_LANES));
-        var within: bool;
-        if (from_point()) {
-            within = gather_from_point(ci, point_caster(ci), lanes, &found, &bins);
-        } else {
-            within = gather_under(ci, sun_caster(ci), lanes, &found, &bins);
-        }
-        merge_lane(within, &found, &bins);
+        gather_lane(atomicLoad(&big[1u + g]), lanes);
     }
     workgroupBarrier();
     if (!listed || local != 0u) {
@@ -126,6 +116,21 @@ fn clear_merged(lane: u32, lanes: u32) {
     for (var w = lane; w < BIG_WORDS; w += lanes) {
         atomicStore(&merged[w], select(0u, 0xffffffffu, w < BIG_OVER && w % 3u == 0u));
     }
+}
+
+// Lane `lanes.x` of the `lanes.y` sharing caster `ci`: what it gathers from the sun or the
+// point light, merged into `merged`.
+fn gather_lane(ci: u32, lanes: vec2<u32>) {
+    var found: array<vec2<f32>, MAX_SLICES>;
+    var bins: array<u32, MAX_SLICES>;
+    clear_found(&found, &bins);
+    var within: bool;
+    if (from_point()) {
+        within = gather_from_point(ci, point_caster(ci), lanes, &found, &bins);
+    } else {
+        within = gather_under(ci, sun_caster(ci), lanes, &found, &bins);
+    }
+    merge_lane(within, &found, &bins);
 }
 
 // One lane's `found` and `bins` (and whether it kept within its budget) into `merged`.

@@ -78,17 +78,7 @@ fn cull_casters(
     clear_merged(lane, CULL_LANES);
     workgroupBarrier();
     if (real && lane < cull_lanes() && gathers(ci)) {
-        var found: array<vec2<f32>, MAX_SLICES>;
-        var bins: array<u32, MAX_SLICES>;
-        clear_found(&found, &bins);
-        let lanes = vec2<u32>(lane, cull_lanes());
-        var within: bool;
-        if (from_point()) {
-            within = gather_from_point(ci, point_caster(ci), lanes, &found, &bins);
-        } else {
-            within = gather_under(ci, sun_caster(ci), lanes, &found, &bins);
-        }
-        merge_lane(within, &found, &bins);
+        gather_lane(ci, vec2<u32>(lane, cull_lanes()));
     }
     workgroupBarrier();
     if (!real || lane != 0u) {
