@@ -199,8 +199,9 @@ pub struct ViewArgs {
     /// `--shadow volumes`: how far each volume reaches along the light: none (past the scene),
     /// continuous (across the visible receiver points under it, Lloyd's clamping), discrete
     /// (per slice of the view, an image-precision test), conservative (discrete, never
-    /// losing an occupied interval) or exact (the limit, Lloyd's exact clamping: each caster's own
-    /// shadowed points by rays on the CPU, seconds per frame).
+    /// losing an occupied interval), exact (the limit, Lloyd's exact clamping: each caster's own
+    /// shadowed points by rays on the CPU, seconds per frame) or boxes (Lloyd's continuous
+    /// clamping at object precision: receivers' boxes by sweep-and-prune on the CPU; the sun).
     #[arg(long, value_parser = volumes::parse_volume_clamp, value_name = "CLAMP")]
     pub volume_clamp: Option<render_core::volumes::VolumeClamp>,
     /// `--shadow volumes`: how the stencil counts each volume: auto (z-pass where the camera's

@@ -26,15 +26,21 @@ pub enum VolumeClamp {
     /// own triangles shadow, by a ray from each point to the light on the CPU
     /// (`volumes/exact.rs`). Seconds per frame: a measure of what clamping could save.
     Exact,
+    /// Lloyd's continuous clamping as the paper does it, at object precision: the depths of
+    /// the boxes of the receivers in the camera's view that the caster's box overlaps across
+    /// the light, by sweep-and-prune on the CPU (`volumes/box_clamp.rs`). The sun only:
+    /// under a point light, `continuous`.
+    Boxes,
 }
 
 impl VolumeClamp {
-    pub const ALL: [Self; 5] = [
+    pub const ALL: [Self; 6] = [
         Self::None,
         Self::Continuous,
         Self::Discrete,
         Self::Conservative,
         Self::Exact,
+        Self::Boxes,
     ];
 
     pub fn name(self) -> &'static str {
@@ -44,13 +50,14 @@ impl VolumeClamp {
             Self::Discrete => "discrete",
             Self::Conservative => "conservative",
             Self::Exact => "exact",
+            Self::Boxes => "boxes",
         }
     }
 
     /// The strips of the view this clamping tells receivers apart by.
     pub fn slices(self, settings: &VolumeSettings) -> u32 {
         match self {
-            Self::None | Self::Continuous | Self::Exact => 1,
+            Self::None | Self::Continuous | Self::Exact | Self::Boxes => 1,
             Self::Discrete | Self::Conservative => {
                 settings.slices.clamp(1, VolumeSettings::MAX_SLICES)
             }
@@ -68,7 +75,7 @@ impl std::str::FromStr for VolumeClamp {
             .ok_or_else(|| {
                 format!(
                     "unknown volume clamping '{s}' (available: none, continuous, discrete, \
-                     conservative, exact)"
+                     conservative, exact, boxes)"
                 )
             })
     }

@@ -147,22 +147,34 @@ fn shadowing_casters(
 /// The occupied intervals of one caster's `depths`: cut at the largest gaps into at most
 /// `MAX_INTERVALS`, padded with [`NO_INTERVAL`].
 fn occupied(depths: &mut [f32]) -> [[f32; 2]; MAX_INTERVALS as usize] {
+    occupied_spans(depths.iter().map(|&d| [d, d]).collect())
+}
+
+/// `spans` of depth merged where they overlap or touch, then cut at the largest gaps between
+/// them into at most `MAX_INTERVALS`, padded with [`NO_INTERVAL`].
+pub(super) fn occupied_spans(mut spans: Vec<[f32; 2]>) -> [[f32; 2]; MAX_INTERVALS as usize] {
     let mut out = [NO_INTERVAL; MAX_INTERVALS as usize];
-    if depths.is_empty() {
+    spans.sort_unstable_by(|a, b| a[0].total_cmp(&b[0]));
+    let mut merged: Vec<[f32; 2]> = Vec::new();
+    for span in spans {
+        match merged.last_mut() {
+            Some(last) if span[0] <= last[1] => last[1] = last[1].max(span[1]),
+            _ => merged.push(span),
+        }
+    }
+    if merged.is_empty() {
         return out;
     }
-    depths.sort_unstable_by(f32::total_cmp);
-    // The gaps to cut at: the largest, in depth order.
-    let mut gaps: Vec<usize> = (1..depths.len()).collect();
+    // The gaps to keep: the largest, in depth order.
+    let mut gaps: Vec<usize> = (1..merged.len()).collect();
     gaps.sort_unstable_by(|&a, &b| {
-        (depths[b] - depths[b - 1]).total_cmp(&(depths[a] - depths[a - 1]))
+        (merged[b][0] - merged[b - 1][1]).total_cmp(&(merged[a][0] - merged[a - 1][1]))
     });
     gaps.truncate(MAX_INTERVALS as usize - 1);
-    gaps.retain(|&g| depths[g] > depths[g - 1]);
     gaps.sort_unstable();
     let mut start = 0;
-    for (slot, end) in gaps.into_iter().chain([depths.len()]).enumerate() {
-        out[slot] = [depths[start], depths[end - 1]];
+    for (slot, end) in gaps.into_iter().chain([merged.len()]).enumerate() {
+        out[slot] = [merged[start][0], merged[end - 1][1]];
         start = end;
     }
     out

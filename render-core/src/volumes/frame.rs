@@ -87,7 +87,7 @@ pub(super) fn uniforms(
             u32::from(method != Method::None)
                 | (u32::from(clamp != VolumeClamp::None) << 1)
                 | (u32::from(clamp == VolumeClamp::Discrete) << 2)
-                | (u32::from(clamp == VolumeClamp::Exact) << 3),
+                | (u32::from(given_intervals(clamp, point.is_some())) << 3),
             budget.cull_lanes,
             match input.volumes.pass {
                 VolumePassChoice::Auto => 0,
@@ -121,6 +121,12 @@ pub(super) fn uniforms(
             pyramid_planes(p, [near[0], near[1], near[3], near[2]])
         }),
     }
+}
+
+/// Whether the CPU gives the casters' intervals (`options.y` bit 3): exact clamping's, and
+/// clamping by boxes' under the sun.
+fn given_intervals(clamp: VolumeClamp, point: bool) -> bool {
+    clamp == VolumeClamp::Exact || (clamp == VolumeClamp::Boxes && !point)
 }
 
 /// How much looping the cull of one frame may do per invocation

@@ -16,6 +16,7 @@
 //!
 //! Every caster's volume is drawn; Lloyd's culling and clamping build on this.
 
+mod box_clamp;
 mod calibrate;
 pub mod edges;
 mod exact;
@@ -25,6 +26,7 @@ mod frame;
 mod pipelines;
 mod receivers;
 mod scene;
+mod sweep_prune;
 
 use crate::culling::{CasterOutcome, Method, Stage};
 use crate::gpu::{
@@ -86,9 +88,10 @@ pub struct VolumeTechnique {
     method: Method,
     /// The slices of the view this frame's receivers are told apart by.
     slices: u32,
-    /// Exact clamping's trees, and this frame's light frame along the light.
+    /// Exact clamping's trees, clamping by boxes' order, and this frame's light frame.
     exact: exact::ExactClamp,
-    travel: [f32; 4],
+    boxes: box_clamp::BoxClamp,
+    light_frame: box_clamp::LightFrame,
 
     /// The counters of the frames in flight, and the newest that came back with its frame.
     readback: AsyncReadback,
@@ -198,7 +201,8 @@ impl VolumeTechnique {
             method: Method::None,
             slices: 1,
             exact: exact::ExactClamp::default(),
-            travel: [0.0; 4],
+            boxes: box_clamp::BoxClamp::default(),
+            light_frame: [[0.0; 4]; 3],
             readback: AsyncReadback::new(
                 device,
                 "Volumes::counters_readback",
@@ -332,7 +336,7 @@ impl ShadowTechnique for VolumeTechnique {
             (self.slices, pixels_per_vertex),
             self.device_type,
         );
-        self.travel = uniforms.travel;
+        self.light_frame = [uniforms.right, uniforms.up, uniforms.travel];
         ctx.queue
             .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&uniforms));
         Vec::new()
@@ -357,7 +361,15 @@ impl ShadowTechnique for VolumeTechnique {
         if input.volumes.clamp == VolumeClamp::Exact {
             let size = (draw.targets.width, draw.targets.height);
             self.exact
-                .write(draw.ctx, input, scene, (size, self.travel));
+                .write(draw.ctx, input, scene, (size, self.light_frame[2]));
+        }
+        self.boxes.last = None;
+        self.boxes.under_point = false;
+        if input.volumes.clamp == VolumeClamp::Boxes {
+            self.boxes.under_point = input.point_light.is_some();
+            if !self.boxes.under_point {
+                self.boxes.write(draw.ctx, input, scene, self.light_frame);
+            }
         }
         let scope = draw
             .timer
@@ -453,6 +465,20 @@ impl ShadowTechnique for VolumeTechnique {
                  cull's budget of loop iterations",
                 passes.whole_past_budget
             ));
+        }
+        if let Some(b) = self.boxes.last {
+            notes.push(format!(
+                "clamping by boxes on the CPU: {:.2} ms, {} potential receivers, {} overlapping \
+                 pairs, {} swaps to sort",
+                b.cpu_ms, b.receivers, b.pairs, b.swaps
+            ));
+        }
+        if self.boxes.under_point {
+            notes.push(
+                "clamping by boxes is the sun's: under a point light the volumes are clamped by \
+                 the visible receiver points (continuous)"
+                    .into(),
+            );
         }
         if !self.depth_clamped {
             notes.push(
