@@ -118,6 +118,8 @@ fn clamping_by_boxes_spans_the_receivers_boxes_under_each_caster_and_changes_no_
         .unwrap_or_else(|| panic!("{:?}", report.notes));
     // Ground, platform and slab in view; far slab and block not.
     assert!(note.contains(" 3 potential receivers"), "{note}");
+    // Its CPU time is the frame's culling on the CPU (bench's "CPU cull ms").
+    assert!(report.cpu.culling_ms > 0.0, "{:?}", report.cpu);
 }
 
 #[test]

@@ -29,6 +29,9 @@ struct BenchRow {
     shadow_pass_ms: Option<f64>,
     /// The GPU methods' receiver mask, pyramids and caster tests.
     culling_ms: Option<f64>,
+    /// CPU time of culling, and of shadow volumes' clamping where the CPU does it (exact,
+    /// boxes).
+    cpu_culling_ms: Option<f64>,
     casters_drawn: f64,
     shadow_triangles: f64,
     casters_total: u32,
@@ -386,6 +389,7 @@ fn summarise(setting: &str, method: &str, reports: &[(f64, FrameReport)]) -> Ben
         gpu_frame_ms: collect(&|(_, r)| r.gpu_total_ms()),
         shadow_pass_ms: collect(&|(_, r)| r.shadow_pass_ms()),
         culling_ms: collect(&|(_, r)| r.gpu_ms(pass_label::CULLING)),
+        cpu_culling_ms: collect(&|(_, r)| Some(r.cpu.culling_ms)),
         casters_drawn: collect(&|(_, r)| Some(f64::from(r.counts.casters_rendered))).unwrap_or(0.0),
         shadow_triangles: collect(&|(_, r)| Some(r.counts.triangles_shadow as f64)).unwrap_or(0.0),
         casters_total: reports.first().map_or(0, |(_, r)| r.counts.casters_total),

@@ -35,7 +35,7 @@ pub(super) fn format_passes(rows: &[BenchRow]) -> String {
     aligned(&lines, 1)
 }
 
-const COLUMNS: [&str; 21] = [
+const COLUMNS: [&str; 22] = [
     "setting",
     "method",
     "frames",
@@ -43,6 +43,7 @@ const COLUMNS: [&str; 21] = [
     "GPU frame ms",
     "shadow pass ms",
     "mask+cull ms",
+    "CPU cull ms",
     "casters drawn",
     "oracle",
     "tightness",
@@ -59,7 +60,7 @@ const COLUMNS: [&str; 21] = [
     "speed-up",
 ];
 
-fn row_cells(r: &BenchRow) -> [String; 21] {
+fn row_cells(r: &BenchRow) -> [String; 22] {
     let opt =
         |v: Option<f64>, digits: usize| v.map_or_else(|| "n/a".into(), |v| format!("{v:.digits$}"));
     [
@@ -71,6 +72,7 @@ fn row_cells(r: &BenchRow) -> [String; 21] {
         opt(r.shadow_pass_ms, 2),
         r.culling_ms
             .map_or_else(|| "-".into(), |v| format!("{v:.2}")),
+        opt(r.cpu_culling_ms, 2),
         format!("{:.0}", r.casters_drawn),
         format!("{:.0}", r.casters_oracle),
         opt(r.tightness, 2),
@@ -107,7 +109,7 @@ fn saved_cell(saved: Option<(f64, f64)>) -> String {
 pub(super) fn format_table(rows: &[BenchRow], baseline: &str) -> String {
     let skip = usize::from(rows.iter().all(|r| r.setting.is_empty()));
     let mut header = COLUMNS.map(str::to_owned);
-    header[20] = format!("speed-up vs {baseline}");
+    header[21] = format!("speed-up vs {baseline}");
     let lines: Vec<Vec<String>> = std::iter::once(header.to_vec())
         .chain(rows.iter().map(|r| row_cells(r).to_vec()))
         .map(|l| l[skip..].to_vec())
@@ -149,13 +151,13 @@ fn aligned(lines: &[Vec<String>], left: usize) -> String {
 
 pub(super) fn format_csv(rows: &[BenchRow]) -> String {
     let mut out = String::from(
-        "setting,method,frames,frame_ms,gpu_frame_ms,shadow_pass_ms,casters_drawn,casters_oracle,tightness,shadow_triangles,error_px_max,casters_total,speed_up,culling_ms,undersampling_p50,undersampling_p95,exact_error_px,exact_error_percent,exact_error_off_edge_px_max,flicker_moved_px,flicker_turned_px,fill_mfragments,fill_mfragments_max,fill_saved_mean,fill_saved_peak,volume_pass_saved_mean,volume_pass_saved_peak\n",
+        "setting,method,frames,frame_ms,gpu_frame_ms,shadow_pass_ms,casters_drawn,casters_oracle,tightness,shadow_triangles,error_px_max,casters_total,speed_up,culling_ms,undersampling_p50,undersampling_p95,exact_error_px,exact_error_percent,exact_error_off_edge_px_max,flicker_moved_px,flicker_turned_px,fill_mfragments,fill_mfragments_max,fill_saved_mean,fill_saved_peak,volume_pass_saved_mean,volume_pass_saved_peak,cpu_culling_ms\n",
     );
     let opt = |v: Option<f64>| v.map_or_else(String::new, |v| format!("{v:.4}"));
     for r in rows {
         let _ = writeln!(
             out,
-            "{},{},{},{:.4},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{:.4},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             r.setting,
             r.method,
             r.frames,
@@ -183,7 +185,8 @@ pub(super) fn format_csv(rows: &[BenchRow]) -> String {
             opt(r.fill_saved.map(|f| f.0)),
             opt(r.fill_saved.map(|f| f.1)),
             opt(r.volume_pass_saved.map(|f| f.0)),
-            opt(r.volume_pass_saved.map(|f| f.1))
+            opt(r.volume_pass_saved.map(|f| f.1)),
+            opt(r.cpu_culling_ms)
         );
     }
     out

@@ -92,6 +92,8 @@ pub struct VolumeTechnique {
     exact: exact::ExactClamp,
     boxes: box_clamp::BoxClamp,
     light_frame: box_clamp::LightFrame,
+    /// The CPU time of the last frame's clamping (exact or by boxes), milliseconds.
+    clamp_cpu_ms: f64,
 
     /// The counters of the frames in flight, and the newest that came back with its frame.
     readback: AsyncReadback,
@@ -203,6 +205,7 @@ impl VolumeTechnique {
             exact: exact::ExactClamp::default(),
             boxes: box_clamp::BoxClamp::default(),
             light_frame: [[0.0; 4]; 3],
+            clamp_cpu_ms: 0.0,
             readback: AsyncReadback::new(
                 device,
                 "Volumes::counters_readback",
@@ -358,6 +361,7 @@ impl ShadowTechnique for VolumeTechnique {
                 .find_group(&draw.ctx.device, &self.find_layout, scene, draw.targets);
         encoder.clear_buffer(&scene.grid, 0, Some(scene::grid_bytes(self.slices)));
         encoder.clear_buffer(&scene.cells, 0, None);
+        let clamp_started = std::time::Instant::now();
         if input.volumes.clamp == VolumeClamp::Exact {
             let size = (draw.targets.width, draw.targets.height);
             self.exact
@@ -371,6 +375,7 @@ impl ShadowTechnique for VolumeTechnique {
                 self.boxes.write(draw.ctx, input, scene, self.light_frame);
             }
         }
+        self.clamp_cpu_ms = clamp_started.elapsed().as_secs_f64() * 1e3;
         let scope = draw
             .timer
             .open_scope(pass_label::VOLUME_SILHOUETTES, encoder);
@@ -497,6 +502,7 @@ impl ShadowTechnique for VolumeTechnique {
             volume_fill: self.latest_fill,
             volume_passes: self.latest.map(|(_, passes)| passes),
             notes,
+            cpu_culling_ms: self.clamp_cpu_ms,
             ..ShadowReport::default()
         }
     }
