@@ -89,6 +89,14 @@ const FILES: &[(&str, &str)] = &[
         include_str!("volumes/big_casters.wgsl"),
     ),
     ("volumes/draw.wgsl", include_str!("volumes/draw.wgsl")),
+    (
+        "volumes/strips_clipped.wgsl",
+        include_str!("volumes/strips_clipped.wgsl"),
+    ),
+    (
+        "volumes/strips_whole.wgsl",
+        include_str!("volumes/strips_whole.wgsl"),
+    ),
     ("volumes/light.wgsl", include_str!("volumes/light.wgsl")),
     (
         "volumes/fill_heat.wgsl",
@@ -178,7 +186,9 @@ mod tests {
             let on_disk = std::fs::read_to_string(src.join(path)).expect("listed file exists");
             assert_eq!(&on_disk, source, "{path}");
             for import in imports(source) {
-                let generated = ["culling/codes.wgsl", "palette.wgsl"].contains(&import)
+                // volumes/strips.wgsl: one of the strips files, as the adapter can clip.
+                let generated = ["culling/codes.wgsl", "palette.wgsl", "volumes/strips.wgsl"]
+                    .contains(&import)
                     || import.starts_with("technique/");
                 assert!(
                     generated || FILES.iter().any(|(p, _)| *p == import),

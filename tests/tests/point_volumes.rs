@@ -250,7 +250,23 @@ fn the_corridors_lamp_casts_exact_shadows_and_cc_volumes_fill_less() {
             assert!(parted.len() * 10_000 <= cc.len(), "{parted:?}");
             assert_eq!(cc_error.off_edge_px, Some(0), "{cc_error:?}");
         } else {
-            assert!(cc_picture == picture, "{clamp:?}: the picture changes");
+            // Conservative clamping clips each interval to its strips of the picture: the
+            // clipped faces are rasterised from new vertices, so a pixel whose centre lies
+            // on a volume's outline may fall the other way: a pixel the truth counts on an
+            // edge, or one it does not count (its surface turned from the lamp at the
+            // pixel's centre: it grazes the light).
+            let changed = changed_pixels(picture.as_raw(), cc_picture.as_raw());
+            let counted_off_edges: std::collections::HashSet<u32> = exact
+                .point_pixels
+                .iter()
+                .zip(on_edge)
+                .filter_map(|(&p, &edge)| (!edge).then_some(p))
+                .collect();
+            assert!(
+                changed.iter().all(|p| !counted_off_edges.contains(p)),
+                "{clamp:?}: {changed:?}"
+            );
+            assert!(changed.len() * 10_000 <= cc.len(), "{clamp:?}: {changed:?}");
             assert!(parted.iter().all(|&i| on_edge[i]), "{clamp:?}: {parted:?}");
             assert!(parted.len() * 10_000 <= cc.len(), "{clamp:?}: {parted:?}");
             assert_eq!(cc_error.off_edge_px, Some(0), "{clamp:?}: {cc_error:?}");
@@ -260,6 +276,87 @@ fn the_corridors_lamp_casts_exact_shadows_and_cc_volumes_fill_less() {
             "{clamp:?}: CC fill {cc_fill} against {standard_fill}"
         );
     }
-    // Exact clamping is the limit: no other clamping fills less.
-    assert!(fills[2] < fills[0] && fills[2] < fills[1], "{fills:?}");
+    // Exact clamping is the limit of clamping in depth (Lloyd's CCe): continuous clamping
+    // fills more. Conservative clamping also clips each interval to its strips of the
+    // picture, which exact clamping's intervals are not: 1.04 M fragments against 1.28 M
+    // when this was written.
+    assert!(fills[2] < fills[0] && fills[1] < fills[2], "{fills:?}");
+}
+
+/// The pixels (row by row from the top) where two RGBA pictures differ.
+fn changed_pixels(a: &[u8], b: &[u8]) -> Vec<u32> {
+    a.chunks_exact(4)
+        .zip(b.chunks_exact(4))
+        .enumerate()
+        .filter(|(_, (x, y))| x != y)
+        .map(|(i, _)| i as u32)
+        .collect()
+}
+
+#[test]
+fn intervals_clipped_to_their_strips_fill_less_and_change_no_light_off_the_edges() {
+    // Conservative clamping over 16 slices draws each interval only across the strips of the
+    // picture its receivers lie in (Lloyd's slicing planes through the eye, clip distances):
+    // the same intervals as drawn across the whole picture, less fill, and the same light at
+    // every exact point but where a volume's outline crosses its pixel.
+    const STRIPS_SIZE: (u32, u32) = (320, 180);
+    let scene = load_builtin("corridor", 0).expect("corridor");
+    let camera = Camera::look_at(
+        Vec3::new(-38.0, 1.7, 1.0),
+        Vec3::new(0.0, 3.0, 0.0),
+        60f32.to_radians(),
+        0.1,
+        200.0,
+    );
+    let lamp = PointShadow::of_scene(&scene, 0).expect("the corridor's lamp");
+    let mut truth = TruthCache::default();
+    let exact = truth
+        .exact(
+            &scene,
+            &camera,
+            STRIPS_SIZE,
+            ShadowLight::Point(lamp.position),
+        )
+        .clone();
+    let run = |strips| {
+        let mut settings = FrameSettings {
+            setup: ShadowSetup::Volumes,
+            method: Method::Bvol,
+            point_light: Some(lamp),
+            ..FrameSettings::default()
+        };
+        settings.volumes.clamp = VolumeClamp::Conservative;
+        settings.volumes.slices = 16;
+        settings.volumes.strips = strips;
+        settings.volumes.vertex_pixels = Some(0);
+        settings.overlays.fill = true;
+        let (_, _, renderer, report) = against_truth(&scene, &camera, &settings, STRIPS_SIZE);
+        let light = renderer.light_at(gpu(), &exact.points).expect("read back");
+        (light, report)
+    };
+    let (clipped, clipped_report) = run(true);
+    let (whole, whole_report) = run(false);
+    assert!(
+        !clipped_report
+            .notes
+            .iter()
+            .any(|n| n.contains("CLIP_DISTANCES")),
+        "lavapipe clips: {:?}",
+        clipped_report.notes
+    );
+    let passes = |r: &FrameReport| r.volume_passes.expect("counted");
+    assert_eq!(passes(&clipped_report), passes(&whole_report));
+    let fill = |r: &FrameReport| r.volume_fill.expect("fill counted").fragments;
+    // 1.04 M fragments against 1.36 M when this test was written.
+    assert!(
+        fill(&clipped_report) * 10 < fill(&whole_report) * 9,
+        "{} against {}",
+        fill(&clipped_report),
+        fill(&whole_report)
+    );
+    let parted: Vec<usize> = (0..clipped.len())
+        .filter(|&i| differing(&clipped[i..=i], &whole[i..=i]) > 0)
+        .collect();
+    assert!(parted.iter().all(|&i| exact.on_edge[i]), "{parted:?}");
+    assert!(parted.len() * 10_000 <= clipped.len(), "{parted:?}");
 }

@@ -228,6 +228,10 @@ pub struct ViewArgs {
     /// (default: 32 on a GPU, 4 on a CPU adapter).
     #[arg(long, value_name = "N")]
     pub volume_cull_lanes: Option<u32>,
+    /// Draw each clamped interval across the whole picture, not only across the strips of
+    /// the view its receivers lie in (discrete clamping's slices; to measure their share).
+    #[arg(long)]
+    pub no_volume_strips: bool,
     /// `--volume-clamp discrete|conservative`: the view's slices (Lloyd's K), 1 to 32.
     #[arg(long, value_name = "K")]
     pub volume_slices: Option<u32>,

@@ -40,6 +40,9 @@ impl ViewArgs {
             }
             settings.volumes.slices = slices;
         }
+        if self.no_volume_strips {
+            settings.volumes.strips = false;
+        }
         Ok(())
     }
 }

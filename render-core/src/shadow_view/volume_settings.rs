@@ -145,6 +145,10 @@ pub struct VolumeSettings {
     /// Lanes of the cull's workgroup that share one caster's cells and points, 1 to 32, or
     /// `None` for the adapter's (32 on a GPU, 4 on a CPU adapter).
     pub cull_lanes: Option<u32>,
+    /// Discrete clamping draws each interval only across the strips of the picture its
+    /// receivers lie in, clipped at Lloyd's slicing planes through the eye (where the adapter
+    /// has clip distances); off, across the whole picture, to measure what the strips save.
+    pub strips: bool,
 }
 
 impl VolumeSettings {
@@ -161,6 +165,7 @@ impl Default for VolumeSettings {
             cull_steps: None,
             cell_points: None,
             cull_lanes: None,
+            strips: true,
         }
     }
 }

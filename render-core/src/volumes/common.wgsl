@@ -8,7 +8,7 @@ struct VolumeFrame {
     // culled caster.
     counts: vec4<u32>,
     // x: instances; y: bit 0 culling, bit 1 clamping, bit 2 cell centres only, bit 3 the
-    // CPU's exact intervals (volumes/find.wgsl); z: the cull's lanes per caster; w: how
+    // CPU's exact intervals, bit 4 no strips (volumes/find.wgsl); z: the cull's lanes per caster; w: how
     // volumes count (0: per caster, 1: all z-pass, 2: all z-fail).
     options: vec4<u32>,
     // The light's frame: xyz two axes across the light and the one it travels; w: where the

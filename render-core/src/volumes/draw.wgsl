@@ -4,6 +4,7 @@
 // volumes: front faces in front of it +1, back faces -1 (two-sided either way), so the
 // stencil holds how many volumes hold the visible point.
 #import volumes/common.wgsl
+#import volumes/strips.wgsl
 #import palette.wgsl
 
 @group(2) @binding(0) var<storage, read> quad_records: array<vec2<u32>>;
@@ -13,6 +14,8 @@
 @group(2) @binding(2) var<storage, read> intervals: array<vec2<f32>>;
 // Per caster, its interval count and flags (volumes/find.wgsl `kept`).
 @group(2) @binding(3) var<storage, read> kept: array<u32>;
+// Per interval, the strips of the picture it is drawn across (volumes/strips.wgsl).
+@group(2) @binding(4) var<storage, read> strips: array<u32>;
 
 // A record's interval: the record's caster word holds the caster and the interval's index.
 fn interval_of(caster_word: u32) -> vec2<f32> {
@@ -25,7 +28,7 @@ fn interval_of(caster_word: u32) -> vec2<f32> {
 // the scene; depth clamping keeps them), the sun's to past the scene.
 fn extruded(p: vec3<f32>, distance: f32) -> VolumeOut {
     if (from_point() && distance >= volume.to_light.w) {
-        return VolumeOut(frame.clip_from_world * vec4<f32>(away_from_light(p), 0.0));
+        return at_clip(frame.clip_from_world * vec4<f32>(away_from_light(p), 0.0));
     }
     return on_screen(p + away_from_light(p) * distance);
 }
@@ -35,16 +38,8 @@ fn from_end(r: u32, length: u32) -> u32 {
     return length - 1u - r;
 }
 
-// Invariant as the camera's vertex stage (view/camera_vertex.wgsl): a near cap, a caster's
-// own lit triangle, lands at the visible surface's depth there, and the caps' depth bias
-// (volumes/pipelines.rs) puts it just behind, so a point on a lit face is outside the
-// volume.
-struct VolumeOut {
-    @builtin(position) @invariant clip: vec4<f32>,
-}
-
 fn on_screen(p: vec3<f32>) -> VolumeOut {
-    return VolumeOut(frame.clip_from_world * vec4<f32>(p, 1.0));
+    return at_clip(frame.clip_from_world * vec4<f32>(p, 1.0));
 }
 
 // A silhouette quad across one interval, wound outwards: the edge as its lit triangle winds
@@ -67,7 +62,7 @@ fn quad(v: u32, record: vec2<u32>) -> VolumeOut {
         extruded(b, span.y),
     );
     let order = array<u32, 6>(0u, 1u, 2u, 0u, 2u, 3u);
-    return corners[order[v]];
+    return in_strips(corners[order[v]], record.x);
 }
 
 @vertex
@@ -109,14 +104,14 @@ fn cap(v: u32, record: vec2<u32>, faces: u32) -> VolumeOut {
         p[2] = t;
     }
     if (v < 3u) {
-        return extruded(p[v], span.x);
+        return in_strips(extruded(p[v], span.x), record.x);
     }
     let far = array<u32, 3>(0u, 2u, 1u);
-    return extruded(p[far[v - 3u]], span.y);
+    return in_strips(extruded(p[far[v - 3u]], span.y), record.x);
 }
 
 fn nothing() -> VolumeOut {
-    return VolumeOut(vec4<f32>(0.0, 0.0, 0.0, 1.0));
+    return at_clip(vec4<f32>(0.0, 0.0, 0.0, 1.0));
 }
 
 @vertex

@@ -27,6 +27,8 @@ struct DrawArgs {
 // Z-fail records fill `quads` and `caps` from the start, z-pass records from the end.
 @group(2) @binding(3) var<storage, read_write> kept: array<u32>;
 @group(2) @binding(4) var<storage, read_write> intervals: array<vec2<f32>>;
+// Per interval, the strips of the picture its volume is drawn across (`strips_word`).
+@group(2) @binding(14) var<storage, read_write> strips: array<u32>;
 // The visible receivers in the light's view, per slice of the view and grid cell
 // (volumes/grid.wgsl).
 @group(2) @binding(5) var<storage, read_write> grid: array<atomic<u32>>;
@@ -254,6 +256,7 @@ fn given_intervals(ci: u32, nearest: f32, found: ptr<function, array<vec2<f32>, 
             break;
         }
         (*found)[n] = vec2<f32>(max(depths.x, nearest), depths.y);
+        piece_slices[n] = ALL_SLICES;
         n++;
     }
     return n;
@@ -264,6 +267,7 @@ fn given_intervals(ci: u32, nearest: f32, found: ptr<function, array<vec2<f32>, 
 fn whole_or_a_centimetre(ci: u32, clamping: bool) -> u32 {
     let whole = vec2<f32>(0.0, volume.to_light.w);
     intervals[ci * MAX_INTERVALS] = select(whole, vec2<f32>(0.0, 1e-2), clamping);
+    strips[ci * MAX_INTERVALS] = strips_word(ALL_SLICES);
     return 1u;
 }
 
@@ -303,6 +307,7 @@ fn within_room(ci: u32, count: u32) -> u32 {
     }
     let first = ci * MAX_INTERVALS;
     intervals[first] = vec2<f32>(intervals[first].x, intervals[first + extra].y);
+    strips[first] = strips_word(ALL_SLICES);
     return 1u;
 }
 
@@ -377,12 +382,15 @@ fn merged_intervals(
     let pad = box[2].x;
     for (var i = 1u; i < n; i++) {
         let item = (*found)[i];
+        let slices = piece_slices[i];
         var j = i;
         while (j > 0u && (*found)[j - 1u].x > item.x) {
             (*found)[j] = (*found)[j - 1u];
+            piece_slices[j] = piece_slices[j - 1u];
             j--;
         }
         (*found)[j] = item;
+        piece_slices[j] = slices;
     }
     var m = 0u;
     for (var i = 0u; i < n; i++) {
@@ -396,8 +404,10 @@ fn merged_intervals(
         }
         if (merge) {
             (*found)[m - 1u].y = max((*found)[m - 1u].y, next.y);
+            piece_slices[m - 1u] |= piece_slices[i];
         } else {
             (*found)[m] = next;
+            piece_slices[m] = piece_slices[i];
             m++;
         }
     }
@@ -409,15 +419,29 @@ fn merged_intervals(
             }
         }
         (*found)[smallest].y = (*found)[smallest + 1u].y;
+        piece_slices[smallest] |= piece_slices[smallest + 1u];
         for (var i = smallest + 1u; i + 1u < m; i++) {
             (*found)[i] = (*found)[i + 1u];
+            piece_slices[i] = piece_slices[i + 1u];
         }
         m--;
     }
     for (var i = 0u; i < m; i++) {
         intervals[ci * MAX_INTERVALS + i] = extrusions((*found)[i], box);
+        strips[ci * MAX_INTERVALS + i] = strips_word(piece_slices[i]);
     }
     return m;
+}
+
+// Every slice of the view.
+const ALL_SLICES: u32 = 0xffffffffu;
+
+// The strips of the picture an interval is drawn across, from its slices' bits: the first
+// (bits 0 to 7) and the last (bits 8 to 15) of them (volumes/strips_clipped.wgsl); all of
+// them with the strips off (options.y bit 4).
+fn strips_word(slices: u32) -> u32 {
+    let some = select(slices, ALL_SLICES, slices == 0u || (volume.options.y & 16u) != 0u);
+    return firstTrailingBit(some) | (firstLeadingBit(some) << 8u);
 }
 
 // The extrusion distances that cover the depths `depths` (along the sun, or from the point

@@ -87,7 +87,8 @@ pub(super) fn uniforms(
             u32::from(method != Method::None)
                 | (u32::from(clamp != VolumeClamp::None) << 1)
                 | (u32::from(clamp == VolumeClamp::Discrete) << 2)
-                | (u32::from(given_intervals(clamp, point.is_some())) << 3),
+                | (u32::from(given_intervals(clamp, point.is_some())) << 3)
+                | (u32::from(!input.volumes.strips) << 4),
             budget.cull_lanes,
             match input.volumes.pass {
                 VolumePassChoice::Auto => 0,

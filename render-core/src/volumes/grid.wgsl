@@ -234,7 +234,7 @@ fn compact_found(
         let start = max(depths.x, nearest);
         if (start > depths.y) {
             // The caster's padding reaches past the deepest point.
-            n = add_found(found, n, vec2<f32>(start, depths.y));
+            n = add_found(found, n, vec2<f32>(start, depths.y), 1u << slice);
             continue;
         }
         let last = depth_bin(depths.y + pad);
@@ -249,26 +249,39 @@ fn compact_found(
             } else if (!occupied && open) {
                 open = false;
                 let end = select(min(depths.y, f32(b) * size + pad), depths.y, b > last);
-                n = add_found(found, n, vec2<f32>(opened, end));
+                n = add_found(found, n, vec2<f32>(opened, end), 1u << slice);
             }
         }
         if (n == before) {
-            n = add_found(found, n, vec2<f32>(start, depths.y));
+            n = add_found(found, n, vec2<f32>(start, depths.y), 1u << slice);
         }
     }
     return n;
 }
 
-// `depths` as `found`'s piece `n`, or grown into its last. Returns the pieces now.
-fn add_found(found: ptr<function, array<vec2<f32>, MAX_SLICES>>, n: u32, depths: vec2<f32>) -> u32 {
+// `depths` as `found`'s piece `n`, from the slices `slices` (one bit each), or grown into
+// its last. Returns the pieces now.
+fn add_found(
+    found: ptr<function, array<vec2<f32>, MAX_SLICES>>,
+    n: u32,
+    depths: vec2<f32>,
+    slices: u32,
+) -> u32 {
     if (n < MAX_SLICES) {
         (*found)[n] = depths;
+        piece_slices[n] = slices;
         return n + 1u;
     }
     let was = (*found)[n - 1u];
     (*found)[n - 1u] = vec2<f32>(min(was.x, depths.x), max(was.y, depths.y));
+    piece_slices[n - 1u] |= slices;
     return n;
 }
+
+// Per piece of `found` (`compact_found`), the slices of the view its receivers lie in, one
+// bit each: its volume is drawn only across their strips of the picture (volumes/draw.wgsl).
+// Every bit where the pieces come from the CPU (`given_intervals`).
+var<private> piece_slices: array<u32, MAX_SLICES>;
 
 // What stands for a caster's intervals where its cells ran past the budget of loop steps.
 const TOO_MANY_CELLS: u32 = 0xffffffffu;

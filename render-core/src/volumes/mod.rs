@@ -94,6 +94,8 @@ pub struct VolumeTechnique {
     light_frame: box_clamp::LightFrame,
     /// The CPU time of the last frame's clamping (exact or by boxes), milliseconds.
     clamp_cpu_ms: f64,
+    /// Whether the draws clip intervals to their strips (`CLIP_DISTANCES`).
+    clip_distances: bool,
 
     /// The counters of the frames in flight, and the newest that came back with its frame.
     readback: AsyncReadback,
@@ -133,7 +135,7 @@ impl VolumeTechnique {
             device,
             "Volumes::draw_layout",
             wgpu::ShaderStages::VERTEX,
-            &[storage(true), storage(true), storage(true), storage(true)],
+            &[storage(true); 5],
         );
         let light_layout = bind_group_layout(
             device,
@@ -152,8 +154,11 @@ impl VolumeTechnique {
             &[frame_layout, &scene_layout, &find_layout],
         );
         let depth = depth_pipeline(device, frame_layout, format);
-        let draw_module =
-            shader_module(device, "Volumes::draw", shader_source("volumes/draw.wgsl"));
+        let draw_module = shader_module(
+            device,
+            "Volumes::draw",
+            pipelines::draw_shader_source(features.contains(wgpu::Features::CLIP_DISTANCES)),
+        );
         let draw_pipeline_layout = pipeline_layout(
             device,
             "Volumes::draw_pipeline_layout",
@@ -206,6 +211,7 @@ impl VolumeTechnique {
             boxes: box_clamp::BoxClamp::default(),
             light_frame: [[0.0; 4]; 3],
             clamp_cpu_ms: 0.0,
+            clip_distances: features.contains(wgpu::Features::CLIP_DISTANCES),
             readback: AsyncReadback::new(
                 device,
                 "Volumes::counters_readback",
@@ -482,6 +488,13 @@ impl ShadowTechnique for VolumeTechnique {
             notes.push(
                 "clamping by boxes is the sun's: under a point light the volumes are clamped by \
                  the visible receiver points (continuous)"
+                    .into(),
+            );
+        }
+        if !self.clip_distances {
+            notes.push(
+                "this adapter has no CLIP_DISTANCES: clamped volumes are drawn across the whole \
+                 picture, not only across their strips"
                     .into(),
             );
         }

@@ -8,9 +8,17 @@ use crate::scene_gpu::VERTEX_LAYOUT;
 /// The volume passes' shaders: (label, WGSL), as they are built.
 #[cfg(test)]
 pub(crate) fn shader_sources() -> Vec<(String, String)> {
-    let mut shaders: Vec<(String, String)> = ["volumes/find.wgsl", "volumes/draw.wgsl"]
-        .map(|path| (path.to_owned(), shader_source(path)))
-        .into();
+    let mut shaders: Vec<(String, String)> = vec![
+        (
+            "volumes/find.wgsl".to_owned(),
+            shader_source("volumes/find.wgsl"),
+        ),
+        ("volumes/draw.wgsl".to_owned(), draw_shader_source(true)),
+        (
+            "volumes/draw.wgsl (no clip distances)".to_owned(),
+            draw_shader_source(false),
+        ),
+    ];
     shaders.push((
         "volumes/fill_heat.wgsl".to_owned(),
         super::fill::heat_shader_source(),
@@ -29,6 +37,32 @@ pub(super) fn shader_source(path: &str) -> String {
             (crate::palette::WGSL_PATH, palette.as_str()),
         ],
     )
+}
+
+/// The volumes' draw shader; where the adapter has `CLIP_DISTANCES` (`clip_distances`), each
+/// interval is clipped to the strips of the picture its receivers lie in
+/// (`volumes/strips_clipped.wgsl`), else drawn across the picture (`strips_whole.wgsl`).
+pub(super) fn draw_shader_source(clip_distances: bool) -> String {
+    let codes = crate::culling::codes::wgsl();
+    let palette = crate::palette::wgsl();
+    let strips = if clip_distances {
+        "#import volumes/strips_clipped.wgsl\n"
+    } else {
+        "#import volumes/strips_whole.wgsl\n"
+    };
+    let source = crate::shaders::compose(
+        "volumes/draw.wgsl",
+        &[
+            (crate::culling::codes::WGSL_PATH, codes.as_str()),
+            (crate::palette::WGSL_PATH, palette.as_str()),
+            ("volumes/strips.wgsl", strips),
+        ],
+    );
+    if clip_distances {
+        format!("enable clip_distances;\n{source}")
+    } else {
+        source
+    }
 }
 
 /// `VolumeFrame` in `volumes/common.wgsl`.

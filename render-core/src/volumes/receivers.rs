@@ -22,6 +22,7 @@ pub(super) fn find_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
         storage(false),
         surface(position),
         storage(false),
+        storage(false),
     ]);
     bind_group_layout(
         device,
@@ -74,6 +75,7 @@ impl ReceiverPoints {
                 buffer_entry(11, &self.points),
                 view_entry(12, &targets.normals_view),
                 buffer_entry(13, &scene.big),
+                buffer_entry(14, &scene.strips),
             ],
         })
     }

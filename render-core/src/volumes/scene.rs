@@ -70,6 +70,9 @@ pub(super) struct SceneVolumes {
     pub draws: wgpu::Buffer,
     pub kept: wgpu::Buffer,
     pub intervals: wgpu::Buffer,
+    /// Per interval, the strips of the picture it is drawn across (`strips_word` in
+    /// `volumes/find.wgsl`).
+    pub strips: wgpu::Buffer,
     pub grid: wgpu::Buffer,
     /// Per grid cell, its visible receiver points' count and first index in the view's list
     /// (`volumes/grid.wgsl`).
@@ -196,6 +199,11 @@ impl SceneVolumes {
             u64::from(casters.len() as u32) * u64::from(MAX_INTERVALS) * 8,
             wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
         );
+        let strips = storage_buffer(
+            "Volumes::interval_strips",
+            u64::from(casters.len() as u32) * u64::from(MAX_INTERVALS) * 4,
+            wgpu::BufferUsages::empty(),
+        );
         let grid = storage_buffer(
             "Volumes::receiver_grid",
             grid_bytes(MAX_SLICES),
@@ -242,6 +250,7 @@ impl SceneVolumes {
                 buffer_entry(1, &caps),
                 buffer_entry(2, &intervals),
                 buffer_entry(3, &kept),
+                buffer_entry(4, &strips),
             ],
         });
         Self {
@@ -259,6 +268,7 @@ impl SceneVolumes {
             draws,
             kept,
             intervals,
+            strips,
             grid,
             cells,
             big,
