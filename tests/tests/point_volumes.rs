@@ -8,7 +8,7 @@ use render_core::frame::{FrameReport, FrameSettings, Method, ShadowSetup};
 use render_core::geom::Camera;
 use render_core::metrics::ShadowError;
 use render_core::scene::{PointShadow, Scene, ShadowLight, Sun, load_builtin};
-use render_core::truth::{SurfacePoint, TruthCache};
+use render_core::truth::{ExactShadow, SurfacePoint, TruthCache};
 use render_core::volumes::{VolumeClamp, VolumePassChoice};
 use shadowlab_tests::{against_truth, box_on_plane, gpu, render};
 
@@ -183,9 +183,10 @@ fn shadow_maps_say_they_cannot_cast_a_point_lights_shadows() {
 /// differ from the exact shadow only on its edges; CC volumes, continuous or over slices of
 /// the view, change no pixel of the picture and draw far less, and exactly clamped ones (the
 /// limit) less still, parting from standard ones only on edges.
-#[test]
-fn the_corridors_lamp_casts_exact_shadows_and_cc_volumes_fill_less() {
-    const CORRIDOR_SIZE: (u32, u32) = (320, 180);
+const CORRIDOR_SIZE: (u32, u32) = (320, 180);
+
+/// The corridor from its end at eye height, under its lamp, and the exact shadow there.
+fn corridor_under_its_lamp() -> (Scene, Camera, PointShadow, ExactShadow) {
     let scene = load_builtin("corridor", 0).expect("corridor");
     let camera = Camera::look_at(
         Vec3::new(-38.0, 1.7, 1.0),
@@ -204,6 +205,12 @@ fn the_corridors_lamp_casts_exact_shadows_and_cc_volumes_fill_less() {
             ShadowLight::Point(lamp.position),
         )
         .clone();
+    (scene, camera, lamp, exact)
+}
+
+#[test]
+fn the_corridors_lamp_casts_exact_shadows_and_cc_volumes_fill_less() {
+    let (scene, camera, lamp, exact) = corridor_under_its_lamp();
     let run = |method, clamp| {
         let mut settings = FrameSettings {
             setup: ShadowSetup::Volumes,
@@ -299,25 +306,7 @@ fn intervals_clipped_to_their_strips_fill_less_and_change_no_light_off_the_edges
     // picture its receivers lie in (Lloyd's slicing planes through the eye, clip distances):
     // the same intervals as drawn across the whole picture, less fill, and the same light at
     // every exact point but where a volume's outline crosses its pixel.
-    const STRIPS_SIZE: (u32, u32) = (320, 180);
-    let scene = load_builtin("corridor", 0).expect("corridor");
-    let camera = Camera::look_at(
-        Vec3::new(-38.0, 1.7, 1.0),
-        Vec3::new(0.0, 3.0, 0.0),
-        60f32.to_radians(),
-        0.1,
-        200.0,
-    );
-    let lamp = PointShadow::of_scene(&scene, 0).expect("the corridor's lamp");
-    let mut truth = TruthCache::default();
-    let exact = truth
-        .exact(
-            &scene,
-            &camera,
-            STRIPS_SIZE,
-            ShadowLight::Point(lamp.position),
-        )
-        .clone();
+    let (scene, camera, lamp, exact) = corridor_under_its_lamp();
     let run = |strips| {
         let mut settings = FrameSettings {
             setup: ShadowSetup::Volumes,
@@ -330,7 +319,7 @@ fn intervals_clipped_to_their_strips_fill_less_and_change_no_light_off_the_edges
         settings.volumes.strips = strips;
         settings.volumes.vertex_pixels = Some(0);
         settings.overlays.fill = true;
-        let (_, _, renderer, report) = against_truth(&scene, &camera, &settings, STRIPS_SIZE);
+        let (_, _, renderer, report) = against_truth(&scene, &camera, &settings, CORRIDOR_SIZE);
         let light = renderer.light_at(gpu(), &exact.points).expect("read back");
         (light, report)
     };
