@@ -54,3 +54,50 @@ pub(super) fn parse_volume_clamp(s: &str) -> Result<VolumeClamp, String> {
 pub(super) fn parse_volume_pass(s: &str) -> Result<VolumePassChoice, String> {
     s.parse()
 }
+
+#[cfg(test)]
+mod tests {
+    use clap::Parser;
+    use render_core::frame::FrameSettings;
+    use render_core::volumes::VolumeClamp;
+
+    use super::super::{Cli, Command};
+
+    fn settings(flags: &[&str]) -> anyhow::Result<FrameSettings> {
+        let cli = Cli::try_parse_from(["shadowlab", "shot", "--out", "a.png"].iter().chain(flags))
+            .expect("flags parse");
+        let Some(Command::Shot(shot)) = cli.command else {
+            panic!("a shot");
+        };
+        shot.view.settings_over(FrameSettings::default())
+    }
+
+    #[test]
+    fn the_volume_options_reach_the_settings_or_name_what_is_out_of_range() {
+        let set = settings(&[
+            "--volume-clamp",
+            "boxes",
+            "--volume-cull-lanes",
+            "8",
+            "--volume-cull-steps",
+            "256",
+            "--no-volume-strips",
+        ])
+        .expect("in range");
+        let v = set.volumes;
+        assert_eq!(
+            (v.clamp, v.cull_lanes, v.cull_steps, v.strips),
+            (VolumeClamp::Boxes, Some(8), Some(256), false)
+        );
+        assert!(settings(&[]).expect("defaults").volumes.strips);
+        for (flag, value) in [
+            ("--volume-cull-lanes", "33"),
+            ("--volume-cull-lanes", "0"),
+            ("--volume-cull-steps", "0"),
+            ("--volume-slices", "40"),
+        ] {
+            let error = settings(&[flag, value]).expect_err(flag).to_string();
+            assert!(error.contains(flag), "{error}");
+        }
+    }
+}
