@@ -30,6 +30,18 @@ pub fn gpu() -> &'static GpuContext {
     })
 }
 
+/// A scene of one instance per mesh, each moved by its offset and named after its mesh.
+pub fn scene_of(name: &str, sun: Sun, parts: Vec<(Mesh, Vec3)>) -> Scene {
+    let instances = (0..)
+        .zip(&parts)
+        .map(|(i, (mesh, at))| {
+            Instance::new(mesh.name.clone(), i, mesh, Mat4::from_translation(*at))
+        })
+        .collect();
+    let meshes = parts.into_iter().map(|(mesh, _)| mesh).collect();
+    Scene::new(name, meshes, instances, sun)
+}
+
 /// An axis-aligned box mesh with outward faces, counter-clockwise seen from outside.
 pub fn box_mesh(name: &str, half_extent: Vec3) -> Mesh {
     let h = half_extent;

@@ -3,13 +3,13 @@
 //! receivers in the camera's view that its box overlaps across the light, found by
 //! sweep-and-prune on the CPU.
 
-use glam::{Mat4, Vec3};
+use glam::Vec3;
 use render_core::frame::{FrameSettings, Method, ShadowSetup};
 use render_core::geom::Camera;
-use render_core::scene::{Instance, Mesh, PointShadow, Scene, Sun};
+use render_core::scene::{Mesh, PointShadow, Scene, Sun};
 use render_core::truth::TruthCache;
 use render_core::volumes::VolumeClamp;
-use shadowlab_tests::{box_mesh, gpu};
+use shadowlab_tests::{box_mesh, gpu, scene_of};
 
 const SIZE: (u32, u32) = (256, 192);
 
@@ -39,18 +39,10 @@ fn slab_over_a_platform() -> (Scene, Camera) {
             Vec3::new(30.0, 2.0, 0.0),
         ),
     ];
-    let instances = (0..)
-        .zip(&parts)
-        .map(|(i, (mesh, at))| {
-            Instance::new(mesh.name.clone(), i, mesh, Mat4::from_translation(*at))
-        })
-        .collect();
-    let meshes = parts.into_iter().map(|(mesh, _)| mesh).collect();
-    let scene = Scene::new(
+    let scene = scene_of(
         "test:slab-over-a-platform",
-        meshes,
-        instances,
         Sun::from_azimuth_elevation_deg(0.0, 90.0),
+        parts,
     );
     let camera = Camera::look_at(
         Vec3::new(12.0, 8.0, 12.0),

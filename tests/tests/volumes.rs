@@ -11,7 +11,7 @@ use render_core::scene::{Instance, Mesh, PointShadow, Scene, Sun, load_builtin};
 use render_core::truth::{SurfacePoint, TruthCache};
 use render_core::volumes::{VolumeClamp, VolumePassChoice};
 use shadowlab_tests::{
-    box_mesh, box_on_plane, city_small_street_camera, expected_shadow, gpu, render,
+    box_mesh, box_on_plane, city_small_street_camera, expected_shadow, gpu, render, scene_of,
 };
 
 const BOX: Vec3 = Vec3::new(2.0, 3.0, 1.5);
@@ -76,18 +76,6 @@ fn check_ground_against_analytic(
         }
     }
     (shadowed, lit)
-}
-
-/// A scene of one instance per mesh, each moved by its offset and named after its mesh.
-fn scene_of(name: &str, sun: Sun, parts: Vec<(Mesh, Vec3)>) -> Scene {
-    let instances = (0..)
-        .zip(&parts)
-        .map(|(i, (mesh, at))| {
-            Instance::new(mesh.name.clone(), i, mesh, Mat4::from_translation(*at))
-        })
-        .collect();
-    let meshes = parts.into_iter().map(|(mesh, _)| mesh).collect();
-    Scene::new(name, meshes, instances, sun)
 }
 
 fn counting(pass: VolumePassChoice) -> FrameSettings {
