@@ -159,16 +159,28 @@ fn read_merged(
 ) -> bool {
     clear_found(found, bins);
     for (var slice = 0u; slice < volume.grid.x; slice++) {
-        let deepest = atomicLoad(&merged[3u * slice + 1u]);
-        if (deepest != 0u) {
-            (*found)[slice] = vec2<f32>(
-                bitcast<f32>(atomicLoad(&merged[3u * slice])),
-                bitcast<f32>(deepest - 1u),
-            );
-        }
-        (*bins)[slice] = atomicLoad(&merged[3u * slice + 2u]);
+        let words = vec3<u32>(
+            atomicLoad(&merged[3u * slice]),
+            atomicLoad(&merged[3u * slice + 1u]),
+            atomicLoad(&merged[3u * slice + 2u]),
+        );
+        unpack_slice(slice, words, found, bins);
     }
     return atomicLoad(&merged[BIG_OVER]) == 0u;
+}
+
+// Slice `slice`'s merged `words` (the shallowest depth's bits, the deepest's bits plus 1, 0
+// for none, and the bins) into `found` and `bins`, cleared before.
+fn unpack_slice(
+    slice: u32,
+    words: vec3<u32>,
+    found: ptr<function, array<vec2<f32>, MAX_SLICES>>,
+    bins: ptr<function, array<u32, MAX_SLICES>>,
+) {
+    if (words.y != 0u) {
+        (*found)[slice] = vec2<f32>(bitcast<f32>(words.x), bitcast<f32>(words.y - 1u));
+    }
+    (*bins)[slice] = words.z;
 }
 
 // Listed caster `id.x`, from what its lanes merged, as `cull_casters` finishes the others.
@@ -183,14 +195,12 @@ fn finish_big_casters(@builtin(global_invocation_id) id: vec3<u32>) {
     var bins: array<u32, MAX_SLICES>;
     clear_found(&found, &bins);
     for (var slice = 0u; slice < volume.grid.x; slice++) {
-        let deepest = atomicLoad(&big[big_word(g, 3u * slice + 1u)]);
-        if (deepest != 0u) {
-            found[slice] = vec2<f32>(
-                bitcast<f32>(atomicLoad(&big[big_word(g, 3u * slice)])),
-                bitcast<f32>(deepest - 1u),
-            );
-        }
-        bins[slice] = atomicLoad(&big[big_word(g, 3u * slice + 2u)]);
+        let words = vec3<u32>(
+            atomicLoad(&big[big_word(g, 3u * slice)]),
+            atomicLoad(&big[big_word(g, 3u * slice + 1u)]),
+            atomicLoad(&big[big_word(g, 3u * slice + 2u)]),
+        );
+        unpack_slice(slice, words, &found, &bins);
     }
     let within = atomicLoad(&big[big_word(g, BIG_OVER)]) == 0u;
     if (from_point()) {

@@ -11,8 +11,6 @@
 //! `continuous` does the same per visible pixel, on the GPU; this is the paper's measure of
 //! what boxes give, and of the CPU time they cost.
 
-use std::time::Instant;
-
 use glam::Vec3;
 
 use super::exact::occupied_spans;
@@ -27,11 +25,10 @@ use crate::technique::TechniqueInput;
 /// (xyz) and where each starts (w).
 pub(super) type LightFrame = [[f32; 4]; 3];
 
-/// The last frame's work: its CPU time, the potential receivers, the caster and receiver
-/// pairs whose boxes overlap and the sort's swaps.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct BoxClampStats {
-    pub cpu_ms: f64,
+/// The last frame's work: the potential receivers, the caster and receiver pairs whose boxes
+/// overlap and the sort's swaps (its CPU time is the technique's clamping time).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(super) struct BoxClampStats {
     pub receivers: u32,
     pub pairs: u32,
     pub swaps: u64,
@@ -80,7 +77,6 @@ impl BoxClamp {
         (caster_of, casters): (&[Option<u32>], u32),
         frame: LightFrame,
     ) -> Vec<[f32; 2]> {
-        let start = Instant::now();
         let axes = frame.map(|a| Vec3::new(a[0], a[1], a[2]));
         let origin = Vec3::new(frame[0][3], frame[1][3], frame[2][3]);
         let boxes: Vec<LightBox> = scene
@@ -137,7 +133,6 @@ impl BoxClamp {
         });
         let intervals = spans.into_iter().flat_map(occupied_spans).collect();
         self.last = Some(BoxClampStats {
-            cpu_ms: start.elapsed().as_secs_f64() * 1e3,
             receivers: boxes.iter().filter(|b| b.receiver).count() as u32,
             pairs,
             swaps: self.sweep.swaps,

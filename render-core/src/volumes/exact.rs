@@ -101,10 +101,7 @@ impl ExactClamp {
         for (caster, depth) in shadowing {
             depths[caster as usize].push(depth);
         }
-        depths
-            .into_iter()
-            .flat_map(|mut d| occupied(&mut d))
-            .collect()
+        depths.into_iter().flat_map(|d| occupied(&d)).collect()
     }
 }
 
@@ -146,7 +143,7 @@ fn shadowing_casters(
 
 /// The occupied intervals of one caster's `depths`: cut at the largest gaps into at most
 /// `MAX_INTERVALS`, padded with [`NO_INTERVAL`].
-fn occupied(depths: &mut [f32]) -> [[f32; 2]; MAX_INTERVALS as usize] {
+fn occupied(depths: &[f32]) -> [[f32; 2]; MAX_INTERVALS as usize] {
     occupied_spans(depths.iter().map(|&d| [d, d]).collect())
 }
 
@@ -186,20 +183,20 @@ mod tests {
 
     #[test]
     fn depths_are_cut_at_their_largest_gaps_into_at_most_four_intervals() {
-        let mut depths = [5.0, 1.0, 1.5, 9.0, 9.2, 20.0, 2.0, 30.0];
+        let depths = [5.0, 1.0, 1.5, 9.0, 9.2, 20.0, 2.0, 30.0];
         assert_eq!(
-            occupied(&mut depths),
+            occupied(&depths),
             [[1.0, 5.0], [9.0, 9.2], [20.0, 20.0], [30.0, 30.0]]
         );
-        let mut two = [3.0, 1.0];
+        let two = [3.0, 1.0];
         assert_eq!(
-            occupied(&mut two),
+            occupied(&two),
             [[1.0, 1.0], [3.0, 3.0], NO_INTERVAL, NO_INTERVAL]
         );
-        assert_eq!(occupied(&mut []), [NO_INTERVAL; 4]);
-        let mut same = [2.0, 2.0, 2.0];
+        assert_eq!(occupied(&[]), [NO_INTERVAL; 4]);
+        let same = [2.0, 2.0, 2.0];
         assert_eq!(
-            occupied(&mut same),
+            occupied(&same),
             [[2.0, 2.0], NO_INTERVAL, NO_INTERVAL, NO_INTERVAL]
         );
     }

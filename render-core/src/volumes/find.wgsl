@@ -65,8 +65,8 @@ fn in_light(p: vec3<f32>) -> vec3<f32> {
 // depths whole), else every cell it touches, whose points are tested one by one against the
 // caster's box (volumes/grid.wgsl `gather_receivers`). An interval [a, b] becomes extrusions
 // from a past the box's far side to b past its near side, so every vertex's volume covers
-// it. A caster whose cells would take more loop iterations than the frame allows a lane
-// invocation is left to a workgroup (volumes/big_casters.wgsl).
+// it. A caster whose cells would take more loop iterations than the frame allows a lane is
+// left to workgroups of its own (volumes/big_casters.wgsl).
 // One workgroup culls each caster: `cull_lanes()` of its lanes share the caster's cells and
 // their points (`gather_footprint`), merge what they gather in the workgroup, and the first
 // finishes the caster.
@@ -116,13 +116,15 @@ fn cull_lanes() -> u32 {
     return clamp(volume.options.z, 1u, CULL_LANES);
 }
 
-// Whether the cull gathers caster `ci`'s receivers: to cull or clamp it, where the CPU has
-// not given its intervals and, from a point light, its volume is not whole anyway.
+// Whether the cull gathers caster `ci`'s receivers (`gathers_for`).
 fn gathers(ci: u32) -> bool {
-    if (given() || (!culling() && !clamping())) {
-        return false;
-    }
-    return !from_point() || !point_caster(ci).whole;
+    return gathers_for(from_point() && point_caster(ci).whole);
+}
+
+// Whether the cull gathers a caster's receivers: to cull or clamp it, where the CPU has not
+// given its intervals and its volume is not `whole` anyway (a box too close to a point light).
+fn gathers_for(whole: bool) -> bool {
+    return !given() && (culling() || clamping()) && !whole;
 }
 
 fn culling() -> bool {

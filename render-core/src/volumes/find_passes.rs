@@ -9,7 +9,7 @@
 //! gathers nothing (standard volumes, exact clamping's given intervals) it lists none, and
 //! the indirect dispatches run no workgroup.
 
-use super::pipelines::{BIG_DISPATCH_OFFSET, RECEIVER_CELLS, ROW_GROUPS, dispatch_size};
+use super::pipelines::{BIG_DISPATCH_OFFSET, RECEIVER_CELLS, dispatch_size, group_rows};
 use super::scene::SceneVolumes;
 use crate::gpu::{Scope, compute_pipeline, pass_label};
 
@@ -163,11 +163,8 @@ fn dispatch_groups(items: u32) -> [u32; 2] {
     [x, y]
 }
 
-/// One workgroup for each of `items`, in rows of [`ROW_GROUPS`] (`cull_casters`).
+/// One workgroup for each of `items` (`cull_casters`).
 fn one_group_each(items: u32) -> [u32; 2] {
-    if items <= ROW_GROUPS {
-        [items, 1]
-    } else {
-        [ROW_GROUPS, items.div_ceil(ROW_GROUPS)]
-    }
+    let (x, y) = group_rows(items);
+    [x, y]
 }

@@ -279,7 +279,8 @@ fn add_found(
 }
 
 // Per piece of `found` (`compact_found`), the slices of the view its receivers lie in, one
-// bit each: its volume is drawn only across their strips of the picture (volumes/draw.wgsl).
+// bit each: its volume is drawn only across their strips of the picture
+// (volumes/strips_clipped.wgsl).
 // Every bit where the pieces come from the CPU (`given_intervals`).
 var<private> piece_slices: array<u32, MAX_SLICES>;
 
@@ -290,8 +291,8 @@ const TOO_MANY_CELLS: u32 = 0xffffffffu;
 // from `cells[0].xy` to `cells[0].zw` that the footprint of `q` meets (where `tested`; else
 // all of them), row by row (`footprint_row`), and always the rows and columns at `cells[1]`
 // (lowest xy, highest zw: the border cells, which also hold points beyond). `cells[2]`:
-// this lane, the lanes sharing the cells (a big caster's workgroups; 1 in `cull_casters`)
-// and the budget of loop iterations. The lanes take every n-th row, n the lanes or the
+// this lane, the lanes sharing the cells (the cull's workgroup's, or a big caster's
+// workgroups') and the budget of loop iterations. The lanes take every n-th row, n the lanes or the
 // rows if fewer; the lanes left over for each row share its cells, so a wall seen edge-on
 // (few rows, long ones) spreads as well as a floor; and those left over for each cell share
 // its points, so a strut over a few dense cells spreads too. `units`: the cells' size in

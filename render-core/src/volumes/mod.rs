@@ -481,7 +481,7 @@ impl ShadowTechnique for VolumeTechnique {
             notes.push(format!(
                 "clamping by boxes on the CPU: {:.2} ms, {} potential receivers, {} overlapping \
                  pairs, {} swaps to sort",
-                b.cpu_ms, b.receivers, b.pairs, b.swaps
+                self.clamp_cpu_ms, b.receivers, b.pairs, b.swaps
             ));
         }
         if self.boxes.under_point {
@@ -491,7 +491,7 @@ impl ShadowTechnique for VolumeTechnique {
                     .into(),
             );
         }
-        if !self.clip_distances {
+        if !self.clip_distances && self.slices > 1 {
             notes.push(
                 "this adapter has no CLIP_DISTANCES: clamped volumes are drawn across the whole \
                  picture, not only across their strips"

@@ -359,7 +359,11 @@ fn volume_pipeline(
 
 /// Workgroups for `items` work items, in rows of [`ROW_GROUPS`].
 pub(super) fn dispatch_size(items: u32) -> (u32, u32) {
-    let groups = items.div_ceil(WORKGROUP);
+    group_rows(items.div_ceil(WORKGROUP))
+}
+
+/// `groups` workgroups in rows of [`ROW_GROUPS`].
+pub(super) fn group_rows(groups: u32) -> (u32, u32) {
     if groups <= ROW_GROUPS {
         (groups, 1)
     } else {

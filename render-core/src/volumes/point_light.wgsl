@@ -68,7 +68,7 @@ fn cull_from_point(ci: u32) {
     if (given() && !p.whole) {
         n = given_intervals(ci, p.nearest, &found);
     }
-    if (gathers(ci)) {
+    if (gathers_for(p.whole)) {
         if (read_merged(&found, &bins)) {
             n = compact_found(p.nearest, p.pad, &found, &bins);
         } else if (defer_caster(ci)) {
