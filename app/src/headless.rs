@@ -360,6 +360,7 @@ pub fn stats_json(
         "shadow_failure": report.shadow_failure,
         "volume_fill": report.volume_fill,
         "volume_passes": report.volume_passes,
+        "layered": report.layered,
         "timings_ms": {
             "frame_wall": wall_ms,
             "cpu_culling": report.cpu.culling_ms,

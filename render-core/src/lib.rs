@@ -3,13 +3,14 @@
 //!
 //! Modules, from the bottom up (each imports only those before it): `geom`, `scene`, `gpu`,
 //! `shaders`, `palette`, `scene_gpu`, `shadow_view`, `view`, `culling`, `technique`,
-//! `shadow_map`, `cascades`, `volumes`, `metrics`, `truth`, `overlays`, `frame`.
+//! `shadow_map`, `cascades`, `volumes`, `layered`, `metrics`, `truth`, `overlays`, `frame`.
 
 pub mod cascades;
 pub mod culling;
 pub mod frame;
 pub mod geom;
 pub mod gpu;
+pub mod layered;
 pub mod metrics;
 pub mod overlays;
 pub mod palette;

@@ -61,6 +61,27 @@ fn composed_shaders() -> Vec<(String, String)> {
             crate::truth::shader_source(volumes),
         ),
     ]);
+    // Many lights: the multiview and atlas paths, and the passes with their light term.
+    let layered = crate::layered::LIGHT_WGSL;
+    shaders.extend([
+        (
+            "Layered::multiview".to_owned(),
+            crate::layered::multiview_source(),
+        ),
+        ("Layered::atlas".to_owned(), crate::layered::atlas_source()),
+        (
+            "Layered::multiview_probe".to_owned(),
+            crate::layered::probe_source(),
+        ),
+        (
+            "Frame::camera_shader (lights)".to_owned(),
+            crate::frame::camera_shader_source(layered, true),
+        ),
+        (
+            "Truth::light_at_points (lights)".to_owned(),
+            crate::truth::shader_source(layered),
+        ),
+    ]);
     shaders
 }
 

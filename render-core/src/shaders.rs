@@ -98,6 +98,16 @@ const FILES: &[(&str, &str)] = &[
         include_str!("volumes/strips_whole.wgsl"),
     ),
     ("volumes/light.wgsl", include_str!("volumes/light.wgsl")),
+    ("layered/light.wgsl", include_str!("layered/light.wgsl")),
+    (
+        "layered/multiview.wgsl",
+        include_str!("layered/multiview.wgsl"),
+    ),
+    ("layered/atlas.wgsl", include_str!("layered/atlas.wgsl")),
+    (
+        "layered/multiview_probe.wgsl",
+        include_str!("layered/multiview_probe.wgsl"),
+    ),
     (
         "volumes/fill_heat.wgsl",
         include_str!("volumes/fill_heat.wgsl"),

@@ -8,13 +8,14 @@ use glam::Vec3;
 use render_core::cascades::{
     CascadeDepths, CascadeFit, CascadeSelection, MAX_CASCADES, SplitScheme,
 };
-use render_core::frame::{FrameSettings, Method, PcfKernel, ShadowSettings, ShadowSetup};
+use render_core::frame::{FrameSettings, Method, PcfKernel, ShadowSetup};
 use render_core::geom::Camera;
 use render_core::scene::{ChunkSettings, Scene, Sun, Units};
 
 use crate::scene_source::{LoadOptions, frame_scene};
 
 mod commands;
+mod layered;
 mod light;
 mod volumes;
 
@@ -144,7 +145,8 @@ pub struct ViewArgs {
     /// Image size `WIDTHxHEIGHT` in pixels.
     #[arg(long, value_parser = parse_size, value_name = "WxH")]
     pub size: Option<(u32, u32)>,
-    /// Shadow map resolution in texels (512 to 8192).
+    /// Shadow map resolution in texels (512 to 8192; each light's map with `--shadow lights`,
+    /// 64 to 4096).
     #[arg(long, value_name = "N")]
     pub shadow_res: Option<u32>,
     /// Shadow caster method.
@@ -173,8 +175,9 @@ pub struct ViewArgs {
     /// Normal offset, in shadow texels.
     #[arg(long, value_name = "TEXELS")]
     pub normal_offset: Option<f32>,
-    /// Shadow setup: single (one map), lispsm (one map warped in light space), cascades, or
-    /// volumes (stencil shadow volumes: exact hard shadows, no map).
+    /// Shadow setup: single (one map), lispsm (one map warped in light space), cascades,
+    /// volumes (stencil shadow volumes: exact hard shadows, no map), or lights (the scene's
+    /// spot and point lights, a map each).
     #[arg(long, value_parser = parse_setup, value_name = "SETUP")]
     pub shadow: Option<ShadowSetup>,
     /// Number of cascades, 1 to 8 (with --shadow cascades).
@@ -255,6 +258,8 @@ pub struct ViewArgs {
     /// (the last fades out), 0 to 0.5 (with --cascade-select depth).
     #[arg(long, value_name = "F")]
     pub cascade_blend: Option<f32>,
+    #[command(flatten)]
+    pub lights: layered::LayeredArgs,
     /// Pose dynamic objects (the city's cars) as they are this many seconds into their motion.
     #[arg(long, value_name = "SECONDS", allow_hyphen_values = true)]
     pub time: Option<f64>,
@@ -284,7 +289,7 @@ impl ViewArgs {
             settings.sun = Sun::from_direction(sun);
         }
         if let Some(res) = self.shadow_res {
-            let range = ShadowSettings::MIN_RESOLUTION..=ShadowSettings::MAX_RESOLUTION;
+            let range = layered::resolution_range(self.lights.asks_for_lights(self.shadow));
             if !range.contains(&res) {
                 bail!(
                     "--shadow-res {res} is outside {} to {}",
@@ -398,6 +403,7 @@ impl ViewArgs {
             cascades.blend = blend;
         }
         self.volumes_into(settings)?;
+        self.lights.apply_to(self.shadow, settings)?;
         if let Some(scale) = self.lispsm_n {
             anyhow::ensure!(
                 scale.is_finite() && (0.01..=100.0).contains(&scale),

@@ -49,7 +49,7 @@ fn fs_shade(in: VsOut) -> ShadeOut {
 
     let data = instances[in.instance];
     let receives = (data.flags.x & FLAG_RECEIVER) != 0u;
-    var light = LightReaching(1.0, 1.0, 0u, false);
+    var light = LightReaching(1.0, 1.0, 0u, false, vec3<f32>(0.0));
     if (frame.params.y != 0u && receives) {
         let measuring = frame.params.z != 0u;
         light = light_reaching(in.world_pos, geometric, measuring);
@@ -59,6 +59,8 @@ fn fs_shade(in: VsOut) -> ShadeOut {
                 count_undersampling(light.view, in.world_pos, geometric);
             }
         }
+    } else {
+        light.added = light_unshadowed(in.world_pos, geometric);
     }
     let visibility = light.method;
     let light_here = towards_light(in.world_pos);
@@ -68,7 +70,7 @@ fn fs_shade(in: VsOut) -> ShadeOut {
     let ambient = sky * 0.35;
     let sun = vec3<f32>(1.0, 0.95, 0.85);
     var out: ShadeOut;
-    var color = data.base_color.rgb * (ambient + sun * diffuse);
+    var color = data.base_color.rgb * (ambient + sun * diffuse + light.added);
     if ((frame.params.w & OVERLAY_CASTERS) != 0u) {
         let code = outcomes[light.view * frame.views.y + in.instance] & STATE_OUTCOME_BITS;
         let tint = outcome_colour(code);

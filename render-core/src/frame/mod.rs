@@ -195,7 +195,9 @@ impl FrameRenderer {
         if self.layout_key != Some(key) {
             self.layout_key = Some(key);
             let layout: Box<dyn crate::shadow_map::ViewLayout> = match key.0 {
-                ShadowSetup::Single | ShadowSetup::Volumes => Box::new(SunView { copies: key.3 }),
+                ShadowSetup::Single | ShadowSetup::Volumes | ShadowSetup::Lights => {
+                    Box::new(SunView { copies: key.3 })
+                }
                 ShadowSetup::Lispsm => Box::new(WarpedSunView {
                     n_scale: key.2.n_scale,
                 }),
@@ -320,6 +322,7 @@ impl FrameRenderer {
             measure: settings.measure,
             measure_fill: settings.measure || settings.overlays.fill,
             volumes: settings.volumes,
+            layered: &settings.layered,
             frame_index: self.frame_index,
             visible_receivers: self.latest.visibility.map(|v| v.receiver_bounds),
             visible_depths_m: self
@@ -348,7 +351,9 @@ impl FrameRenderer {
                 .forward
                 .extend(2.0 * (camera.fov_y_rad * 0.5).tan() / setup.height as f32)
                 .to_array(),
-            direction_to_sun: settings.sun.direction_to_sun.extend(1.0).to_array(),
+            direction_to_sun: (settings.sun.direction_to_sun)
+                .extend(self.techniques.active().sun_scale())
+                .to_array(),
             point_light: settings.point_light.map_or([0.0; 4], |p| {
                 let scale = (p.intensity_cd / crate::scene::Sun::ILLUMINANCE_LX).max(1e-12);
                 p.position.extend(scale).to_array()

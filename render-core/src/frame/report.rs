@@ -81,6 +81,8 @@ pub struct FrameReport {
     pub volume_fill: Option<crate::technique::VolumeFill>,
     /// Shadow volumes: how many were counted z-pass and z-fail.
     pub volume_passes: Option<crate::technique::VolumePasses>,
+    /// Many lights: the path, its passes and draws, and the CPU time of recording them.
+    pub layered: Option<crate::technique::LayeredFacts>,
 }
 
 impl FrameReport {
@@ -109,6 +111,7 @@ impl FrameReport {
         self.shadow_failure = shadows.failure;
         self.volume_fill = shadows.volume_fill;
         self.volume_passes = shadows.volume_passes;
+        self.layered = shadows.layered;
     }
 
     /// Takes a measured frame: error, and the oracle per view and in total.

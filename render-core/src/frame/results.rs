@@ -131,6 +131,17 @@ impl FrameRenderer {
             .collect()
     }
 
+    /// The last frame's shadow views (where each rendered), for tests and reports.
+    pub fn last_views(&self) -> &[crate::shadow_view::ShadowView] {
+        self.frozen.as_ref().map_or(&[], |f| f.views.as_slice())
+    }
+
+    /// The many-lights technique's maps (a depth array: a layer per map, or atlas pages), as
+    /// the last frame with it drew them; for tests.
+    pub fn lights_depth_texture(&self) -> &wgpu::Texture {
+        self.techniques.layered().depth_texture()
+    }
+
     /// The last frame's intervals of `instance`'s shadow volume (metres along the light from
     /// the caster; empty when culled), with shadow volumes the frame's setup; `None` otherwise
     /// or for a non-caster. Blocks: for a click, tests and reports.

@@ -76,10 +76,19 @@ pub enum ShadowSetup {
     Cascades,
     /// Stencil shadow volumes: exact hard shadows, no map (`volumes/`).
     Volumes,
+    /// The scene's spot and point lights, a map each (six for a point light), rendered by
+    /// the path of [`FrameSettings::layered`] (`layered/`).
+    Lights,
 }
 
 impl ShadowSetup {
-    pub const ALL: [Self; 4] = [Self::Single, Self::Lispsm, Self::Cascades, Self::Volumes];
+    pub const ALL: [Self; 5] = [
+        Self::Single,
+        Self::Lispsm,
+        Self::Cascades,
+        Self::Volumes,
+        Self::Lights,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
@@ -87,6 +96,7 @@ impl ShadowSetup {
             Self::Lispsm => "lispsm",
             Self::Cascades => "cascades",
             Self::Volumes => "volumes",
+            Self::Lights => "lights",
         }
     }
 }
@@ -143,6 +153,8 @@ pub struct FrameSettings {
     pub cascades: CascadeSettings,
     pub lispsm: LispsmSettings,
     pub volumes: crate::shadow_view::VolumeSettings,
+    /// Many lights: how their maps are rendered.
+    pub layered: crate::shadow_view::LayeredSettings,
     #[serde(skip)]
     pub sun: Sun,
     /// A point light casts the shadows and lights the scene instead of the sun (shadow

@@ -5,6 +5,7 @@
 use super::ShadowSetup;
 use super::camera::CameraPasses;
 use crate::gpu::GpuContext;
+use crate::layered::LayeredTechnique;
 use crate::shadow_map::MapTechnique;
 use crate::technique::ShadowTechnique;
 use crate::truth::LightAtPoints;
@@ -18,6 +19,8 @@ pub(super) enum Family {
     Maps,
     /// Stencil shadow volumes (`volumes/`).
     Volumes,
+    /// Many lights, a map each (`layered/`).
+    Lights,
 }
 
 impl Family {
@@ -25,6 +28,7 @@ impl Family {
         match setup {
             ShadowSetup::Single | ShadowSetup::Lispsm | ShadowSetup::Cascades => Self::Maps,
             ShadowSetup::Volumes => Self::Volumes,
+            ShadowSetup::Lights => Self::Lights,
         }
     }
 
@@ -37,6 +41,10 @@ impl Family {
                  (cube maps come with many lights, issue 14); drawn without shadows",
             ),
             Self::Volumes => None,
+            Self::Lights => Some(
+                "`--light point` is for shadow volumes: the many-lights technique shadows every \
+                 light of the scene, and drops the one light in place of the sun",
+            ),
         }
     }
 }
@@ -67,8 +75,10 @@ impl Shading {
 pub(super) struct Techniques {
     pub maps: MapTechnique,
     volumes: VolumeTechnique,
+    layered: LayeredTechnique,
     map_shading: Shading,
     volume_shading: Shading,
+    layered_shading: Shading,
     pub active: Family,
     /// The active one cannot cast the frame's point light's shadows: logged once.
     refusals: crate::gpu::LogOnce,
@@ -83,11 +93,14 @@ impl Techniques {
     ) -> Self {
         let maps = MapTechnique::new(ctx, frame, pass_view);
         let volumes = VolumeTechnique::new(ctx, frame);
+        let layered = LayeredTechnique::new(ctx, [frame, pass_view]);
         Self {
             map_shading: Shading::new(ctx, &maps, [frame, measure], early_depth_test),
             volume_shading: Shading::new(ctx, &volumes, [frame, measure], early_depth_test),
+            layered_shading: Shading::new(ctx, &layered, [frame, measure], early_depth_test),
             maps,
             volumes,
+            layered,
             active: Family::Maps,
             refusals: crate::gpu::LogOnce::default(),
         }
@@ -101,6 +114,10 @@ impl Techniques {
     ) -> Option<&'static str> {
         let refusal = settings.point_light.and(self.active.point_light_refusal());
         match refusal {
+            Some(refusal) if self.active == Family::Lights => {
+                settings.point_light = None;
+                self.refusals.warn(refusal);
+            }
             Some(refusal) => {
                 settings.shadow.shadows_enabled = false;
                 self.refusals.warn(refusal);
@@ -114,10 +131,15 @@ impl Techniques {
         &self.volumes
     }
 
+    pub fn layered(&self) -> &LayeredTechnique {
+        &self.layered
+    }
+
     pub fn active(&self) -> &dyn ShadowTechnique {
         match self.active {
             Family::Maps => &self.maps,
             Family::Volumes => &self.volumes,
+            Family::Lights => &self.layered,
         }
     }
 
@@ -125,6 +147,7 @@ impl Techniques {
         match self.active {
             Family::Maps => &mut self.maps,
             Family::Volumes => &mut self.volumes,
+            Family::Lights => &mut self.layered,
         }
     }
 
@@ -133,6 +156,7 @@ impl Techniques {
         match self.active {
             Family::Maps => &self.map_shading,
             Family::Volumes => &self.volume_shading,
+            Family::Lights => &self.layered_shading,
         }
     }
 
@@ -140,5 +164,6 @@ impl Techniques {
     pub fn exclude(&mut self, instances: &[u32]) {
         self.maps.exclude(instances);
         self.volumes.exclude(instances);
+        self.layered.exclude(instances);
     }
 }

@@ -31,6 +31,9 @@ pub struct LightFrustum {
     /// For a texel-snapped (stabilised) frustum, its texel grid, so shaders place points on
     /// it exactly (`TexelGrid`); `None` otherwise.
     pub grid: Option<TexelGrid>,
+    /// For a perspective frustum from a point (a spot light, a point light's cube face),
+    /// how its texels and depths scale with distance (`geom::punctual`); `None` for the sun.
+    pub perspective: Option<super::Perspective>,
 }
 
 /// A snapped orthographic frustum's texel grid: texels per metre across the light, and the
@@ -179,6 +182,7 @@ impl LightSpace {
             covers_whole_scene,
             warp: None,
             grid: None,
+            perspective: None,
         }
     }
 }

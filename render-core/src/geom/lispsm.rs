@@ -196,6 +196,7 @@ pub fn fit_lispsm(
             sin_gamma,
         }),
         grid: None,
+        perspective: None,
     }
 }
 

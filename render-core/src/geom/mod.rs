@@ -5,6 +5,7 @@ mod camera;
 mod frustum;
 mod light_fit;
 mod lispsm;
+mod punctual;
 mod slice_fit;
 
 pub use aabb::Aabb;
@@ -15,4 +16,5 @@ pub use light_fit::{
     stable_depth_range, view_depth_range,
 };
 pub use lispsm::{MIN_SIN_GAMMA, Warp, fit_lispsm};
+pub use punctual::{CUBE_FACES, Perspective, cube_face_frustum, spot_frustum};
 pub use slice_fit::{SliceFit, fit_focused_slice, fit_view_slice};

@@ -31,7 +31,8 @@ pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY
     .union(wgpu::Features::POLYGON_MODE_LINE)
     .union(wgpu::Features::DEPTH_CLIP_CONTROL)
     .union(wgpu::Features::DEPTH32FLOAT_STENCIL8)
-    .union(wgpu::Features::CLIP_DISTANCES);
+    .union(wgpu::Features::CLIP_DISTANCES)
+    .union(wgpu::Features::MULTIVIEW);
 
 /// Instance, adapter, device and queue. Long-lived: one per process (or per window).
 #[derive(Clone, Debug)]

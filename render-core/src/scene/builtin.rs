@@ -37,6 +37,12 @@ pub const BUILTIN_SCENES: &[BuiltinScene] = &[
                       triangles, thin casters",
     },
     BuiltinScene {
+        name: "hall",
+        description: "a dense bumpy statue (about 49K triangles) on a plinth among 8 columns, lit \
+                      by 32 shadow-casting spot and point lights on a ring (Rákos's many-lights \
+                      scene, GPU Pro 4)",
+    },
+    BuiltinScene {
         name: "boxes",
         description: "a 40 m ground plane and five boxes of known sizes (the same for every seed)",
     },
@@ -51,6 +57,7 @@ pub fn load_builtin(name: &str, seed: u64) -> Option<Scene> {
         "boxes" => Some(boxes_scene(scene_name)),
         "robots" => Some(super::robots::robots_scene(scene_name, seed)),
         "corridor" => Some(super::corridor::corridor_scene(scene_name, seed)),
+        "hall" => Some(super::hall::hall_scene(scene_name, seed)),
         _ => None,
     }
 }

@@ -79,6 +79,7 @@ impl CameraPath {
             "builtin:city-small" => Self::city_streets(&CityParams::small(0)),
             "builtin:robots" => super::robots::robots_walk(),
             "builtin:corridor" => super::corridor::corridor_walk(),
+            "builtin:hall" => super::hall::hall_walk(),
             _ => Self::orbit(&scene.bounds()),
         }
     }

@@ -7,6 +7,7 @@ mod chunking;
 mod city;
 mod corridor;
 mod gltf_import;
+mod hall;
 mod model;
 mod motion;
 mod robots;

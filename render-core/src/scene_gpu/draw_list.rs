@@ -45,19 +45,32 @@ impl DrawList {
 
     /// Fills the list with `instances` and uploads it.
     pub fn upload(&mut self, ctx: &GpuContext, scene_gpu: &SceneGpu, instances: &[u32]) {
-        self.args.clear();
-        self.triangles = 0;
-        for &i in instances {
+        let args = instances.iter().map(|&i| {
             let range = scene_gpu.instance_ranges[i as usize];
-            self.triangles += u64::from(range.index_count / 3);
-            self.args.push(wgpu::util::DrawIndexedIndirectArgs {
+            wgpu::util::DrawIndexedIndirectArgs {
                 index_count: range.index_count,
                 instance_count: 1,
                 first_index: range.first_index,
                 base_vertex: range.base_vertex,
                 first_instance: i,
-            });
-        }
+            }
+        });
+        self.upload_args(ctx, args);
+    }
+
+    /// Fills the list with `args` (instanced draws too) and uploads it.
+    pub fn upload_args(
+        &mut self,
+        ctx: &GpuContext,
+        args: impl IntoIterator<Item = wgpu::util::DrawIndexedIndirectArgs>,
+    ) {
+        self.args.clear();
+        self.args.extend(args);
+        self.triangles = self
+            .args
+            .iter()
+            .map(|a| u64::from(a.index_count / 3) * u64::from(a.instance_count))
+            .sum();
         if self.len() > self.capacity {
             self.capacity = self.len().next_power_of_two();
             self.buffer = Self::create_buffer(ctx, self.label, self.capacity);
@@ -90,7 +103,7 @@ impl DrawList {
                 pass.draw_indexed(
                     a.first_index..a.first_index + a.index_count,
                     a.base_vertex,
-                    a.first_instance..a.first_instance + 1,
+                    a.first_instance..a.first_instance + a.instance_count,
                 );
             }
         }

@@ -115,6 +115,11 @@ impl CpuCasters {
         self.views.get(view).map(|v| &v.draws)
     }
 
+    /// View `view`'s chosen casters, sorted.
+    pub fn chosen(&self, view: usize) -> &[u32] {
+        self.views.get(view).map_or(&[], |v| v.selection.chosen())
+    }
+
     pub fn stages(&self, view: usize) -> &[Stage] {
         self.views.get(view).map_or(&[], |v| v.stages.as_slice())
     }

@@ -17,6 +17,13 @@ struct LightReaching {
     // `cascades` overlay tints by it), and whether the point lies in its map.
     view: u32,
     shaded: bool,
+    // Light of the technique's own lights (many lights), added to the sun's; none here.
+    added: vec3<f32>,
+}
+
+// The technique's own lights without shadows (where the frame does not shadow the point).
+fn light_unshadowed(world_pos: vec3<f32>, geometric: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(0.0);
 }
 
 // Fraction of kernel taps that see the light. With `mark`, every shadowed tap marks the
@@ -66,7 +73,7 @@ fn light_reaching(world_pos: vec3<f32>, geometric: vec3<f32>, measuring: bool) -
     if (frame.shadow.w > 0.0 && frame.views.z == 0u) {
         return light_blended(world_pos, geometric, measuring);
     }
-    var out = LightReaching(1.0, 1.0, 0u, false);
+    var out = LightReaching(1.0, 1.0, 0u, false, vec3<f32>(0.0));
     var first = true;
     let chosen = chosen_view(world_pos, geometric);
     for (var v = 0u; v < frame.views.x; v++) {
@@ -90,7 +97,7 @@ fn light_reaching(world_pos: vec3<f32>, geometric: vec3<f32>, measuring: bool) -
 // With a blend band between cascades: each view's light weighted by `blend_weight` among the
 // views whose map holds the point, then faded towards no shadow over the last view's band.
 fn light_blended(world_pos: vec3<f32>, geometric: vec3<f32>, measuring: bool) -> LightReaching {
-    var out = LightReaching(1.0, 1.0, 0u, false);
+    var out = LightReaching(1.0, 1.0, 0u, false, vec3<f32>(0.0));
     var method = 0.0;
     var reference = 0.0;
     var weight = 0.0;

@@ -8,7 +8,7 @@
 //! casters' lists, the persistent map's key. Per frame: the layout, the views and the draw
 //! lists.
 
-mod cpu_casters;
+pub(crate) mod cpu_casters;
 mod layout;
 pub(crate) mod maps;
 
@@ -435,6 +435,7 @@ impl ShadowTechnique for MapTechnique {
             notes,
             failure: self.last.failure.clone(),
             cpu_culling_ms: self.last.cpu_culling_ms,
+            layered: None,
         }
     }
 

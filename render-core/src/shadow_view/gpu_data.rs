@@ -16,14 +16,16 @@ pub struct ShadowViewGpu {
     pub light_right: [f32; 4],
     /// xyz: light-space y axis in world; w: texel size along y in metres (per w squared).
     pub light_up: [f32; 4],
-    /// xyz: direction the light travels; w: depth range in metres (per w).
+    /// xyz: direction the light travels; w: depth range in metres (per w; per w squared for
+    /// a perspective view).
     pub light_dir: [f32; 4],
     /// Layer, first texel x and y, side in texels (`square` in WGSL).
     pub square: [u32; 4],
     /// x, y: the camera depths whose points the view shades; z: how they are measured, 0 along
     /// the view direction, 1 from the eye (`DepthMeasure`); w: unused.
     pub shades_depth_m: [f32; 4],
-    /// x: the view's index; y, z, w: unused.
+    /// x: the view's index; y: 1 for a perspective view from a point (texels per w, depth
+    /// metres per w squared); z, w: unused.
     pub index: [u32; 4],
     /// A snapped view's texel grid (`TexelGrid`, `light_clip` in WGSL): xyz the light-space
     /// translation of `light_from_world`, w 1 when the view has a grid.
@@ -43,11 +45,12 @@ impl ShadowViewGpu {
         let (right, up) = (rows.x_axis.truncate(), rows.y_axis.truncate());
         let t = view.target;
         // A warped view's texels and depth scale with the point's clip w (1 for orthographic).
-        let (texel, range) = light
-            .warp
-            .map_or((light.texel_size_m, light.depth_range_m), |w| {
-                (w.texel_per_w, w.range_per_w)
-            });
+        // A perspective view's texels scale with w and its metres of depth with w squared.
+        let (texel, range) = match (light.warp, light.perspective) {
+            (Some(w), _) => (w.texel_per_w, w.range_per_w),
+            (None, Some(p)) => ([p.texel_per_w; 2], p.range_per_w2),
+            (None, None) => (light.texel_size_m, light.depth_range_m),
+        };
         Self {
             light_clip_from_world: light.light_clip_from_world.to_cols_array_2d(),
             world_from_light_clip: light.light_clip_from_world.inverse().to_cols_array_2d(),
@@ -64,7 +67,7 @@ impl ShadowViewGpu {
                 },
                 0.0,
             ],
-            index: [index, 0, 0, 0],
+            index: [index, u32::from(light.perspective.is_some()), 0, 0],
             grid_origin: light.grid.map_or([0.0; 4], |_| {
                 light
                     .light_from_world

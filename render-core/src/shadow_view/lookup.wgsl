@@ -29,14 +29,16 @@ fn shadow_lookup(world_pos: vec3<f32>, geometric: vec3<f32>, v: u32) -> ShadowLo
     let view = shadow_views[v];
     // A warped (LiSPSM) view's texel grows with the point's clip w across the map and with
     // w squared along it, and its depth range with w; w is 1 in an orthographic view.
+    // A perspective view from a point: texels grow with w, a metre of depth with w squared.
     let w = (view.light_clip_from_world * vec4<f32>(world_pos, 1.0)).w;
-    let texel_m = vec2<f32>(view.light_right.w * w, view.light_up.w * w * w);
-    let range_m = max(view.light_dir.w * w, 1e-6);
+    let perspective = view.index.y == 1u;
+    let texel_m = vec2<f32>(view.light_right.w * w, view.light_up.w * w * select(w, 1.0, perspective));
+    let range_m = max(view.light_dir.w * w * select(1.0, w, perspective), 1e-6);
     let size = f32(view.square.w);
     let offset_pos = world_pos + geometric * (frame.shadow.z * max(texel_m.x, texel_m.y));
     let clip = light_clip(view, offset_pos);
     let ndc = clip.xyz / clip.w;
-    l.inside = !(abs(ndc.x) > 1.0 || abs(ndc.y) > 1.0 || ndc.z > 1.0);
+    l.inside = clip.w > 0.0 && !(abs(ndc.x) > 1.0 || abs(ndc.y) > 1.0 || ndc.z > 1.0);
     l.p = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5) * size;
     l.depth = ndc.z;
 

@@ -9,11 +9,13 @@
 
 mod buffer;
 mod gpu_data;
+mod layered_settings;
 mod settings;
 mod volume_settings;
 
 pub use buffer::ViewBuffer;
 pub use gpu_data::ShadowViewGpu;
+pub use layered_settings::{LayeredPath, LayeredSettings};
 pub use settings::{PcfKernel, ShadowSettings};
 pub use volume_settings::{VolumeClamp, VolumePassChoice, VolumeSettings};
 

@@ -18,7 +18,9 @@ struct ShadowView {
     // x, y: the camera depths [near, far) in metres whose points this view shades; z: 0 when
     // measured along the view direction, 1 from the eye (view/common.wgsl `shading_depth`).
     shades_depth_m: vec4<f32>,
-    // x: this view's index; y, z, w: unused.
+    // x: this view's index; y: 1 for a perspective view from a point (a spot light, a cube
+    // face: texels per w in light_right.w and light_up.w, depth metres per w squared in
+    // light_dir.w); z, w: unused.
     index: vec4<u32>,
     // A snapped view's texel grid (`light_clip`): xyz the light-space translation, w 1 when
     // the view has one.

@@ -64,6 +64,8 @@ pub struct TechniqueInput<'a> {
     /// Shadow volumes count their fill (when measuring, or for the fill heat map).
     pub measure_fill: bool,
     pub volumes: crate::shadow_view::VolumeSettings,
+    /// How the many-lights technique renders its maps.
+    pub layered: &'a crate::shadow_view::LayeredSettings,
     pub frame_index: u64,
     /// The newest visible receivers' world bounds that have come back (for FOCUS).
     pub visible_receivers: Option<Aabb>,
@@ -157,6 +159,27 @@ pub struct ShadowReport {
     pub failure: Option<String>,
     /// CPU time of choosing casters this frame, milliseconds.
     pub cpu_culling_ms: f64,
+    /// Many lights: how the maps were rendered.
+    pub layered: Option<LayeredFacts>,
+}
+
+/// How the many-lights technique rendered a frame's maps.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct LayeredFacts {
+    /// The path that drew, after the adapter's fallbacks.
+    pub path: crate::shadow_view::LayeredPath,
+    pub lights: u32,
+    pub maps: u32,
+    /// Render passes and draw calls recorded (a multi-draw counts its draws).
+    pub passes: u32,
+    pub draws: u32,
+    /// Triangles submitted, once per view they were drawn for (an instanced or multiview
+    /// draw counts once per pass).
+    pub triangles: u64,
+    /// CPU time of recording the passes and draws, milliseconds.
+    pub cpu_submit_ms: f64,
+    /// The most maps one multiview pass renders on this adapter (0: no multiview).
+    pub multiview_group: u32,
 }
 
 /// The overlays a technique draws itself.
@@ -245,6 +268,12 @@ pub trait ShadowTechnique {
         input: &TechniqueInput<'_>,
         draw: &DrawInput<'_>,
     ) -> ShadowPasses;
+
+    /// How much of the sun's light the shading adds: 1, or 0 for a technique lit by the
+    /// scene's own lights.
+    fn sun_scale(&self) -> f32 {
+        1.0
+    }
 
     /// Call after the frame is submitted.
     fn after_submit(&mut self);

@@ -12,6 +12,13 @@ struct LightReaching {
     reference: f32,
     view: u32,
     shaded: bool,
+    // Light of the technique's own lights (many lights), added to the sun's; none here.
+    added: vec3<f32>,
+}
+
+// The technique's own lights without shadows (where the frame does not shadow the point).
+fn light_unshadowed(world_pos: vec3<f32>, geometric: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(0.0);
 }
 
 fn light_reaching(world_pos: vec3<f32>, geometric: vec3<f32>, measuring: bool) -> LightReaching {
@@ -24,5 +31,5 @@ fn light_reaching(world_pos: vec3<f32>, geometric: vec3<f32>, measuring: bool) -
     if (inside && textureLoad(volume_stencil, pixel, 0).r != 0u) {
         light = 0.0;
     }
-    return LightReaching(light, light, 0u, false);
+    return LightReaching(light, light, 0u, false, vec3<f32>(0.0));
 }

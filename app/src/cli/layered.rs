@@ -1,0 +1,95 @@
+//! The many-lights options: `--layered traditional|multiview|atlas` and `--lights N`.
+
+use anyhow::bail;
+use clap::Args;
+use render_core::frame::{FrameSettings, ShadowSetup};
+use render_core::shadow_view::{LayeredPath, LayeredSettings};
+
+/// How many lights cast shadows, and how their maps are rendered.
+#[derive(Args, Debug, Default, Clone)]
+pub struct LayeredArgs {
+    /// Many lights (`--shadow lights`, which this implies): render the maps by a pass each
+    /// (traditional), a multiview pass per group of maps (multiview), or one instanced draw
+    /// per mesh into an atlas (atlas).
+    #[arg(long, value_parser = parse_layered, value_name = "PATH")]
+    pub layered: Option<LayeredPath>,
+    /// Many lights: only the scene's first N lights shine and cast shadows (0: all).
+    #[arg(long, value_name = "N")]
+    pub lights: Option<u32>,
+}
+
+impl LayeredArgs {
+    /// Whether these ask for the many-lights technique.
+    pub fn asks_for_lights(&self, shadow: Option<ShadowSetup>) -> bool {
+        shadow == Some(ShadowSetup::Lights) || (shadow.is_none() && self.layered.is_some())
+    }
+
+    /// The options into `settings`; `--layered` alone picks `--shadow lights`.
+    pub fn apply_to(
+        &self,
+        shadow: Option<ShadowSetup>,
+        settings: &mut FrameSettings,
+    ) -> anyhow::Result<()> {
+        if let Some(path) = self.layered {
+            settings.layered.path = path;
+            if shadow.is_none() {
+                settings.setup = ShadowSetup::Lights;
+            }
+        }
+        if let Some(lights) = self.lights {
+            if lights > 1024 {
+                bail!("--lights {lights}: at most 1024 lights (0 for all of the scene's)");
+            }
+            settings.layered.lights = lights;
+        }
+        Ok(())
+    }
+}
+
+/// The range of `--shadow-res` for the setup the options ask for: each light's map may be
+/// smaller than the sun's.
+pub fn resolution_range(lights: bool) -> std::ops::RangeInclusive<u32> {
+    if lights {
+        LayeredSettings::MIN_RESOLUTION..=LayeredSettings::MAX_RESOLUTION
+    } else {
+        render_core::shadow_view::ShadowSettings::MIN_RESOLUTION
+            ..=render_core::shadow_view::ShadowSettings::MAX_RESOLUTION
+    }
+}
+
+fn parse_layered(s: &str) -> Result<LayeredPath, String> {
+    s.parse()
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::Parser;
+
+    use super::*;
+    use crate::cli::{Cli, Command};
+
+    fn settings(args: &[&str]) -> anyhow::Result<FrameSettings> {
+        let head = ["shadowlab", "shot", "--out", "a.png"];
+        let cli = Cli::try_parse_from(head.iter().chain(args)).expect("parses");
+        let Some(Command::Shot(shot)) = cli.command else {
+            panic!("a shot");
+        };
+        shot.view.settings_over(FrameSettings::default())
+    }
+
+    #[test]
+    fn layered_picks_the_lights_technique_and_its_path_and_the_map_may_be_small() {
+        let s = settings(&["--layered", "atlas", "--shadow-res", "256"]).unwrap();
+        assert_eq!(s.setup, ShadowSetup::Lights);
+        assert_eq!(s.layered.path, LayeredPath::Atlas);
+        assert_eq!(s.shadow.resolution, 256);
+        let s = settings(&["--shadow", "lights", "--lights", "4"]).unwrap();
+        assert_eq!((s.setup, s.layered.lights), (ShadowSetup::Lights, 4));
+        // The sun's maps keep their range.
+        let e = settings(&["--shadow-res", "256"]).unwrap_err();
+        assert!(e.to_string().contains("--shadow-res 256"), "{e}");
+        let e = Cli::try_parse_from(["shadowlab", "shot", "--out", "a.png", "--layered", "layers"])
+            .unwrap_err();
+        assert!(e.to_string().contains("'layers'"), "{e}");
+    }
+}

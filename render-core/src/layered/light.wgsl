@@ -1,0 +1,133 @@
+// The many-lights technique's "light reaching this point": every light of the scene that
+// reaches the point, each through its shadow map (PCF), summed (layered/mod.rs). A spot light
+// reads its one view; a point light the cube face its direction to the point falls in.
+// `method` is the share of the lights' irradiance that arrives unshadowed, so error counts
+// treat it as they treat one light's visibility; `added` is the light itself, coloured.
+// Bound as group 1 of the shading pass.
+#import shadow_view/lookup.wgsl
+#import metrics/measure.wgsl
+
+// Keep in sync with layered/lights.rs (LightRecord).
+struct LightRecord {
+    // xyz: position; w: range in metres (0: none).
+    position_range: vec4<f32>,
+    // rgb: colour times intensity over the sun's illuminance; w: cosine of the inner cone.
+    color_inner: vec4<f32>,
+    // xyz: the spot's direction; w: cosine of the outer cone, -2 for a point light.
+    spot: vec4<f32>,
+    // x: the first view; y: views (1 spot, 6 point, 0 unshadowed).
+    views: vec4<u32>,
+}
+
+struct Lights {
+    // x: how many records are this frame's.
+    count: vec4<u32>,
+    records: array<LightRecord>,
+}
+
+@group(1) @binding(0) var light_maps: texture_depth_2d_array;
+@group(1) @binding(1) var<storage, read> lights: Lights;
+
+struct LightReaching {
+    method: f32,
+    reference: f32,
+    view: u32,
+    shaded: bool,
+    added: vec3<f32>,
+}
+
+// Irradiance from light `r` at `p` with normal `n`, on the sun's scale, before shadows: the
+// inverse square, glTF's range window, the spot's cone, and the cosine.
+fn irradiance(r: LightRecord, p: vec3<f32>, n: vec3<f32>) -> f32 {
+    let d = r.position_range.xyz - p;
+    let squared = max(dot(d, d), 1e-8);
+    let l = d * inverseSqrt(squared);
+    var e = max(dot(n, l), 0.0) / squared;
+    let range = r.position_range.w;
+    if (range > 0.0) {
+        let x = squared / (range * range);
+        let window = clamp(1.0 - x * x, 0.0, 1.0);
+        e *= window * window;
+    }
+    if (r.spot.w > -1.5) {
+        e *= smoothstep(r.spot.w, max(r.color_inner.w, r.spot.w + 1e-4), dot(-l, r.spot.xyz));
+    }
+    return e;
+}
+
+// The view of light `r` that holds `p`: its one view, or the cube face (geom/punctual.rs
+// CUBE_FACES: +X, -X, +Y, -Y, +Z, -Z) of the major axis from the light to `p`.
+fn view_of(r: LightRecord, p: vec3<f32>) -> u32 {
+    if (r.views.y < 6u) {
+        return r.views.x;
+    }
+    let d = p - r.position_range.xyz;
+    let a = abs(d);
+    var face = 4u + select(0u, 1u, d.z < 0.0);
+    if (a.x >= a.y && a.x >= a.z) {
+        face = select(0u, 1u, d.x < 0.0);
+    } else if (a.y >= a.z) {
+        face = 2u + select(0u, 1u, d.y < 0.0);
+    }
+    return r.views.x + face;
+}
+
+// Fraction of the kernel's taps that see the light.
+fn map_light(l: ShadowLookup) -> f32 {
+    if (!l.inside) {
+        return 1.0;
+    }
+    var lit = 0.0;
+    for (var j = 0; j < l.kernel; j++) {
+        for (var i = 0; i < l.kernel; i++) {
+            let t = l.first + vec2<i32>(i, j);
+            if (!tap_in_map(l, t) || tap_threshold(l, t) <= textureLoad(light_maps, map_texel(l, t), l.layer, 0)) {
+                lit += 1.0;
+            }
+        }
+    }
+    return lit / f32(l.kernel * l.kernel);
+}
+
+// Every light at the point, shadowed where `shadowed`.
+fn lights_at(world_pos: vec3<f32>, geometric: vec3<f32>, shadowed: bool) -> LightReaching {
+    var out = LightReaching(1.0, 1.0, 0u, false, vec3<f32>(0.0));
+    var total = 0.0;
+    var lit = 0.0;
+    var first = true;
+    for (var i = 0u; i < lights.count.x; i++) {
+        let r = lights.records[i];
+        let e = irradiance(r, world_pos, geometric);
+        if (e <= 0.0) {
+            continue;
+        }
+        var v = 1.0;
+        if (shadowed && r.views.y > 0u) {
+            let view = view_of(r, world_pos);
+            let lookup = shadow_lookup(world_pos, geometric, view);
+            if (first) {
+                out.view = view;
+                out.shaded = lookup.inside;
+                first = false;
+            }
+            v = map_light(lookup);
+        }
+        total += e;
+        lit += e * v;
+        out.added += e * v * r.color_inner.rgb;
+    }
+    if (total > 0.0) {
+        out.method = lit / total;
+    }
+    // Every caster is drawn into every map that sees it: the reference is the method.
+    out.reference = out.method;
+    return out;
+}
+
+fn light_reaching(world_pos: vec3<f32>, geometric: vec3<f32>, measuring: bool) -> LightReaching {
+    return lights_at(world_pos, geometric, true);
+}
+
+fn light_unshadowed(world_pos: vec3<f32>, geometric: vec3<f32>) -> vec3<f32> {
+    return lights_at(world_pos, geometric, false).added;
+}

@@ -1,0 +1,337 @@
+//! Many shadow-casting lights (Rákos, "Massive number of shadow-casting lights with layered
+//! rendering", GPU Pro 4, ch. 19): a view per spot light and six per point light (cube faces),
+//! rendered by one of three paths (`paths.rs`: a pass per map, a multiview pass per group, or
+//! one instanced atlas draw per mesh), and a light term that sums every light through its map
+//! (`light.wgsl`). The sun does not light the frame: the scene's own lights do.
+//!
+//! Long-lived: pipelines, the depth array and the light records (growing as needed). Per
+//! frame: the views (`lights.rs`), where they render (`targets.rs`), each view's casters.
+
+mod lights;
+mod paths;
+mod probe;
+mod targets;
+
+use std::time::Instant;
+
+pub use lights::{LightRecord, LightViews, light_views};
+use paths::{PathInput, Paths};
+#[cfg(test)]
+pub(crate) use paths::{atlas_source, multiview_source};
+pub use probe::multiview_reaches_every_layer;
+#[cfg(test)]
+pub(crate) use probe::probe_source;
+use targets::LayeredMaps;
+pub use targets::place;
+
+use crate::culling::{CasterOutcome, Method};
+use crate::gpu::{GpuContext, LogOnce};
+use crate::scene_gpu::DrawList;
+use crate::shadow_map::cpu_casters::CpuCasters;
+use crate::shadow_view::{LayeredPath, LayeredSettings, ShadowView};
+use crate::technique::{
+    DrawInput, InsetSources, ShadowPasses, ShadowReport, ShadowTechnique, TechniqueInput,
+    ViewReport,
+};
+
+/// The technique's light term (imported as `technique/light.wgsl` by the shading pass).
+pub(crate) const LIGHT_WGSL: &str = "layered/light.wgsl";
+
+/// The many-lights technique.
+pub struct LayeredTechnique {
+    maps: LayeredMaps,
+    paths: Paths,
+    cpu: CpuCasters,
+    method: Method,
+    last: LastFrame,
+    fallbacks: LogOnce,
+}
+
+#[derive(Default)]
+struct LastFrame {
+    views: Vec<ShadowView>,
+    settings: LayeredSettings,
+    /// The path that drew, after the adapter's fallbacks.
+    path: LayeredPath,
+    /// Render passes and draw calls the path recorded.
+    passes: u32,
+    draws: u32,
+    triangles: u64,
+    lights: usize,
+    notes: Vec<String>,
+    cpu_culling_ms: f64,
+    /// CPU time of recording the path's passes and draws, milliseconds.
+    cpu_submit_ms: f64,
+    resolution: u32,
+}
+
+impl LayeredTechnique {
+    /// `layouts`: group 0 of scene passes and one view alone.
+    pub fn new(ctx: &GpuContext, layouts: [&wgpu::BindGroupLayout; 2]) -> Self {
+        Self {
+            maps: LayeredMaps::new(&ctx.device),
+            paths: Paths::new(ctx, layouts),
+            cpu: CpuCasters::new(ctx),
+            method: Method::Vfc,
+            last: LastFrame::default(),
+            fallbacks: LogOnce::default(),
+        }
+    }
+
+    /// The depth array the maps are in, for tests that read them back.
+    pub fn depth_texture(&self) -> &wgpu::Texture {
+        &self.maps.texture
+    }
+
+    /// The path a request runs as here, and why it differs.
+    fn path_for(&self, requested: LayeredPath) -> (LayeredPath, Option<&'static str>) {
+        match requested {
+            LayeredPath::Multiview if self.paths.multiview_group() == 0 => (
+                LayeredPath::Traditional,
+                Some(if self.paths.multiview_exposed() {
+                    "this adapter's multiview draws only the first view of a pass (probed at \
+                     start-up; lavapipe in Mesa 22.3 does): 'multiview' runs as 'traditional'"
+                } else {
+                    "this adapter has no MULTIVIEW: 'multiview' runs as 'traditional'"
+                }),
+            ),
+            LayeredPath::Atlas if !self.paths.has_atlas() => (
+                LayeredPath::Traditional,
+                Some("this adapter has no CLIP_DISTANCES: 'atlas' runs as 'traditional'"),
+            ),
+            path => (path, None),
+        }
+    }
+}
+
+impl ShadowTechnique for LayeredTechnique {
+    fn name(&self) -> &'static str {
+        "lights"
+    }
+
+    fn light_term(&self) -> (&'static str, &wgpu::BindGroupLayout) {
+        (LIGHT_WGSL, &self.maps.light_layout)
+    }
+
+    /// Every caster of a view (`none`) or those in its frustum; the other methods cull per
+    /// view on the GPU, which this technique does not have yet: they run as `vfc`.
+    fn effective_method(&self, requested: Method) -> Method {
+        match requested {
+            Method::None => Method::None,
+            _ => Method::Vfc,
+        }
+    }
+
+    fn sun_scale(&self) -> f32 {
+        0.0
+    }
+
+    fn prepare(&mut self, ctx: &GpuContext, input: &TechniqueInput<'_>) -> Vec<ShadowView> {
+        self.method = self.effective_method(input.method);
+        let limits = ctx.device.limits();
+        let resolution = input.shadow.resolution.clamp(
+            LayeredSettings::MIN_RESOLUTION,
+            LayeredSettings::MAX_RESOLUTION.min(limits.max_texture_dimension_2d),
+        );
+        let (path, fallback) = self.path_for(input.layered.path);
+        let mut notes = Vec::new();
+        if let Some(fallback) = fallback {
+            self.fallbacks.warn(fallback);
+            notes.push(fallback.to_owned());
+        }
+        if self.method != input.method {
+            notes.push(format!(
+                "many lights cull per view on the CPU only: '{}' runs as 'vfc'",
+                input.method.name()
+            ));
+        }
+        let lights = light_views(input.scene, input.layered.lights, resolution);
+        if lights.records.is_empty() {
+            notes.push(
+                "this scene has no point or spot lights (glTF KHR_lights_punctual; \
+                 builtin:hall has 32): only ambient light"
+                    .to_owned(),
+            );
+        }
+        let (targets, side, layers) = place(path, lights.frusta.len(), resolution, &limits);
+        if targets.len() < lights.frusta.len() {
+            notes.push(format!(
+                "{} of {} maps fit this adapter's textures; the rest are lit unshadowed",
+                targets.len(),
+                lights.frusta.len()
+            ));
+        }
+        let mut records = lights.records;
+        for r in &mut records {
+            // A light whose views did not fit shines unshadowed.
+            if r.views[0] + r.views[1] > targets.len() as u32 {
+                r.views[1] = 0;
+            }
+        }
+        self.maps.ensure(ctx, (side, layers), &records);
+        if path == LayeredPath::Multiview {
+            notes.push(format!(
+                "multiview renders up to {} maps a pass on this adapter",
+                self.paths.multiview_group()
+            ));
+        }
+        self.last.path = path;
+        self.last.settings = *input.layered;
+        self.last.lights = records.len();
+        self.last.notes = notes;
+        self.last.resolution = resolution;
+        lights
+            .names
+            .iter()
+            .zip(lights.frusta)
+            .zip(targets)
+            .map(|((name, light), target)| ShadowView::covering_all_depths(name, light, target))
+            .collect()
+    }
+
+    fn draw(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        input: &TechniqueInput<'_>,
+        draw: &DrawInput<'_>,
+    ) -> ShadowPasses {
+        let ctx = draw.ctx;
+        let started = Instant::now();
+        let frusta: Vec<_> = draw.views.iter().map(|v| &v.light).collect();
+        let path = self.last.path;
+        // The traditional path draws each view's own list; the others build theirs from the
+        // views' choices.
+        self.cpu.select(
+            ctx,
+            (input.scene, input.scene_gpu),
+            self.method,
+            &frusta,
+            true,
+        );
+        self.last.cpu_culling_ms = started.elapsed().as_secs_f64() * 1000.0;
+        let recording = Instant::now();
+        let path_input = PathInput {
+            views: draw.views,
+            view_buffer: draw.view_buffer,
+            frame_group: draw.frame_group,
+            scene_gpu: input.scene_gpu,
+            casters: &self.cpu,
+            timer: draw.timer,
+            indirect_first_instance: draw.indirect_first_instance,
+        };
+        let (passes, lists): (u32, Vec<(u32, u64)>) = match path {
+            LayeredPath::Traditional => {
+                let passes = self
+                    .paths
+                    .draw_traditional(encoder, &self.maps, &path_input);
+                let lists = (0..draw.views.len())
+                    .filter_map(|v| self.cpu.draws(v))
+                    .map(|l| (l.len(), l.triangles))
+                    .collect();
+                (passes, lists)
+            }
+            LayeredPath::Multiview => {
+                let groups = self
+                    .paths
+                    .draw_multiview(ctx, encoder, &self.maps, &path_input)
+                    .unwrap_or(0);
+                let lists = self
+                    .paths
+                    .multiview_lists()
+                    .take(groups as usize)
+                    .map(|l| (l.len(), l.triangles))
+                    .collect();
+                (groups, lists)
+            }
+            LayeredPath::Atlas => {
+                let pages = self
+                    .paths
+                    .draw_atlas(ctx, encoder, &self.maps, &path_input)
+                    .unwrap_or(0);
+                let lists = self
+                    .paths
+                    .atlas_lists()
+                    .take(pages as usize)
+                    .map(|l| (l.len(), l.triangles))
+                    .collect();
+                (pages, lists)
+            }
+        };
+        self.last.cpu_submit_ms = recording.elapsed().as_secs_f64() * 1000.0;
+        self.last.passes = passes;
+        self.last.draws = lists.iter().map(|l| l.0).sum();
+        self.last.triangles = lists.iter().map(|l| l.1).sum();
+        self.last.views = draw.views.to_vec();
+        ShadowPasses {
+            light_group: self.maps.light_group.clone(),
+            outcomes: self.cpu.outcome_buffer().clone(),
+        }
+    }
+
+    fn after_submit(&mut self) {}
+
+    fn collect(&mut self) -> ShadowReport {
+        let views = (0..)
+            .zip(&self.last.views)
+            .map(|(v, view)| {
+                let list = self.cpu.draws(v);
+                ViewReport {
+                    name: view.name.clone(),
+                    stages: self.cpu.stages(v).to_vec(),
+                    casters_rendered: list.map_or(0, DrawList::len),
+                    triangles_shadow: list.map_or(0, |l| l.triangles),
+                    texel_size_m: view.light.texel_size_m,
+                    depth_range_m: view.light.depth_range_m,
+                    ..ViewReport::default()
+                }
+            })
+            .collect();
+        let last = &self.last;
+        let mut notes = last.notes.clone();
+        notes.push(format!(
+            "{} lights, {} maps of {} texels by '{}': {} passes, {} draws, {} triangles",
+            last.lights,
+            last.views.len(),
+            last.resolution,
+            last.path.name(),
+            last.passes,
+            last.draws,
+            last.triangles
+        ));
+        ShadowReport {
+            casters_total: self.cpu.casters_total(),
+            views,
+            notes,
+            cpu_culling_ms: last.cpu_culling_ms,
+            layered: Some(crate::technique::LayeredFacts {
+                path: last.path,
+                lights: last.lights as u32,
+                maps: last.views.len() as u32,
+                passes: last.passes,
+                draws: last.draws,
+                triangles: last.triangles,
+                cpu_submit_ms: last.cpu_submit_ms,
+                multiview_group: self.paths.multiview_group(),
+            }),
+            ..ShadowReport::default()
+        }
+    }
+
+    fn has_results_of(&self, _frame_index: u64) -> bool {
+        true
+    }
+
+    fn inset(&self, _view: u32) -> Option<InsetSources<'_>> {
+        None
+    }
+
+    fn view_outcomes(&self) -> Vec<&[CasterOutcome]> {
+        (0..self.last.views.len())
+            .map(|v| self.cpu.outcomes(v))
+            .collect()
+    }
+
+    fn exclude(&mut self, instances: &[u32]) {
+        self.cpu.exclude(instances);
+    }
+}

@@ -1,0 +1,82 @@
+//! How the many-lights technique (`layered/`) renders its shadow maps, as the user sets it.
+//! Plain data: the UI edits it, the CLI parses it, reports echo it.
+
+use std::fmt;
+use std::str::FromStr;
+
+use serde::{Deserialize, Serialize};
+
+/// The ways to render N shadow maps (Rákos, GPU Pro 4, chapter 19).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LayeredPath {
+    /// One render pass per map, as engines do: the baseline.
+    #[default]
+    Traditional,
+    /// One pass per group of maps through multiview: the view index picks the map, each a
+    /// layer of the depth array; groups as large as the adapter allows.
+    Multiview,
+    /// One instanced draw per mesh for every map: each instance places its triangles in its
+    /// map's tile of a depth atlas, clip distances keeping them inside the tile.
+    Atlas,
+}
+
+impl LayeredPath {
+    pub const ALL: [Self; 3] = [Self::Traditional, Self::Multiview, Self::Atlas];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Traditional => "traditional",
+            Self::Multiview => "multiview",
+            Self::Atlas => "atlas",
+        }
+    }
+}
+
+impl fmt::Display for LayeredPath {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for LayeredPath {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Self::ALL
+            .into_iter()
+            .find(|p| p.name() == s)
+            .ok_or_else(|| {
+                format!("unknown layered path '{s}' (expected traditional, multiview or atlas)")
+            })
+    }
+}
+
+/// The many-lights technique's settings.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct LayeredSettings {
+    pub path: LayeredPath,
+    /// The scene's first this many lights cast shadows and light the frame (0: all of them).
+    pub lights: u32,
+}
+
+impl LayeredSettings {
+    /// The side of each map follows `ShadowSettings::resolution`, within these (a cube
+    /// face's for a point light).
+    pub const MIN_RESOLUTION: u32 = 64;
+    pub const MAX_RESOLUTION: u32 = 4096;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_path_parses_from_its_name_and_a_wrong_one_names_itself() {
+        for p in LayeredPath::ALL {
+            assert_eq!(p.name().parse::<LayeredPath>(), Ok(p));
+        }
+        let e = "layers".parse::<LayeredPath>().unwrap_err();
+        assert!(e.contains("'layers'") && e.contains("atlas"), "{e}");
+    }
+}

@@ -1,0 +1,237 @@
+//! Many lights (`--shadow lights`, `layered/`): spot and point lights around a lifted box, their
+//! maps rendered by each path (a pass per map, multiview groups, an instanced atlas) must be
+//! the same maps; the shadows they cast are the ones the geometry says; a light whose views
+//! see nothing and a light inside the box behave.
+
+use glam::{Vec3, Vec3Swizzles};
+use render_core::frame::{
+    FrameInput, FrameRenderer, FrameReport, FrameSettings, Method, ShadowSetup,
+};
+use render_core::geom::Camera;
+use render_core::gpu::read_texture_layer;
+use render_core::layered::multiview_reaches_every_layer;
+use render_core::scene::{LightKind, PunctualLight, Scene, Sun};
+use render_core::scene_gpu::SceneGpu;
+use render_core::shadow_view::{LayeredPath, ShadowView};
+use shadowlab_tests::{box_on_plane, gpu, pixels_of, render};
+
+const SIZE: (u32, u32) = (256, 192);
+const MAP: u32 = 256;
+/// The lifted box: 2 x 3 x 1.5 m, its bottom 1 m above the ground, centred on the origin.
+const BOX_MIN: Vec3 = Vec3::new(-1.0, 1.0, -0.75);
+const BOX_MAX: Vec3 = Vec3::new(1.0, 4.0, 0.75);
+
+fn light(name: &str, position: Vec3, kind: LightKind) -> PunctualLight {
+    PunctualLight {
+        name: name.into(),
+        position,
+        kind,
+        color: [1.0, 1.0, 1.0],
+        intensity: 2.0e6,
+        range: Some(40.0),
+    }
+}
+
+fn spot(direction: Vec3, outer_deg: f32) -> LightKind {
+    LightKind::Spot {
+        direction: direction.normalize(),
+        inner_cone_rad: (0.8 * outer_deg).to_radians(),
+        outer_cone_rad: outer_deg.to_radians(),
+    }
+}
+
+/// The lifted box on a 40 m ground with `lights`.
+fn scene(lights: Vec<PunctualLight>) -> Scene {
+    let mut scene = box_on_plane(20.0, BOX_MAX - BOX_MIN, 1.0, Sun::default());
+    scene.lights = lights;
+    scene
+}
+
+/// A spot straight above the box, a point light beside it, a spot that looks at the sky
+/// (its view sees nothing) and a second point light.
+fn four_lights() -> Vec<PunctualLight> {
+    vec![
+        light("above", Vec3::new(0.0, 10.0, 0.0), spot(Vec3::NEG_Y, 40.0)),
+        light("beside", Vec3::new(4.0, 5.0, 1.0), LightKind::Point),
+        light("sky", Vec3::new(-6.0, 3.0, 6.0), spot(Vec3::Y, 30.0)),
+        light("far", Vec3::new(-5.0, 6.0, -4.0), LightKind::Point),
+    ]
+}
+
+fn camera() -> Camera {
+    Camera::look_at(
+        Vec3::new(-9.0, 9.0, 11.0),
+        Vec3::new(0.0, 1.0, 0.0),
+        60f32.to_radians(),
+        0.1,
+        200.0,
+    )
+}
+
+fn lights(path: LayeredPath) -> FrameSettings {
+    let mut settings = FrameSettings {
+        setup: ShadowSetup::Lights,
+        method: Method::Vfc,
+        ..FrameSettings::default()
+    };
+    settings.shadow.resolution = MAP;
+    settings.layered.path = path;
+    settings
+}
+
+/// One frame: the report, every view's map (its square, row by row) and the picture's
+/// light per pixel.
+fn frame(scene: &Scene, settings: &FrameSettings) -> (FrameReport, Vec<Vec<f32>>, Vec<u8>) {
+    let ctx = gpu();
+    let scene_gpu = SceneGpu::new(ctx, scene);
+    let mut renderer = FrameRenderer::new(ctx);
+    let camera = camera();
+    let input = FrameInput {
+        camera: &camera,
+        width: SIZE.0,
+        height: SIZE.1,
+        settings,
+    };
+    let report = renderer
+        .render_and_wait(ctx, scene, &scene_gpu, &input)
+        .expect("frame renders");
+    let views = renderer.last_views().to_vec();
+    let texture = renderer.lights_depth_texture();
+    let maps = views.iter().map(|v| view_map(texture, v)).collect();
+    let capture =
+        render_core::frame::FrameCapture::read(ctx, renderer.targets().unwrap()).expect("readback");
+    (report, maps, capture.shadow)
+}
+
+/// View `view`'s square of the depth array.
+fn view_map(texture: &wgpu::Texture, view: &ShadowView) -> Vec<f32> {
+    let t = view.target;
+    let layer = read_texture_layer(gpu(), texture, wgpu::TextureAspect::DepthOnly, t.layer)
+        .expect("reads back");
+    let depths: Vec<f32> = layer
+        .bytes
+        .chunks_exact(4)
+        .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect();
+    (0..t.size)
+        .flat_map(|y| (0..t.size).map(move |x| (x, y)))
+        .map(|(x, y)| depths[((t.origin[1] + y) * layer.width + t.origin[0] + x) as usize])
+        .collect()
+}
+
+#[test]
+fn every_path_renders_the_same_maps_and_the_same_shadows_as_a_pass_per_map() {
+    let scene = scene(four_lights());
+    let (report, traditional, light) = frame(&scene, &lights(LayeredPath::Traditional));
+    // A spot is one view, a point light six: 14 maps, a pass each.
+    assert_eq!(traditional.len(), 14);
+    let facts = report.layered.expect("the technique reports its path");
+    assert_eq!(
+        (facts.path, facts.maps, facts.passes),
+        (LayeredPath::Traditional, 14, 14)
+    );
+    // The spot that looks at the sky sees nothing: its map is clear, and vfc drew nothing.
+    assert!(traditional[7].iter().all(|&d| d == 1.0));
+    assert_eq!(report.views[7].name, "spot 2");
+    assert_eq!(report.views[7].casters_rendered, 0);
+    for path in [LayeredPath::Multiview, LayeredPath::Atlas] {
+        let (report, maps, other_light) = frame(&scene, &lights(path));
+        let facts = report.layered.expect("the technique reports its path");
+        if path == LayeredPath::Multiview && !multiview_reaches_every_layer(gpu()) {
+            // Lavapipe in Mesa 22.3 exposes multiview but draws only a pass's first view:
+            // the path falls back to a pass per map, and says so.
+            assert_eq!(facts.path, LayeredPath::Traditional);
+            assert!(
+                report
+                    .notes
+                    .iter()
+                    .any(|n| n.contains("only the first view"))
+            );
+            assert_eq!(maps, traditional);
+            continue;
+        }
+        assert_eq!(facts.path, path, "lavapipe has clip distances");
+        let mut covered_differently = 0;
+        let mut worst = 0.0f32;
+        for (a, b) in traditional.iter().zip(&maps) {
+            for (&x, &y) in a.iter().zip(b) {
+                if (x < 1.0) != (y < 1.0) {
+                    covered_differently += 1;
+                } else {
+                    worst = worst.max((x - y).abs());
+                }
+            }
+        }
+        let texels = 14 * (MAP * MAP) as usize;
+        assert!(
+            covered_differently * 10_000 <= texels,
+            "{path}: {covered_differently} of {texels} texels covered differently"
+        );
+        assert!(worst < 1e-5, "{path}: depths differ by {worst}");
+        let differ = light
+            .iter()
+            .zip(&other_light)
+            .filter(|(a, b)| (**a < 128) != (**b < 128))
+            .count();
+        assert!(differ <= 2, "{path}: {differ} pixels shadowed differently");
+        match path {
+            LayeredPath::Multiview => {
+                let group = facts.multiview_group;
+                let limit = gpu().device.limits().max_multiview_view_count;
+                assert!(group >= 2 && group <= limit, "{group} within {limit}");
+                assert_eq!(facts.passes, 14u32.div_ceil(group));
+            }
+            _ => {
+                // 14 maps of 256 fit one page of 4 x 4 tiles: one pass, a draw per mesh.
+                assert_eq!((facts.passes, facts.draws), (1, 2));
+            }
+        }
+    }
+}
+
+#[test]
+fn the_spot_over_the_box_shadows_the_ground_under_it_and_lights_the_ground_beside_it() {
+    let above = vec![light(
+        "above",
+        Vec3::new(0.0, 10.0, 0.0),
+        spot(Vec3::NEG_Y, 40.0),
+    )];
+    let scene = scene(above);
+    let camera = camera();
+    let (_, capture) = render(&scene, &camera, &lights(LayeredPath::Atlas), SIZE.0, SIZE.1);
+    let ground = 1; // box_on_plane: the ground is the first instance.
+    let (mut under, mut beside) = (0, 0);
+    for (i, p) in pixels_of(&capture, &camera, ground) {
+        // The box's shadow from the light straight above, by similar triangles: its top face
+        // casts the outline (the bottom's lies inside it); away from the edges by the PCF's
+        // reach; and the cone's inside, away from the shadow.
+        let scale = 10.0 / (10.0 - BOX_MAX.y);
+        let (hx, hz) = (BOX_MAX.x * scale, BOX_MAX.z * scale);
+        if p.x.abs() < hx - 0.2 && p.z.abs() < hz - 0.2 {
+            assert!(capture.shadow[i] < 10, "{p} under the box is lit");
+            under += 1;
+        } else if (p.x.abs() > hx + 0.3 || p.z.abs() > hz + 0.3) && p.xz().length() < 6.0 {
+            assert!(capture.shadow[i] > 245, "{p} beside the box is shadowed");
+            beside += 1;
+        }
+    }
+    assert!(under > 50 && beside > 500, "{under} under, {beside} beside");
+}
+
+#[test]
+fn a_point_light_inside_the_box_shadows_everything_outside_it() {
+    let inside = vec![light("inside", Vec3::new(0.0, 2.5, 0.0), LightKind::Point)];
+    let scene = scene(inside);
+    let camera = camera();
+    let settings = lights(LayeredPath::Multiview);
+    let (report, capture) = render(&scene, &camera, &settings, SIZE.0, SIZE.1);
+    assert_eq!(report.views.len(), 6);
+    let mut ground = 0;
+    for (i, p) in pixels_of(&capture, &camera, 1) {
+        if p.xz().length() < 15.0 {
+            assert!(capture.shadow[i] < 3, "{p} outside the box is lit");
+            ground += 1;
+        }
+    }
+    assert!(ground > 1000, "{ground}");
+}
