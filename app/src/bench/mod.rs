@@ -1,7 +1,9 @@
 //! `shadowlab bench`: fly a camera path with each method and print medians, optionally
 //! sweeping shadow-map size (Bittner's Table 4), sun elevation (Bittner's Figure 7), cascade
-//! counts, split schemes or the practical split's lambda.
+//! counts, split schemes, the practical split's lambda, shadow volumes' clamping and slices,
+//! or many lights' paths, counts and map sizes (`maps.rs`).
 
+mod maps;
 mod table;
 
 use anyhow::Context as _;
@@ -96,6 +98,9 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
         baseline.name(),
         session.ctx.adapter_description()
     );
+    if args.sweep == Some(Sweep::Maps) {
+        return maps::sweep_maps(args, &mut session, (base, &path, &template));
+    }
     let limits = render_core::frame::ShadowSettings::MIN_RESOLUTION
         ..=render_core::frame::ShadowSettings::MAX_RESOLUTION;
     if let Some(res) = args.resolutions.iter().find(|r| !limits.contains(r)) {
@@ -115,7 +120,8 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
         );
     }
     let settings_list: Vec<(String, FrameSettings)> = match args.sweep {
-        None => vec![(String::new(), base)],
+        // Many lights' sweep has its own rows (`maps.rs`), run above.
+        None | Some(Sweep::Maps) => vec![(String::new(), base)],
         Some(Sweep::Resolution) => args
             .resolutions
             .iter()

@@ -119,7 +119,7 @@ pub(super) fn format_table(rows: &[BenchRow], baseline: &str) -> String {
 
 /// The cells padded to their column's width: the first `left` columns left-aligned, the
 /// others right-aligned.
-fn aligned(lines: &[Vec<String>], left: usize) -> String {
+pub(super) fn aligned(lines: &[Vec<String>], left: usize) -> String {
     let widths: Vec<usize> = (0..lines[0].len())
         .map(|c| {
             lines

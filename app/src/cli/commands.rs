@@ -125,6 +125,17 @@ pub struct BenchArgs {
         value_name = "L,L"
     )]
     pub lambdas: Vec<f32>,
+    /// Numbers of lights of `--sweep maps` (the scene's first N; a point light has six maps).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "1,2,4,8,16,32",
+        value_name = "N,N"
+    )]
+    pub light_counts: Vec<u32>,
+    /// Map sizes of `--sweep maps` (default: `--shadow-res`), 64 to 4096 texels.
+    #[arg(long, value_delimiter = ',', value_name = "N,N")]
+    pub map_sizes: Vec<u32>,
 }
 
 /// What `bench --sweep` varies.
@@ -147,4 +158,7 @@ pub enum Sweep {
     /// Shadow volumes with conservative discrete clamping over 1, 2, 4, 8, 16 and 32 slices
     /// (Lloyd's Figure 9); `--volume-clamp discrete` for the image-precision test.
     Slices,
+    /// Many lights (Rákos's figures): every path (traditional, multiview, atlas) for each of
+    /// `--light-counts` and `--map-sizes`, a row each with its passes, draws and CPU time.
+    Maps,
 }

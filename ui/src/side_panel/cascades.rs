@@ -110,6 +110,9 @@ pub fn ui(ui: &mut egui::Ui, settings: &mut FrameSettings, report: Option<&Frame
                     .response
             });
         }
+        if settings.setup == ShadowSetup::Lights {
+            super::lights::rows(ui, &mut settings.layered, report);
+        }
         if settings.setup != ShadowSetup::Cascades {
             return;
         }

@@ -9,6 +9,7 @@ mod compare;
 mod frame_stats;
 mod grid;
 mod light_view;
+mod lights;
 mod message;
 mod scene;
 mod screenshot;

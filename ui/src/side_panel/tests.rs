@@ -368,6 +368,43 @@ fn the_setup_combo_turns_cascades_on_and_shows_their_controls() {
 }
 
 #[test]
+fn the_lights_setup_chooses_how_its_maps_are_rendered_and_says_what_was_drawn() {
+    let mut lab = Lab::new();
+    lab.settings.setup = ShadowSetup::Lights;
+    lab.report.layered = Some(render_core::technique::LayeredFacts {
+        path: render_core::shadow_view::LayeredPath::Traditional,
+        lights: 32,
+        maps: 72,
+        passes: 72,
+        draws: 1080,
+        triangles: 3_551_040,
+        cpu_submit_ms: 0.05,
+        multiview_group: 0,
+    });
+    let mut harness = harness_on(lab, PanelTab::Shadows);
+    harness.get_by_label("32 lights, 72 maps: 72 passes, 1080 draws by traditional");
+    assert!(
+        harness.query_by_label("Multiview").is_none(),
+        "no group to show"
+    );
+    harness
+        .get_by_role_and_label(Role::ComboBox, "Maps by")
+        .click();
+    harness.run();
+    harness
+        .get_by_role(Role::ListBox)
+        .get_by_label("atlas")
+        .click();
+    harness.run();
+    assert_eq!(
+        harness.state().settings.layered.path,
+        render_core::shadow_view::LayeredPath::Atlas
+    );
+    // The last frame still drew the traditional way: the row says it fell back.
+    harness.get_by_label("32 lights, 72 maps: 72 passes, 1080 draws by traditional (fallback)");
+}
+
+#[test]
 fn the_units_combo_reads_a_file_again_in_another_unit() {
     let mut lab = Lab::new();
     lab.scene.name = "scenes/diorama.gltf".into();

@@ -1,0 +1,225 @@
+//! `bench --sweep maps`: many lights as Rákos measures them (GPU Pro 4, ch. 19, Figure 19.3):
+//! each path (a pass per map, multiview groups, an instanced atlas) for each number of lights
+//! and map size along the camera path, with the GPU time of the maps, the passes and draws
+//! recorded and the CPU time of recording them. Ratios are against `traditional` in the same
+//! run.
+
+use std::fmt::Write as _;
+
+use anyhow::Context as _;
+use render_core::frame::{FrameReport, FrameSettings, ShadowSetup};
+use render_core::geom::Camera;
+use render_core::scene::CameraPath;
+use render_core::shadow_view::{LayeredPath, LayeredSettings};
+
+use super::median;
+use crate::cli::BenchArgs;
+use crate::headless::Session;
+
+/// Medians of one (path, lights, size) over the path's frames.
+struct MapsRow {
+    path: LayeredPath,
+    /// The path that ran, after the adapter's fallbacks.
+    ran_as: LayeredPath,
+    lights: u32,
+    maps: u32,
+    size: u32,
+    frames: usize,
+    gpu_frame_ms: Option<f64>,
+    maps_ms: Option<f64>,
+    passes: u32,
+    draws: u32,
+    triangles: u64,
+    cpu_submit_ms: Option<f64>,
+    cpu_culling_ms: Option<f64>,
+    /// `traditional`'s maps time over this row's, for the same lights and size.
+    saved: Option<f64>,
+}
+
+/// Runs the sweep and prints (and writes) its table.
+pub(super) fn sweep_maps(
+    args: &BenchArgs,
+    session: &mut Session,
+    (base, path, template): (FrameSettings, &CameraPath, &Camera),
+) -> anyhow::Result<()> {
+    let sizes = if args.map_sizes.is_empty() {
+        vec![base.shadow.resolution]
+    } else {
+        args.map_sizes.clone()
+    };
+    let range = LayeredSettings::MIN_RESOLUTION..=LayeredSettings::MAX_RESOLUTION;
+    if let Some(size) = sizes.iter().find(|s| !range.contains(s)) {
+        anyhow::bail!(
+            "--map-sizes: {size} is outside {} to {}",
+            range.start(),
+            range.end()
+        );
+    }
+    let available = session.scene.lights.len() as u32;
+    if available == 0 {
+        anyhow::bail!(
+            "--sweep maps: {} has no point or spot lights (builtin:hall has 32)",
+            session.scene.name
+        );
+    }
+    let mut counts: Vec<u32> = args
+        .light_counts
+        .iter()
+        .map(|&n| n.clamp(1, available))
+        .collect();
+    counts.dedup();
+    let mut rows = Vec::new();
+    for &size in &sizes {
+        for &lights in &counts {
+            let first = rows.len();
+            for path_kind in LayeredPath::ALL {
+                let mut settings = FrameSettings {
+                    setup: ShadowSetup::Lights,
+                    ..base
+                };
+                settings.shadow.resolution = size;
+                settings.layered.path = path_kind;
+                settings.layered.lights = lights;
+                let reports = run(session, path, template, &settings, args)?;
+                rows.push(summarise(path_kind, (lights, size), &reports));
+            }
+            let traditional = rows[first].maps_ms;
+            for row in &mut rows[first..] {
+                row.saved = traditional.zip(row.maps_ms).map(|(t, m)| t / m.max(1e-9));
+            }
+        }
+    }
+    print!("{}", format_table(&rows));
+    if let Some(csv) = &args.csv {
+        std::fs::write(csv, format_csv(&rows))
+            .with_context(|| format!("writing {}", csv.display()))?;
+        eprintln!("wrote {}", csv.display());
+    }
+    Ok(())
+}
+
+/// Warm-up frames, then the measured ones along the path.
+fn run(
+    session: &mut Session,
+    path: &CameraPath,
+    template: &Camera,
+    settings: &FrameSettings,
+    args: &BenchArgs,
+) -> anyhow::Result<Vec<FrameReport>> {
+    let frames = args.frames.max(1);
+    session.renderer = render_core::frame::FrameRenderer::new(&session.ctx);
+    let mut reports = Vec::new();
+    for frame in 0..args.warmup + frames {
+        let u = frame.saturating_sub(args.warmup) as f32 / (frames.max(2) - 1) as f32;
+        let key = path.sample(u);
+        let camera = Camera::look_at(
+            key.eye,
+            key.target,
+            template.fov_y_rad,
+            template.near_m,
+            template.far_m,
+        )
+        .with_up(template.world_up);
+        let (_, report) = session.frame(&camera, settings)?;
+        if frame >= args.warmup {
+            reports.push(report);
+        }
+    }
+    Ok(reports)
+}
+
+fn summarise(path: LayeredPath, (lights, size): (u32, u32), reports: &[FrameReport]) -> MapsRow {
+    let collect =
+        |f: &dyn Fn(&FrameReport) -> Option<f64>| median(reports.iter().filter_map(f).collect());
+    let facts = reports.last().and_then(|r| r.layered);
+    MapsRow {
+        path,
+        ran_as: facts.map_or(path, |f| f.path),
+        lights,
+        maps: facts.map_or(0, |f| f.maps),
+        size,
+        frames: reports.len(),
+        gpu_frame_ms: collect(&FrameReport::gpu_total_ms),
+        maps_ms: collect(&FrameReport::shadow_pass_ms),
+        passes: facts.map_or(0, |f| f.passes),
+        draws: facts.map_or(0, |f| f.draws),
+        triangles: facts.map_or(0, |f| f.triangles),
+        cpu_submit_ms: collect(&|r| r.layered.map(|f| f.cpu_submit_ms)),
+        cpu_culling_ms: collect(&|r| Some(r.cpu.culling_ms)),
+        saved: None,
+    }
+}
+
+const COLUMNS: [&str; 12] = [
+    "path",
+    "lights",
+    "maps",
+    "size",
+    "frames",
+    "GPU frame ms",
+    "maps ms",
+    "traditional/this",
+    "passes",
+    "draws",
+    "CPU submit ms",
+    "CPU cull ms",
+];
+
+fn cells(r: &MapsRow) -> [String; 12] {
+    let opt = |v: Option<f64>| v.map_or_else(|| "n/a".into(), |v| format!("{v:.2}"));
+    let path = if r.ran_as == r.path {
+        r.path.name().to_owned()
+    } else {
+        format!("{} (as {})", r.path.name(), r.ran_as.name())
+    };
+    [
+        path,
+        r.lights.to_string(),
+        r.maps.to_string(),
+        r.size.to_string(),
+        r.frames.to_string(),
+        opt(r.gpu_frame_ms),
+        opt(r.maps_ms),
+        r.saved.map_or_else(|| "-".into(), |s| format!("{s:.2}x")),
+        r.passes.to_string(),
+        r.draws.to_string(),
+        r.cpu_submit_ms
+            .map_or_else(|| "n/a".into(), |v| format!("{v:.3}")),
+        opt(r.cpu_culling_ms),
+    ]
+}
+
+fn format_table(rows: &[MapsRow]) -> String {
+    let lines: Vec<Vec<String>> = std::iter::once(COLUMNS.map(str::to_owned).to_vec())
+        .chain(rows.iter().map(|r| cells(r).to_vec()))
+        .collect();
+    super::table::aligned(&lines, 1)
+}
+
+fn format_csv(rows: &[MapsRow]) -> String {
+    let mut out = String::from(
+        "path,ran_as,lights,maps,size,frames,gpu_frame_ms,maps_ms,traditional_over_this,passes,draws,triangles,cpu_submit_ms,cpu_culling_ms\n",
+    );
+    let opt = |v: Option<f64>| v.map_or_else(String::new, |v| format!("{v:.4}"));
+    for r in rows {
+        let _ = writeln!(
+            out,
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            r.path.name(),
+            r.ran_as.name(),
+            r.lights,
+            r.maps,
+            r.size,
+            r.frames,
+            opt(r.gpu_frame_ms),
+            opt(r.maps_ms),
+            opt(r.saved),
+            r.passes,
+            r.draws,
+            r.triangles,
+            opt(r.cpu_submit_ms),
+            opt(r.cpu_culling_ms)
+        );
+    }
+    out
+}
