@@ -61,8 +61,14 @@ fn composed_shaders() -> Vec<(String, String)> {
             crate::truth::shader_source(volumes),
         ),
     ]);
-    // Many lights: the multiview and atlas paths, and the passes with their light term.
+    // Many lights: the multiview and atlas paths, culling and the culled draws, and the
+    // passes with their light term.
     let layered = crate::layered::LIGHT_WGSL;
+    shaders.extend(
+        crate::layered::culled_sources()
+            .into_iter()
+            .map(|(label, source)| (label.to_owned(), source)),
+    );
     shaders.extend([
         (
             "Layered::multiview".to_owned(),
@@ -73,6 +79,7 @@ fn composed_shaders() -> Vec<(String, String)> {
             "Layered::multiview_probe".to_owned(),
             crate::layered::probe_source(),
         ),
+        ("Layered::cull".to_owned(), crate::layered::cull_source()),
         (
             "Frame::camera_shader (lights)".to_owned(),
             crate::frame::camera_shader_source(layered, true),

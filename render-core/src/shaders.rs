@@ -104,6 +104,17 @@ const FILES: &[(&str, &str)] = &[
         include_str!("layered/multiview.wgsl"),
     ),
     ("layered/atlas.wgsl", include_str!("layered/atlas.wgsl")),
+    ("layered/tile.wgsl", include_str!("layered/tile.wgsl")),
+    ("layered/cull.wgsl", include_str!("layered/cull.wgsl")),
+    ("layered/culled.wgsl", include_str!("layered/culled.wgsl")),
+    (
+        "layered/culled_multiview.wgsl",
+        include_str!("layered/culled_multiview.wgsl"),
+    ),
+    (
+        "layered/culled_atlas.wgsl",
+        include_str!("layered/culled_atlas.wgsl"),
+    ),
     (
         "layered/multiview_probe.wgsl",
         include_str!("layered/multiview_probe.wgsl"),

@@ -12,7 +12,7 @@ use render_core::gpu::read_texture_layer;
 use render_core::layered::multiview_reaches_every_layer;
 use render_core::scene::{LightKind, PunctualLight, Scene, Sun};
 use render_core::scene_gpu::SceneGpu;
-use render_core::shadow_view::{LayeredPath, ShadowView};
+use render_core::shadow_view::{LayerCulling, LayeredPath, ShadowView};
 use shadowlab_tests::{box_on_plane, gpu, pixels_of, render};
 
 const SIZE: (u32, u32) = (256, 192);
@@ -68,6 +68,12 @@ fn camera() -> Camera {
     )
 }
 
+fn with_culling(path: LayeredPath, culling: LayerCulling) -> FrameSettings {
+    let mut settings = lights(path);
+    settings.layered.culling = culling;
+    settings
+}
+
 fn lights(path: LayeredPath) -> FrameSettings {
     let mut settings = FrameSettings {
         setup: ShadowSetup::Lights,
@@ -79,9 +85,12 @@ fn lights(path: LayeredPath) -> FrameSettings {
     settings
 }
 
-/// One frame: the report, every view's map (its square, row by row) and the picture's
-/// light per pixel.
-fn frame(scene: &Scene, settings: &FrameSettings) -> (FrameReport, Vec<Vec<f32>>, Vec<u8>) {
+/// One frame: the report, every view's map (its square, row by row), the picture's light per
+/// pixel, and the triangles each slot kept (where culling ran).
+fn frame(
+    scene: &Scene,
+    settings: &FrameSettings,
+) -> (FrameReport, Vec<Vec<f32>>, Vec<u8>, Vec<u32>) {
     let ctx = gpu();
     let scene_gpu = SceneGpu::new(ctx, scene);
     let mut renderer = FrameRenderer::new(ctx);
@@ -100,7 +109,12 @@ fn frame(scene: &Scene, settings: &FrameSettings) -> (FrameReport, Vec<Vec<f32>>
     let maps = views.iter().map(|v| view_map(texture, v)).collect();
     let capture =
         render_core::frame::FrameCapture::read(ctx, renderer.targets().unwrap()).expect("readback");
-    (report, maps, capture.shadow)
+    let kept = if settings.layered.culling == LayerCulling::None {
+        Vec::new()
+    } else {
+        renderer.lights_kept_triangles(ctx).expect("reads back")
+    };
+    (report, maps, capture.shadow, kept)
 }
 
 /// View `view`'s square of the depth array.
@@ -120,9 +134,10 @@ fn view_map(texture: &wgpu::Texture, view: &ShadowView) -> Vec<f32> {
 }
 
 #[test]
-fn every_path_renders_the_same_maps_and_the_same_shadows_as_a_pass_per_map() {
+fn every_path_and_culling_renders_the_same_maps_and_shadows_as_a_pass_per_map() {
     let scene = scene(four_lights());
-    let (report, traditional, light) = frame(&scene, &lights(LayeredPath::Traditional));
+    let unculled = with_culling(LayeredPath::Traditional, LayerCulling::None);
+    let (report, traditional, light, _) = frame(&scene, &unculled);
     // A spot is one view, a point light six: 14 maps, a pass each.
     assert_eq!(traditional.len(), 14);
     let facts = report.layered.expect("the technique reports its path");
@@ -134,59 +149,76 @@ fn every_path_renders_the_same_maps_and_the_same_shadows_as_a_pass_per_map() {
     assert!(traditional[7].iter().all(|&d| d == 1.0));
     assert_eq!(report.views[7].name, "spot 2");
     assert_eq!(report.views[7].casters_rendered, 0);
-    for path in [LayeredPath::Multiview, LayeredPath::Atlas] {
-        let (report, maps, other_light) = frame(&scene, &lights(path));
-        let facts = report.layered.expect("the technique reports its path");
-        if path == LayeredPath::Multiview && !multiview_reaches_every_layer(gpu()) {
-            // Lavapipe in Mesa 22.3 exposes multiview but draws only a pass's first view:
-            // the path falls back to a pass per map, and says so.
-            assert_eq!(facts.path, LayeredPath::Traditional);
-            assert!(
-                report
-                    .notes
-                    .iter()
-                    .any(|n| n.contains("only the first view"))
-            );
-            assert_eq!(maps, traditional);
-            continue;
-        }
-        assert_eq!(facts.path, path, "lavapipe has clip distances");
-        let mut covered_differently = 0;
-        let mut worst = 0.0f32;
-        for (a, b) in traditional.iter().zip(&maps) {
-            for (&x, &y) in a.iter().zip(b) {
-                if (x < 1.0) != (y < 1.0) {
-                    covered_differently += 1;
-                } else {
-                    worst = worst.max((x - y).abs());
+    for culling in LayerCulling::ALL {
+        for path in LayeredPath::ALL {
+            if (path, culling) == (LayeredPath::Traditional, LayerCulling::None) {
+                continue;
+            }
+            let (report, maps, other_light, kept) = frame(&scene, &with_culling(path, culling));
+            let facts = report.layered.expect("the technique reports its path");
+            assert_eq!(facts.culling, culling);
+            let case = format!("{path}, culling {culling}");
+            if path == LayeredPath::Multiview && !multiview_reaches_every_layer(gpu()) {
+                // Lavapipe in Mesa 22.3 exposes multiview but draws only a pass's first
+                // view: the path falls back to a pass per map, and says so.
+                assert_eq!(facts.path, LayeredPath::Traditional);
+                let note = "only the first view";
+                assert!(report.notes.iter().any(|n| n.contains(note)));
+            } else {
+                assert_eq!(facts.path, path, "lavapipe has clip distances");
+            }
+            same_maps(&traditional, &maps, &case);
+            let differ = light
+                .iter()
+                .zip(&other_light)
+                .filter(|(a, b)| (**a < 128) != (**b < 128))
+                .count();
+            assert!(differ <= 2, "{case}: {differ} pixels shadowed differently");
+            if culling != LayerCulling::None {
+                // Every slot's kept triangles are among those it tested, and culling kept
+                // fewer than it tested.
+                let kept: u64 = kept.iter().map(|&k| u64::from(k)).sum();
+                assert!(kept > 0 && kept < facts.triangles_tested, "{case}: {kept}");
+            }
+            match (facts.path, culling) {
+                (LayeredPath::Multiview, _) => {
+                    let group = facts.multiview_group;
+                    let limit = gpu().device.limits().max_multiview_view_count;
+                    assert!(group >= 2 && group <= limit, "{group} within {limit}");
+                    assert_eq!(facts.passes, 14u32.div_ceil(group));
                 }
-            }
-        }
-        let texels = 14 * (MAP * MAP) as usize;
-        assert!(
-            covered_differently * 10_000 <= texels,
-            "{path}: {covered_differently} of {texels} texels covered differently"
-        );
-        assert!(worst < 1e-5, "{path}: depths differ by {worst}");
-        let differ = light
-            .iter()
-            .zip(&other_light)
-            .filter(|(a, b)| (**a < 128) != (**b < 128))
-            .count();
-        assert!(differ <= 2, "{path}: {differ} pixels shadowed differently");
-        match path {
-            LayeredPath::Multiview => {
-                let group = facts.multiview_group;
-                let limit = gpu().device.limits().max_multiview_view_count;
-                assert!(group >= 2 && group <= limit, "{group} within {limit}");
-                assert_eq!(facts.passes, 14u32.div_ceil(group));
-            }
-            _ => {
-                // 14 maps of 256 fit one page of 4 x 4 tiles: one pass, a draw per mesh.
-                assert_eq!((facts.passes, facts.draws), (1, 2));
+                // 14 maps of 256 fit one page of 4 x 4 tiles: one pass; a draw per mesh, or
+                // with culling one multi-draw of each view's kept triangles.
+                (LayeredPath::Atlas, LayerCulling::None) => {
+                    assert_eq!((facts.passes, facts.draws), (1, 2));
+                }
+                (LayeredPath::Atlas, _) => assert_eq!((facts.passes, facts.draws), (1, 14)),
+                (LayeredPath::Traditional, _) => assert_eq!(facts.passes, 14),
             }
         }
     }
+}
+
+/// The maps agree texel by texel: the same texels covered (but for one in 10,000, the
+/// rasteriser's rounding on a triangle's edge) and their depths within 1e-5.
+fn same_maps(expected: &[Vec<f32>], maps: &[Vec<f32>], case: &str) {
+    let mut covered_differently = 0;
+    let mut worst = 0.0f32;
+    for (a, b) in expected.iter().zip(maps) {
+        for (&x, &y) in a.iter().zip(b) {
+            if (x < 1.0) != (y < 1.0) {
+                covered_differently += 1;
+            } else {
+                worst = worst.max((x - y).abs());
+            }
+        }
+    }
+    let texels = expected.len() * (MAP * MAP) as usize;
+    assert!(
+        covered_differently * 10_000 <= texels,
+        "{case}: {covered_differently} of {texels} texels covered differently"
+    );
+    assert!(worst < 1e-5, "{case}: depths differ by {worst}");
 }
 
 #[test]

@@ -10,7 +10,7 @@ use anyhow::Context as _;
 use render_core::frame::{FrameReport, FrameSettings, ShadowSetup};
 use render_core::geom::Camera;
 use render_core::scene::CameraPath;
-use render_core::shadow_view::{LayeredPath, LayeredSettings};
+use render_core::shadow_view::{LayerCulling, LayeredPath, LayeredSettings};
 
 use super::median;
 use crate::cli::BenchArgs;
@@ -24,15 +24,21 @@ struct MapsRow {
     lights: u32,
     maps: u32,
     size: u32,
+    culling: LayerCulling,
     frames: usize,
     gpu_frame_ms: Option<f64>,
+    /// GPU time of the maps' passes and of culling them.
     maps_ms: Option<f64>,
     passes: u32,
     draws: u32,
     triangles: u64,
     cpu_submit_ms: Option<f64>,
     cpu_culling_ms: Option<f64>,
-    /// `traditional`'s maps time over this row's, for the same lights and size.
+    /// Per-layer culling's triangles tested and kept (medians over frames).
+    tested: Option<f64>,
+    kept: Option<f64>,
+    /// `traditional`'s maps time without culling over this row's, for the same lights and
+    /// size.
     saved: Option<f64>,
 }
 
@@ -68,22 +74,37 @@ pub(super) fn sweep_maps(
         .map(|&n| n.clamp(1, available))
         .collect();
     counts.dedup();
+    let cullings = args
+        .layer_cullings
+        .iter()
+        .map(|c| c.parse::<LayerCulling>().map_err(anyhow::Error::msg))
+        .collect::<anyhow::Result<Vec<_>>>()?;
     let mut rows = Vec::new();
     for &size in &sizes {
         for &lights in &counts {
             let first = rows.len();
-            for path_kind in LayeredPath::ALL {
-                let mut settings = FrameSettings {
-                    setup: ShadowSetup::Lights,
-                    ..base
-                };
-                settings.shadow.resolution = size;
-                settings.layered.path = path_kind;
-                settings.layered.lights = lights;
-                let reports = run(session, path, template, &settings, args)?;
-                rows.push(summarise(path_kind, (lights, size), &reports));
+            for &culling in &cullings {
+                for path_kind in LayeredPath::ALL {
+                    let mut settings = FrameSettings {
+                        setup: ShadowSetup::Lights,
+                        ..base
+                    };
+                    settings.shadow.resolution = size;
+                    settings.layered = LayeredSettings {
+                        path: path_kind,
+                        lights,
+                        culling,
+                    };
+                    let frames = run(session, path, template, &settings, args)?;
+                    rows.push(summarise(path_kind, (lights, size, culling), &frames));
+                }
             }
-            let traditional = rows[first].maps_ms;
+            // The baseline: a pass per map, no culling (the first row when it was run).
+            let traditional = rows[first..]
+                .iter()
+                .find(|r| r.path == LayeredPath::Traditional && r.culling == LayerCulling::None)
+                .unwrap_or(&rows[first])
+                .maps_ms;
             for row in &mut rows[first..] {
                 row.saved = traditional.zip(row.maps_ms).map(|(t, m)| t / m.max(1e-9));
             }
@@ -98,14 +119,15 @@ pub(super) fn sweep_maps(
     Ok(())
 }
 
-/// Warm-up frames, then the measured ones along the path.
+/// Warm-up frames, then the measured ones along the path, each with the triangles culling
+/// kept (read after the frame, so not in its times).
 fn run(
     session: &mut Session,
     path: &CameraPath,
     template: &Camera,
     settings: &FrameSettings,
     args: &BenchArgs,
-) -> anyhow::Result<Vec<FrameReport>> {
+) -> anyhow::Result<Vec<(FrameReport, Option<u64>)>> {
     let frames = args.frames.max(1);
     session.renderer = render_core::frame::FrameRenderer::new(&session.ctx);
     let mut reports = Vec::new();
@@ -122,58 +144,96 @@ fn run(
         .with_up(template.world_up);
         let (_, report) = session.frame(&camera, settings)?;
         if frame >= args.warmup {
-            reports.push(report);
+            let culled = report
+                .layered
+                .is_some_and(|f| f.culling != LayerCulling::None);
+            let kept = if culled {
+                let kept = session.renderer.lights_kept_triangles(&session.ctx)?;
+                Some(kept.iter().map(|&k| u64::from(k)).sum())
+            } else {
+                None
+            };
+            reports.push((report, kept));
         }
     }
     Ok(reports)
 }
 
-fn summarise(path: LayeredPath, (lights, size): (u32, u32), reports: &[FrameReport]) -> MapsRow {
-    let collect =
-        |f: &dyn Fn(&FrameReport) -> Option<f64>| median(reports.iter().filter_map(f).collect());
-    let facts = reports.last().and_then(|r| r.layered);
+fn summarise(
+    path: LayeredPath,
+    (lights, size, culling): (u32, u32, LayerCulling),
+    frames: &[(FrameReport, Option<u64>)],
+) -> MapsRow {
+    let collect = |f: &dyn Fn(&FrameReport) -> Option<f64>| {
+        median(frames.iter().map(|(r, _)| r).filter_map(f).collect())
+    };
+    let facts = frames.last().and_then(|(r, _)| r.layered);
     MapsRow {
         path,
         ran_as: facts.map_or(path, |f| f.path),
         lights,
         maps: facts.map_or(0, |f| f.maps),
         size,
-        frames: reports.len(),
+        culling,
+        frames: frames.len(),
         gpu_frame_ms: collect(&FrameReport::gpu_total_ms),
-        maps_ms: collect(&FrameReport::shadow_pass_ms),
+        // The maps' passes and the culling's compute before them.
+        maps_ms: collect(&|r| {
+            r.shadow_pass_ms().map(|ms| {
+                ms + r
+                    .gpu_ms(render_core::frame::pass_label::CULLING)
+                    .unwrap_or(0.0)
+            })
+        }),
         passes: facts.map_or(0, |f| f.passes),
         draws: facts.map_or(0, |f| f.draws),
         triangles: facts.map_or(0, |f| f.triangles),
         cpu_submit_ms: collect(&|r| r.layered.map(|f| f.cpu_submit_ms)),
         cpu_culling_ms: collect(&|r| Some(r.cpu.culling_ms)),
+        tested: collect(&|r| {
+            r.layered
+                .filter(|f| f.culling != LayerCulling::None)
+                .map(|f| f.triangles_tested as f64)
+        }),
+        kept: median(
+            frames
+                .iter()
+                .filter_map(|(_, k)| k.map(|k| k as f64))
+                .collect(),
+        ),
         saved: None,
     }
 }
 
-const COLUMNS: [&str; 12] = [
+const COLUMNS: [&str; 15] = [
     "path",
+    "culling",
     "lights",
     "maps",
     "size",
     "frames",
     "GPU frame ms",
-    "maps ms",
+    "maps+cull ms",
     "traditional/this",
     "passes",
     "draws",
+    "triangles tested",
+    "kept",
     "CPU submit ms",
     "CPU cull ms",
 ];
 
-fn cells(r: &MapsRow) -> [String; 12] {
+fn cells(r: &MapsRow) -> [String; 15] {
     let opt = |v: Option<f64>| v.map_or_else(|| "n/a".into(), |v| format!("{v:.2}"));
     let path = if r.ran_as == r.path {
         r.path.name().to_owned()
     } else {
         format!("{} (as {})", r.path.name(), r.ran_as.name())
     };
+    let count = |v: Option<f64>| v.map_or_else(|| "-".into(), |v| format!("{v:.0}"));
     [
         path,
+        r.culling.name().to_owned(),
         r.lights.to_string(),
         r.maps.to_string(),
         r.size.to_string(),
@@ -183,6 +243,8 @@ fn cells(r: &MapsRow) -> [String; 12] {
         r.saved.map_or_else(|| "-".into(), |s| format!("{s:.2}x")),
         r.passes.to_string(),
         r.draws.to_string(),
+        count(r.tested),
+        count(r.kept),
         r.cpu_submit_ms
             .map_or_else(|| "n/a".into(), |v| format!("{v:.3}")),
         opt(r.cpu_culling_ms),
@@ -198,15 +260,16 @@ fn format_table(rows: &[MapsRow]) -> String {
 
 fn format_csv(rows: &[MapsRow]) -> String {
     let mut out = String::from(
-        "path,ran_as,lights,maps,size,frames,gpu_frame_ms,maps_ms,traditional_over_this,passes,draws,triangles,cpu_submit_ms,cpu_culling_ms\n",
+        "path,ran_as,culling,lights,maps,size,frames,gpu_frame_ms,maps_ms,traditional_over_this,passes,draws,triangles,triangles_tested,triangles_kept,cpu_submit_ms,cpu_culling_ms\n",
     );
     let opt = |v: Option<f64>| v.map_or_else(String::new, |v| format!("{v:.4}"));
     for r in rows {
         let _ = writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             r.path.name(),
             r.ran_as.name(),
+            r.culling.name(),
             r.lights,
             r.maps,
             r.size,
@@ -217,6 +280,8 @@ fn format_csv(rows: &[MapsRow]) -> String {
             r.passes,
             r.draws,
             r.triangles,
+            opt(r.tested),
+            opt(r.kept),
             opt(r.cpu_submit_ms),
             opt(r.cpu_culling_ms)
         );

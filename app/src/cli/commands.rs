@@ -136,6 +136,15 @@ pub struct BenchArgs {
     /// Map sizes of `--sweep maps` (default: `--shadow-res`), 64 to 4096 texels.
     #[arg(long, value_delimiter = ',', value_name = "N,N")]
     pub map_sizes: Vec<u32>,
+    /// Per-layer culling of `--sweep maps`: none, frustum, back-faces, both (Rákos's
+    /// Figures 19.8 and 19.9).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "none,both",
+        value_name = "C,C"
+    )]
+    pub layer_cullings: Vec<String>,
 }
 
 /// What `bench --sweep` varies.

@@ -3,7 +3,7 @@
 use anyhow::bail;
 use clap::Args;
 use render_core::frame::{FrameSettings, ShadowSetup};
-use render_core::shadow_view::{LayeredPath, LayeredSettings};
+use render_core::shadow_view::{LayerCulling, LayeredPath, LayeredSettings};
 
 /// How many lights cast shadows, and how their maps are rendered.
 #[derive(Args, Debug, Default, Clone)]
@@ -16,6 +16,10 @@ pub struct LayeredArgs {
     /// Many lights: only the scene's first N lights shine and cast shadows (0: all).
     #[arg(long, value_name = "N")]
     pub lights: Option<u32>,
+    /// Many lights: per-layer culling of triangles in compute before the maps are drawn:
+    /// none, frustum (each view's), back-faces (a closed mesh's, away from the light) or both.
+    #[arg(long, value_parser = parse_culling, value_name = "CULL")]
+    pub layer_culling: Option<LayerCulling>,
 }
 
 impl LayeredArgs {
@@ -42,6 +46,9 @@ impl LayeredArgs {
             }
             settings.layered.lights = lights;
         }
+        if let Some(culling) = self.layer_culling {
+            settings.layered.culling = culling;
+        }
         Ok(())
     }
 }
@@ -58,6 +65,10 @@ pub fn resolution_range(lights: bool) -> std::ops::RangeInclusive<u32> {
 }
 
 fn parse_layered(s: &str) -> Result<LayeredPath, String> {
+    s.parse()
+}
+
+fn parse_culling(s: &str) -> Result<LayerCulling, String> {
     s.parse()
 }
 
@@ -85,6 +96,9 @@ mod tests {
         assert_eq!(s.shadow.resolution, 256);
         let s = settings(&["--shadow", "lights", "--lights", "4"]).unwrap();
         assert_eq!((s.setup, s.layered.lights), (ShadowSetup::Lights, 4));
+        assert_eq!(s.layered.culling, LayerCulling::Both);
+        let s = settings(&["--layer-culling", "frustum"]).unwrap();
+        assert_eq!(s.layered.culling, LayerCulling::Frustum);
         // The sun's maps keep their range.
         let e = settings(&["--shadow-res", "256"]).unwrap_err();
         assert!(e.to_string().contains("--shadow-res 256"), "{e}");

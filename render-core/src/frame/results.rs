@@ -142,6 +142,12 @@ impl FrameRenderer {
         self.techniques.layered().depth_texture()
     }
 
+    /// The triangles per-layer culling kept for each slot (a view, or a multiview group) in
+    /// the last frame that culled. Blocks: for tests and reports.
+    pub fn lights_kept_triangles(&self, ctx: &GpuContext) -> Result<Vec<u32>, GpuError> {
+        self.techniques.layered().read_kept(ctx)
+    }
+
     /// The last frame's intervals of `instance`'s shadow volume (metres along the light from
     /// the caster; empty when culled), with shadow volumes the frame's setup; `None` otherwise
     /// or for a non-caster. Blocks: for a click, tests and reports.

@@ -7,6 +7,8 @@
 //! Long-lived: pipelines, the depth array and the light records (growing as needed). Per
 //! frame: the views (`lights.rs`), where they render (`targets.rs`), each view's casters.
 
+mod cull;
+mod culled;
 mod lights;
 mod paths;
 mod probe;
@@ -14,6 +16,12 @@ mod targets;
 
 use std::time::Instant;
 
+#[cfg(test)]
+pub(crate) use cull::cull_source;
+use cull::{Slot, TriangleCull};
+use culled::CulledDraws;
+#[cfg(test)]
+pub(crate) use culled::culled_sources;
 pub use lights::{LightRecord, LightViews, light_views};
 use paths::{PathInput, Paths};
 #[cfg(test)]
@@ -28,7 +36,7 @@ use crate::culling::{CasterOutcome, Method};
 use crate::gpu::{GpuContext, LogOnce};
 use crate::scene_gpu::DrawList;
 use crate::shadow_map::cpu_casters::CpuCasters;
-use crate::shadow_view::{LayeredPath, LayeredSettings, ShadowView};
+use crate::shadow_view::{LayerCulling, LayeredPath, LayeredSettings, ShadowView};
 use crate::technique::{
     DrawInput, InsetSources, ShadowPasses, ShadowReport, ShadowTechnique, TechniqueInput,
     ViewReport,
@@ -41,6 +49,8 @@ pub(crate) const LIGHT_WGSL: &str = "layered/light.wgsl";
 pub struct LayeredTechnique {
     maps: LayeredMaps,
     paths: Paths,
+    cull: TriangleCull,
+    culled: CulledDraws,
     cpu: CpuCasters,
     method: Method,
     last: LastFrame,
@@ -63,14 +73,20 @@ struct LastFrame {
     /// CPU time of recording the path's passes and draws, milliseconds.
     cpu_submit_ms: f64,
     resolution: u32,
+    culling: LayerCulling,
+    triangles_tested: u64,
 }
 
 impl LayeredTechnique {
     /// `layouts`: group 0 of scene passes and one view alone.
     pub fn new(ctx: &GpuContext, layouts: [&wgpu::BindGroupLayout; 2]) -> Self {
+        let paths = Paths::new(ctx, layouts);
+        let runs = (paths.multiview_group() > 0, paths.has_atlas());
         Self {
             maps: LayeredMaps::new(&ctx.device),
-            paths: Paths::new(ctx, layouts),
+            cull: TriangleCull::new(ctx, layouts[0]),
+            culled: CulledDraws::new(ctx, layouts, runs),
+            paths,
             cpu: CpuCasters::new(ctx),
             method: Method::Vfc,
             last: LastFrame::default(),
@@ -81,6 +97,22 @@ impl LayeredTechnique {
     /// The depth array the maps are in, for tests that read them back.
     pub fn depth_texture(&self) -> &wgpu::Texture {
         &self.maps.texture
+    }
+
+    /// The triangles each slot (a view, or a multiview group) kept in the last frame that
+    /// culled. Blocks: for tests and reports.
+    pub fn read_kept(&self, ctx: &GpuContext) -> Result<Vec<u32>, crate::gpu::GpuError> {
+        self.cull.read_kept(ctx)
+    }
+
+    /// The culling this frame runs: none where a record cannot name the view or the
+    /// instance (more than 256 views, or 2^24 instances).
+    fn culling_for(input: &TechniqueInput<'_>, views: usize) -> LayerCulling {
+        if views > 256 || input.scene_gpu.instance_count >= 1 << 24 {
+            LayerCulling::None
+        } else {
+            input.layered.culling
+        }
     }
 
     /// The path a request runs as here, and why it differs.
@@ -219,48 +251,53 @@ impl ShadowTechnique for LayeredTechnique {
             timer: draw.timer,
             indirect_first_instance: draw.indirect_first_instance,
         };
-        let (passes, lists): (u32, Vec<(u32, u64)>) = match path {
-            LayeredPath::Traditional => {
-                let passes = self
-                    .paths
-                    .draw_traditional(encoder, &self.maps, &path_input);
-                let lists = (0..draw.views.len())
-                    .filter_map(|v| self.cpu.draws(v))
-                    .map(|l| (l.len(), l.triangles))
-                    .collect();
-                (passes, lists)
-            }
-            LayeredPath::Multiview => {
-                let groups = self
-                    .paths
-                    .draw_multiview(ctx, encoder, &self.maps, &path_input)
-                    .unwrap_or(0);
-                let lists = self
-                    .paths
-                    .multiview_lists()
-                    .take(groups as usize)
-                    .map(|l| (l.len(), l.triangles))
-                    .collect();
-                (groups, lists)
-            }
-            LayeredPath::Atlas => {
-                let pages = self
-                    .paths
-                    .draw_atlas(ctx, encoder, &self.maps, &path_input)
-                    .unwrap_or(0);
-                let lists = self
-                    .paths
-                    .atlas_lists()
-                    .take(pages as usize)
-                    .map(|l| (l.len(), l.triangles))
-                    .collect();
-                (pages, lists)
-            }
+        let culling = Self::culling_for(input, draw.views.len());
+        let (passes, draws, triangles) = if culling == LayerCulling::None {
+            self.last.triangles_tested = 0;
+            draw_direct(
+                (&mut self.paths, &self.maps, &self.cpu),
+                (ctx, encoder),
+                (path, &path_input),
+            )
+        } else {
+            let slots = slots_of(path, &self.cpu, draw.views, self.paths.multiview_group());
+            let slots: Vec<Slot<'_>> = slots
+                .iter()
+                .map(|(first_view, views, casters, lights)| Slot {
+                    first_view: *first_view,
+                    views: *views,
+                    casters,
+                    lights,
+                })
+                .collect();
+            let tests = (u32::from(culling.frustum()) * cull::CULL_FRUSTUM)
+                | (u32::from(culling.back_faces()) * cull::CULL_BACK_FACES);
+            self.cull
+                .prepare(ctx, (input.scene, input.scene_gpu), &slots, tests);
+            self.culled
+                .prepare(ctx, &self.cull, input.scene_gpu, self.maps.side());
+            self.cull.encode(encoder, draw.frame_group, draw.timer);
+            self.last.triangles_tested = self.cull.triangles;
+            let both = (&self.maps, &self.cull);
+            let passes = match path {
+                LayeredPath::Traditional => {
+                    Some(self.culled.draw_traditional(encoder, both, &path_input))
+                }
+                LayeredPath::Multiview => self.culled.draw_multiview(
+                    ctx,
+                    encoder,
+                    both,
+                    (&path_input, self.paths.multiview_group() as usize),
+                ),
+                LayeredPath::Atlas => self.culled.draw_atlas(encoder, both, &path_input),
+            };
+            (passes.unwrap_or(0), slots.len() as u32, self.cull.triangles)
         };
+        self.last.culling = culling;
         self.last.cpu_submit_ms = recording.elapsed().as_secs_f64() * 1000.0;
         self.last.passes = passes;
-        self.last.draws = lists.iter().map(|l| l.0).sum();
-        self.last.triangles = lists.iter().map(|l| l.1).sum();
+        self.last.draws = draws;
+        self.last.triangles = triangles;
         self.last.views = draw.views.to_vec();
         ShadowPasses {
             light_group: self.maps.light_group.clone(),
@@ -289,11 +326,13 @@ impl ShadowTechnique for LayeredTechnique {
         let last = &self.last;
         let mut notes = last.notes.clone();
         notes.push(format!(
-            "{} lights, {} maps of {} texels by '{}': {} passes, {} draws, {} triangles",
+            "{} lights, {} maps of {} texels by '{}', culling {}: {} passes, {} draws, {} \
+             triangles",
             last.lights,
             last.views.len(),
             last.resolution,
             last.path.name(),
+            last.culling.name(),
             last.passes,
             last.draws,
             last.triangles
@@ -312,6 +351,8 @@ impl ShadowTechnique for LayeredTechnique {
                 triangles: last.triangles,
                 cpu_submit_ms: last.cpu_submit_ms,
                 multiview_group: self.paths.multiview_group(),
+                culling: last.culling,
+                triangles_tested: last.triangles_tested,
             }),
             ..ShadowReport::default()
         }
@@ -334,4 +375,73 @@ impl ShadowTechnique for LayeredTechnique {
     fn exclude(&mut self, instances: &[u32]) {
         self.cpu.exclude(instances);
     }
+}
+
+/// The unculled paths: each view's casters drawn whole. Passes, draws and triangles.
+fn draw_direct(
+    (paths, maps, cpu): (&mut Paths, &LayeredMaps, &CpuCasters),
+    (ctx, encoder): (&GpuContext, &mut wgpu::CommandEncoder),
+    (path, input): (LayeredPath, &PathInput<'_>),
+) -> (u32, u32, u64) {
+    let (passes, lists): (u32, Vec<(u32, u64)>) = match path {
+        LayeredPath::Traditional => {
+            let passes = paths.draw_traditional(encoder, maps, input);
+            let lists = (0..input.views.len())
+                .filter_map(|v| cpu.draws(v))
+                .map(|l| (l.len(), l.triangles))
+                .collect();
+            (passes, lists)
+        }
+        LayeredPath::Multiview => {
+            let groups = paths.draw_multiview(ctx, encoder, maps, input).unwrap_or(0);
+            let lists = paths
+                .multiview_lists()
+                .take(groups as usize)
+                .map(|l| (l.len(), l.triangles))
+                .collect();
+            (groups, lists)
+        }
+        LayeredPath::Atlas => {
+            let pages = paths.draw_atlas(ctx, encoder, maps, input).unwrap_or(0);
+            let lists = paths
+                .atlas_lists()
+                .take(pages as usize)
+                .map(|l| (l.len(), l.triangles))
+                .collect();
+            (pages, lists)
+        }
+    };
+    (
+        passes,
+        lists.iter().map(|l| l.0).sum(),
+        lists.iter().map(|l| l.1).sum(),
+    )
+}
+
+/// The culling's slots for `path`: a view each, or a multiview group each with the union of
+/// its views' casters. (first view, views, casters, the views' lights).
+type SlotOf = (u32, u32, Vec<u32>, Vec<glam::Vec3>);
+
+fn slots_of(path: LayeredPath, cpu: &CpuCasters, views: &[ShadowView], group: u32) -> Vec<SlotOf> {
+    let group = match path {
+        LayeredPath::Multiview => (group as usize).max(1),
+        _ => 1,
+    };
+    (0..views.len().div_ceil(group))
+        .map(|g| {
+            let first = g * group;
+            let range = first..first + (views.len() - first).min(group);
+            let mut casters: Vec<u32> = range
+                .clone()
+                .flat_map(|v| cpu.chosen(v).iter().copied())
+                .collect();
+            casters.sort_unstable();
+            casters.dedup();
+            let lights = views[range.clone()]
+                .iter()
+                .filter_map(|v| v.light.perspective.map(|p| p.position))
+                .collect();
+            (first as u32, range.len() as u32, casters, lights)
+        })
+        .collect()
 }

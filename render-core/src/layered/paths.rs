@@ -82,7 +82,7 @@ impl Paths {
             "Layered::traditional",
             crate::shadow_map::maps::shader_source(),
         );
-        let traditional = depth_pipeline(device, (&layout, &module, "vs_shadow"), None);
+        let traditional = depth_pipeline(device, (&layout, &module, "vs_shadow"), None, false);
         let max_views = device.limits().max_multiview_view_count.min(32);
         let multiview_exposed = ctx.features().contains(wgpu::Features::MULTIVIEW);
         let multiview = super::probe::multiview_reaches_every_layer(ctx).then(|| Multiview {
@@ -181,6 +181,7 @@ impl Paths {
                     &ctx.device,
                     (&m.layout, &m.module, "vs_multiview"),
                     NonZeroU32::new((1u32 << count) - 1),
+                    false,
                 )
             });
             let Some(pass_group) = input.view_buffer.pass_group(first as u32) else {
@@ -254,7 +255,7 @@ impl Atlas {
         );
         let layout = pipeline_layout(device, "Layered::atlas_layout", &[frame, &group_layout]);
         let module = shader_module(device, "Layered::atlas", atlas_source());
-        let pipeline = depth_pipeline(device, (&layout, &module, "vs_atlas"), None);
+        let pipeline = depth_pipeline(device, (&layout, &module, "vs_atlas"), None, false);
         let pairs = pairs_buffer(device, 64);
         let page = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("Layered::atlas_page"),
@@ -347,7 +348,7 @@ fn atlas_group(
 }
 
 /// A depth pass on `target` (every layer of it through multiview where `mask` says), cleared.
-fn depth_pass<'e>(
+pub(super) fn depth_pass<'e>(
     encoder: &'e mut wgpu::CommandEncoder,
     target: &wgpu::TextureView,
     mask: Option<NonZeroU32>,
@@ -364,12 +365,15 @@ fn depth_pass<'e>(
     })
 }
 
-/// Casters' depth only, both faces, as the shadow-map technique draws them.
-fn depth_pipeline(
+/// Casters' depth only, both faces, as the shadow-map technique draws them: from the scene's
+/// vertex buffer, or (`pulled`) fetching the vertices in the shader.
+pub(super) fn depth_pipeline(
     device: &wgpu::Device,
     (layout, module, entry): (&wgpu::PipelineLayout, &wgpu::ShaderModule, &str),
     multiview_mask: Option<NonZeroU32>,
+    pulled: bool,
 ) -> wgpu::RenderPipeline {
+    let buffers = [Some(VERTEX_LAYOUT)];
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(entry),
         layout: Some(layout),
@@ -377,7 +381,7 @@ fn depth_pipeline(
             module,
             entry_point: Some(entry),
             compilation_options: wgpu::PipelineCompilationOptions::default(),
-            buffers: &[Some(VERTEX_LAYOUT)],
+            buffers: if pulled { &[] } else { &buffers },
         },
         primitive: wgpu::PrimitiveState {
             cull_mode: None,

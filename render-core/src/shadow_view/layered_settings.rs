@@ -51,6 +51,59 @@ impl FromStr for LayeredPath {
     }
 }
 
+/// Per-layer culling in compute before the maps are drawn (Rákos 19.5, 19.6): each
+/// triangle against each view's frustum, and a closed mesh's triangles that face away from
+/// the light.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum LayerCulling {
+    /// Every triangle of every caster a view draws.
+    None,
+    Frustum,
+    BackFaces,
+    #[default]
+    Both,
+}
+
+impl LayerCulling {
+    pub const ALL: [Self; 4] = [Self::None, Self::Frustum, Self::BackFaces, Self::Both];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::None => "none",
+            Self::Frustum => "frustum",
+            Self::BackFaces => "back-faces",
+            Self::Both => "both",
+        }
+    }
+
+    pub fn frustum(self) -> bool {
+        matches!(self, Self::Frustum | Self::Both)
+    }
+
+    pub fn back_faces(self) -> bool {
+        matches!(self, Self::BackFaces | Self::Both)
+    }
+}
+
+impl fmt::Display for LayerCulling {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for LayerCulling {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Self::ALL
+            .into_iter()
+            .find(|c| c.name() == s)
+            .ok_or_else(|| {
+                format!("unknown layer culling '{s}' (expected none, frustum, back-faces or both)")
+            })
+    }
+}
+
 /// The many-lights technique's settings.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(default)]
@@ -58,6 +111,8 @@ pub struct LayeredSettings {
     pub path: LayeredPath,
     /// The scene's first this many lights cast shadows and light the frame (0: all of them).
     pub lights: u32,
+    /// Per-layer culling of triangles in compute before the draw.
+    pub culling: LayerCulling,
 }
 
 impl LayeredSettings {
@@ -78,5 +133,14 @@ mod tests {
         }
         let e = "layers".parse::<LayeredPath>().unwrap_err();
         assert!(e.contains("'layers'") && e.contains("atlas"), "{e}");
+        for c in LayerCulling::ALL {
+            assert_eq!(c.name().parse::<LayerCulling>(), Ok(c));
+        }
+        assert!(
+            "faces"
+                .parse::<LayerCulling>()
+                .unwrap_err()
+                .contains("back-faces")
+        );
     }
 }

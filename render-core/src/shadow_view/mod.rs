@@ -15,7 +15,7 @@ mod volume_settings;
 
 pub use buffer::ViewBuffer;
 pub use gpu_data::ShadowViewGpu;
-pub use layered_settings::{LayeredPath, LayeredSettings};
+pub use layered_settings::{LayerCulling, LayeredPath, LayeredSettings};
 pub use settings::{PcfKernel, ShadowSettings};
 pub use volume_settings::{VolumeClamp, VolumePassChoice, VolumeSettings};
 

@@ -180,6 +180,10 @@ pub struct LayeredFacts {
     pub cpu_submit_ms: f64,
     /// The most maps one multiview pass renders on this adapter (0: no multiview).
     pub multiview_group: u32,
+    /// Per-layer culling as it ran (none where it could not), and the triangles it tested:
+    /// each caster's, once per view (per multiview group) that draws it.
+    pub culling: crate::shadow_view::LayerCulling,
+    pub triangles_tested: u64,
 }
 
 /// The overlays a technique draws itself.

@@ -380,6 +380,8 @@ fn the_lights_setup_chooses_how_its_maps_are_rendered_and_says_what_was_drawn() 
         triangles: 3_551_040,
         cpu_submit_ms: 0.05,
         multiview_group: 0,
+        culling: render_core::shadow_view::LayerCulling::None,
+        triangles_tested: 0,
     });
     let mut harness = harness_on(lab, PanelTab::Shadows);
     harness.get_by_label("32 lights, 72 maps: 72 passes, 1080 draws by traditional");

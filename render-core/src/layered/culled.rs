@@ -1,0 +1,228 @@
+//! The culled draws: each path draws the triangles per-layer culling kept (`cull.rs`), one
+//! indirect draw per slot, fetching their vertices in the shader (`culled.wgsl`): a pass and a
+//! draw per view, a multiview pass and a draw per group, or a pass per atlas page with one
+//! multi-draw over its views.
+
+use std::collections::HashMap;
+use std::num::NonZeroU32;
+
+use super::cull::TriangleCull;
+use super::paths::{PathInput, depth_pass, depth_pipeline};
+use super::targets::{LayeredMaps, layer_range};
+use crate::gpu::{
+    GpuContext, bind_group_layout, buffer_entry, pass_label, pipeline_layout, shader_module,
+    storage, uniform,
+};
+use crate::scene_gpu::SceneGpu;
+use crate::shaders::compose;
+
+/// The culled draws' shaders, as the renderer and the validation test compose them: a pass
+/// per view, a multiview group, an atlas page (clip distances).
+pub(crate) fn culled_sources() -> [(&'static str, String); 3] {
+    [
+        ("Layered::culled", compose("layered/culled.wgsl", &[])),
+        (
+            "Layered::culled_multiview",
+            compose("layered/culled_multiview.wgsl", &[]),
+        ),
+        (
+            "Layered::culled_atlas",
+            format!(
+                "enable clip_distances;\n{}",
+                compose("layered/culled_atlas.wgsl", &[])
+            ),
+        ),
+    ]
+}
+
+/// Long-lived pipelines of the culled draws, and this frame's bind group.
+pub struct CulledDraws {
+    group_layout: wgpu::BindGroupLayout,
+    layout: wgpu::PipelineLayout,
+    traditional: wgpu::RenderPipeline,
+    multiview: Option<(wgpu::ShaderModule, HashMap<u32, wgpu::RenderPipeline>)>,
+    atlas: Option<wgpu::RenderPipeline>,
+    page: wgpu::Buffer,
+    group: Option<wgpu::BindGroup>,
+}
+
+impl CulledDraws {
+    /// `layouts`: group 0 of scene passes and one view alone; `multiview` and `atlas`: whether
+    /// those paths run here.
+    pub fn new(
+        ctx: &GpuContext,
+        [frame, pass_view]: [&wgpu::BindGroupLayout; 2],
+        (multiview, atlas): (bool, bool),
+    ) -> Self {
+        let device = &ctx.device;
+        let group_layout = bind_group_layout(
+            device,
+            "Layered::culled",
+            wgpu::ShaderStages::VERTEX,
+            &[storage(true), storage(true), uniform()],
+        );
+        let layout = pipeline_layout(
+            device,
+            "Layered::culled",
+            &[frame, pass_view, &group_layout],
+        );
+        let [(_, one), (_, group), (_, tiles)] = culled_sources();
+        let module = shader_module(device, "Layered::culled", one);
+        let traditional = depth_pipeline(device, (&layout, &module, "vs_culled"), None, true);
+        let multiview = multiview.then(|| {
+            (
+                shader_module(device, "Layered::culled_multiview", group),
+                HashMap::new(),
+            )
+        });
+        let atlas = atlas.then(|| {
+            let module = shader_module(device, "Layered::culled_atlas", tiles);
+            depth_pipeline(device, (&layout, &module, "vs_culled_atlas"), None, true)
+        });
+        let page = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("Layered::culled_page"),
+            size: 16,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Self {
+            group_layout,
+            layout,
+            traditional,
+            multiview,
+            atlas,
+            page,
+            group: None,
+        }
+    }
+
+    /// This frame's bind group: the culling's records, the scene's vertices, the page side.
+    pub fn prepare(
+        &mut self,
+        ctx: &GpuContext,
+        cull: &TriangleCull,
+        scene_gpu: &SceneGpu,
+        side: u32,
+    ) {
+        ctx.queue.write_buffer(
+            &self.page,
+            0,
+            bytemuck::cast_slice(&[side as f32, 0.0, 0.0, 0.0]),
+        );
+        self.group = Some(ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("Layered::culled"),
+            layout: &self.group_layout,
+            entries: &[
+                buffer_entry(0, &cull.records),
+                buffer_entry(1, &scene_gpu.vertex_buffer),
+                buffer_entry(2, &self.page),
+            ],
+        }));
+    }
+
+    /// A pass per view, one indirect draw of its slot.
+    pub fn draw_traditional(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        (maps, cull): (&LayeredMaps, &TriangleCull),
+        input: &PathInput<'_>,
+    ) -> u32 {
+        let Some(group) = &self.group else {
+            return 0;
+        };
+        let mut passes = 0;
+        for (v, view) in (0..).zip(input.views) {
+            let (Some(target), Some(pass_group)) = (
+                maps.layers.get(view.target.layer as usize),
+                input.view_buffer.pass_group(v),
+            ) else {
+                continue;
+            };
+            let query = input.timer.begin_pass(pass_label::SHADOW_MAP, encoder);
+            let mut pass = depth_pass(encoder, target, None, query.as_ref());
+            view.target.set_viewport(&mut pass);
+            pass.set_pipeline(&self.traditional);
+            pass.set_bind_group(0, input.frame_group, &[]);
+            pass.set_bind_group(1, pass_group, &[]);
+            pass.set_bind_group(2, group, &[]);
+            pass.draw_indirect(&cull.draws, 16 * u64::from(v));
+            drop(pass);
+            input.timer.end_pass(encoder, query);
+            passes += 1;
+        }
+        passes
+    }
+
+    /// A multiview pass per group of `group` views, one indirect draw of its slot.
+    pub fn draw_multiview(
+        &mut self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        (maps, cull): (&LayeredMaps, &TriangleCull),
+        (input, group): (&PathInput<'_>, usize),
+    ) -> Option<u32> {
+        let (module, pipelines) = self.multiview.as_mut()?;
+        let bind_group = self.group.as_ref()?;
+        let groups = input.views.len().div_ceil(group.max(1));
+        for g in 0..groups {
+            let first = g * group;
+            let count = (input.views.len() - first).min(group) as u32;
+            let mask = NonZeroU32::new((1u32 << count) - 1);
+            let pipeline = pipelines.entry(count).or_insert_with(|| {
+                depth_pipeline(
+                    &ctx.device,
+                    (&self.layout, module, "vs_culled_multiview"),
+                    mask,
+                    true,
+                )
+            });
+            let Some(pass_group) = input.view_buffer.pass_group(first as u32) else {
+                continue;
+            };
+            let target = layer_range(&maps.texture, input.views[first].target.layer, count);
+            let query = input.timer.begin_pass(pass_label::SHADOW_MAP, encoder);
+            let mut pass = depth_pass(encoder, &target, mask, query.as_ref());
+            input.views[first].target.set_viewport(&mut pass);
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, input.frame_group, &[]);
+            pass.set_bind_group(1, pass_group, &[]);
+            pass.set_bind_group(2, bind_group, &[]);
+            pass.draw_indirect(&cull.draws, 16 * g as u64);
+            drop(pass);
+            input.timer.end_pass(encoder, query);
+        }
+        Some(groups as u32)
+    }
+
+    /// A pass per atlas page, one multi-draw over its views' slots.
+    pub fn draw_atlas(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        (maps, cull): (&LayeredMaps, &TriangleCull),
+        input: &PathInput<'_>,
+    ) -> Option<u32> {
+        let pipeline = self.atlas.as_ref()?;
+        let bind_group = self.group.as_ref()?;
+        let pass_group = input.view_buffer.pass_group(0)?;
+        for (page, target) in (0..).zip(&maps.layers) {
+            let first = input.views.iter().position(|v| v.target.layer == page);
+            let count = input
+                .views
+                .iter()
+                .filter(|v| v.target.layer == page)
+                .count();
+            let query = input.timer.begin_pass(pass_label::SHADOW_MAP, encoder);
+            let mut pass = depth_pass(encoder, target, None, query.as_ref());
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, input.frame_group, &[]);
+            pass.set_bind_group(1, pass_group, &[]);
+            pass.set_bind_group(2, bind_group, &[]);
+            if let Some(first) = first {
+                pass.multi_draw_indirect(&cull.draws, 16 * first as u64, count as u32);
+            }
+            drop(pass);
+            input.timer.end_pass(encoder, query);
+        }
+        Some(maps.layers.len() as u32)
+    }
+}
