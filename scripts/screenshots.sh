@@ -41,6 +41,8 @@ run shot builtin:corridor --light point --size 1280x720 \
 run shot builtin:corridor --light point --size 1280x720 \
     --eye=-30,1.7,-3.5 --target=-10,1,2 --shadow volumes --method bvol --volume-clamp conservative \
     --overlay fill --out screenshots/corridor-fill-strips.png --stats screenshots/corridor-fill-strips.json
+run shot builtin:hall --lights 16 --layered atlas --size 1280x720 --shadow-res 1024 \
+    --eye=9,3.2,5 --target=0,1.6,0 --out screenshots/hall-lights.png --stats screenshots/hall-lights.json
 run shot builtin:robots --size 1280x720 \
     --eye=-28,1.7,0 --target=0,1.7,-3 --shadow volumes --method bvol --overlay volumes \
     --out screenshots/robots-volumes.png --stats screenshots/robots-volumes.json

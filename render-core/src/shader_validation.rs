@@ -81,6 +81,10 @@ fn composed_shaders() -> Vec<(String, String)> {
         ),
         ("Layered::cull".to_owned(), crate::layered::cull_source()),
         (
+            "Layered::traditional".to_owned(),
+            crate::layered::traditional_source(),
+        ),
+        (
             "Frame::camera_shader (lights)".to_owned(),
             crate::frame::camera_shader_source(layered, true),
         ),

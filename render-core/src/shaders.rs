@@ -105,6 +105,11 @@ const FILES: &[(&str, &str)] = &[
     ),
     ("layered/atlas.wgsl", include_str!("layered/atlas.wgsl")),
     ("layered/tile.wgsl", include_str!("layered/tile.wgsl")),
+    ("layered/load.wgsl", include_str!("layered/load.wgsl")),
+    (
+        "layered/traditional.wgsl",
+        include_str!("layered/traditional.wgsl"),
+    ),
     ("layered/cull.wgsl", include_str!("layered/cull.wgsl")),
     ("layered/culled.wgsl", include_str!("layered/culled.wgsl")),
     (

@@ -267,3 +267,48 @@ fn a_point_light_inside_the_box_shadows_everything_outside_it() {
     }
     assert!(ground > 1000, "{ground}");
 }
+
+#[test]
+fn culling_casters_per_view_by_their_frustum_changes_no_map() {
+    // Every light of the hall (72 maps): `vfc` draws each map's casters in its frustum only;
+    // `none` draws every caster into every map. The maps must be the same.
+    let hall = render_core::scene::load_builtin("hall", 1).expect("the hall");
+    let mut settings = with_culling(LayeredPath::Atlas, LayerCulling::None);
+    settings.shadow.resolution = 128;
+    let (vfc, maps, _, _) = frame(&hall, &settings);
+    settings.method = Method::None;
+    let (none, every, _, _) = frame(&hall, &settings);
+    assert_eq!(maps.len(), 72);
+    assert_eq!(
+        maps, every,
+        "a caster outside a view's frustum drew into it"
+    );
+    let drawn = |r: &FrameReport| r.views.iter().map(|v| v.casters_rendered).sum::<u32>();
+    assert!(
+        drawn(&vfc) < drawn(&none),
+        "{} against {}",
+        drawn(&vfc),
+        drawn(&none)
+    );
+}
+
+#[test]
+fn the_geometry_loads_of_the_bench_change_no_map_or_leave_every_map_empty() {
+    let scene = scene(four_lights());
+    let unloaded = with_culling(LayeredPath::Atlas, LayerCulling::Frustum);
+    let (_, maps, _, _) = frame(&scene, &unloaded);
+    for path in LayeredPath::ALL {
+        // Skinning-like work per vertex (Rákos's Figure 19.6) computes and draws the same.
+        let mut heavy = with_culling(path, LayerCulling::Frustum);
+        heavy.layered.load.vertex_work = 16;
+        let (_, worked, _, _) = frame(&scene, &heavy);
+        same_maps(&maps, &worked, &format!("{path} with vertex work"));
+        // Without rasterisation (Figure 19.4) the vertices run and no texel is written.
+        heavy.layered.load.no_raster = true;
+        let (_, empty, _, _) = frame(&scene, &heavy);
+        assert!(
+            empty.iter().flatten().all(|&d| d == 1.0),
+            "{path} rasterised"
+        );
+    }
+}

@@ -10,7 +10,7 @@ use anyhow::Context as _;
 use render_core::frame::{FrameReport, FrameSettings, ShadowSetup};
 use render_core::geom::Camera;
 use render_core::scene::CameraPath;
-use render_core::shadow_view::{LayerCulling, LayeredPath, LayeredSettings};
+use render_core::shadow_view::{GeometryLoad, LayerCulling, LayeredPath, LayeredSettings};
 
 use super::median;
 use crate::cli::BenchArgs;
@@ -25,6 +25,7 @@ struct MapsRow {
     maps: u32,
     size: u32,
     culling: LayerCulling,
+    load: GeometryLoad,
     frames: usize,
     gpu_frame_ms: Option<f64>,
     /// GPU time of the maps' passes and of culling them.
@@ -94,9 +95,12 @@ pub(super) fn sweep_maps(
                         path: path_kind,
                         lights,
                         culling,
+                        ..base.layered
                     };
                     let frames = run(session, path, template, &settings, args)?;
-                    rows.push(summarise(path_kind, (lights, size, culling), &frames));
+                    let mut row = summarise(path_kind, (lights, size, culling), &frames);
+                    row.load = base.layered.load;
+                    rows.push(row);
                 }
             }
             // The baseline: a pass per map, no culling (the first row when it was run).
@@ -175,6 +179,7 @@ fn summarise(
         maps: facts.map_or(0, |f| f.maps),
         size,
         culling,
+        load: GeometryLoad::default(),
         frames: frames.len(),
         gpu_frame_ms: collect(&FrameReport::gpu_total_ms),
         // The maps' passes and the culling's compute before them.
@@ -205,9 +210,10 @@ fn summarise(
     }
 }
 
-const COLUMNS: [&str; 15] = [
+const COLUMNS: [&str; 16] = [
     "path",
     "culling",
+    "load",
     "lights",
     "maps",
     "size",
@@ -223,7 +229,23 @@ const COLUMNS: [&str; 15] = [
     "CPU cull ms",
 ];
 
-fn cells(r: &MapsRow) -> [String; 15] {
+/// The geometry load in words: `-`, `no raster`, `work 16`, `no raster, work 16`.
+fn load_name(load: GeometryLoad) -> String {
+    let mut parts = Vec::new();
+    if load.no_raster {
+        parts.push("no raster".to_owned());
+    }
+    if load.vertex_work > 0 {
+        parts.push(format!("work {}", load.vertex_work));
+    }
+    if parts.is_empty() {
+        "-".into()
+    } else {
+        parts.join(", ")
+    }
+}
+
+fn cells(r: &MapsRow) -> [String; 16] {
     let opt = |v: Option<f64>| v.map_or_else(|| "n/a".into(), |v| format!("{v:.2}"));
     let path = if r.ran_as == r.path {
         r.path.name().to_owned()
@@ -234,6 +256,7 @@ fn cells(r: &MapsRow) -> [String; 15] {
     [
         path,
         r.culling.name().to_owned(),
+        load_name(r.load),
         r.lights.to_string(),
         r.maps.to_string(),
         r.size.to_string(),
@@ -260,16 +283,18 @@ fn format_table(rows: &[MapsRow]) -> String {
 
 fn format_csv(rows: &[MapsRow]) -> String {
     let mut out = String::from(
-        "path,ran_as,culling,lights,maps,size,frames,gpu_frame_ms,maps_ms,traditional_over_this,passes,draws,triangles,triangles_tested,triangles_kept,cpu_submit_ms,cpu_culling_ms\n",
+        "path,ran_as,culling,no_raster,vertex_work,lights,maps,size,frames,gpu_frame_ms,maps_ms,traditional_over_this,passes,draws,triangles,triangles_tested,triangles_kept,cpu_submit_ms,cpu_culling_ms\n",
     );
     let opt = |v: Option<f64>| v.map_or_else(String::new, |v| format!("{v:.4}"));
     for r in rows {
         let _ = writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             r.path.name(),
             r.ran_as.name(),
             r.culling.name(),
+            r.load.no_raster,
+            r.load.vertex_work,
             r.lights,
             r.maps,
             r.size,

@@ -20,12 +20,26 @@ pub struct LayeredArgs {
     /// none, frustum (each view's), back-faces (a closed mesh's, away from the light) or both.
     #[arg(long, value_parser = parse_culling, value_name = "CULL")]
     pub layer_culling: Option<LayerCulling>,
+    /// Many lights, to measure the geometry stage (Rákos's Figure 19.4): every vertex lands
+    /// outside its map after its work, so nothing is rasterised.
+    #[arg(long)]
+    pub no_raster: bool,
+    /// Many lights, a heavier vertex stage (Rákos's Figure 19.6): this many rounds of
+    /// skinning-like matrix products per vertex, 0 to 256.
+    #[arg(long, value_name = "N")]
+    pub vertex_work: Option<u32>,
 }
 
 impl LayeredArgs {
-    /// Whether these ask for the many-lights technique.
+    /// Whether these ask for the many-lights technique (a many-lights option and no other
+    /// setup).
     pub fn asks_for_lights(&self, shadow: Option<ShadowSetup>) -> bool {
-        shadow == Some(ShadowSetup::Lights) || (shadow.is_none() && self.layered.is_some())
+        let any = self.layered.is_some()
+            || self.lights.is_some()
+            || self.layer_culling.is_some()
+            || self.no_raster
+            || self.vertex_work.is_some();
+        shadow == Some(ShadowSetup::Lights) || (shadow.is_none() && any)
     }
 
     /// The options into `settings`; `--layered` alone picks `--shadow lights`.
@@ -48,6 +62,15 @@ impl LayeredArgs {
         }
         if let Some(culling) = self.layer_culling {
             settings.layered.culling = culling;
+        }
+        if self.no_raster {
+            settings.layered.load.no_raster = true;
+        }
+        if let Some(work) = self.vertex_work {
+            if work > 256 {
+                bail!("--vertex-work {work}: at most 256 rounds");
+            }
+            settings.layered.load.vertex_work = work;
         }
         Ok(())
     }
@@ -97,8 +120,18 @@ mod tests {
         let s = settings(&["--shadow", "lights", "--lights", "4"]).unwrap();
         assert_eq!((s.setup, s.layered.lights), (ShadowSetup::Lights, 4));
         assert_eq!(s.layered.culling, LayerCulling::Both);
-        let s = settings(&["--layer-culling", "frustum"]).unwrap();
+        let s = settings(&[
+            "--layer-culling",
+            "frustum",
+            "--no-raster",
+            "--vertex-work",
+            "8",
+        ])
+        .unwrap();
         assert_eq!(s.layered.culling, LayerCulling::Frustum);
+        assert!(s.layered.load.no_raster);
+        assert_eq!(s.layered.load.vertex_work, 8);
+        assert!(settings(&["--vertex-work", "1000"]).is_err());
         // The sun's maps keep their range.
         let e = settings(&["--shadow-res", "256"]).unwrap_err();
         assert!(e.to_string().contains("--shadow-res 256"), "{e}");

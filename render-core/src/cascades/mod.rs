@@ -311,6 +311,7 @@ impl ViewLayout for Cascades {
                     },
                 ],
                 shades_by: measure,
+                load: crate::shadow_view::GeometryLoad::default(),
             });
         }
         views

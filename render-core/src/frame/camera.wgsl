@@ -67,7 +67,8 @@ fn fs_shade(in: VsOut) -> ShadeOut {
     let l = light_here.xyz;
     let diffuse = max(dot(n, l), 0.0) * light_here.w * visibility;
     let sky = mix(vec3<f32>(0.30, 0.28, 0.25), vec3<f32>(0.45, 0.55, 0.70), n.y * 0.5 + 0.5);
-    let ambient = sky * 0.35;
+    // Without the sun (a technique lit by the scene's own lights) the sky is dimmer.
+    let ambient = sky * select(0.12, 0.35, frame.direction_to_sun.w > 0.0);
     let sun = vec3<f32>(1.0, 0.95, 0.85);
     var out: ShadeOut;
     var color = data.base_color.rgb * (ambient + sun * diffuse + light.added);

@@ -4,6 +4,7 @@
 // first.
 #import view/common.wgsl
 #import layered/tile.wgsl
+#import layered/load.wgsl
 
 // Per instance of the draws: x the scene instance, y the view.
 @group(1) @binding(0) var<storage, read> pairs: array<vec2<u32>>;
@@ -14,5 +15,5 @@
 fn vs_atlas(@location(0) position: vec3<f32>, @builtin(instance_index) pair_index: u32) -> AtlasOut {
     let pair = pairs[pair_index];
     let view = shadow_views[pair.y];
-    return in_tile(view, shadow_clip_position(view, pair.x, position), page.x);
+    return in_tile(view, loaded(view, shadow_clip_position(view, pair.x, position)), page.x);
 }

@@ -3,6 +3,7 @@
 // group (`vs_culled_multiview`), or an atlas page (`vs_culled_atlas`, clip distances at the
 // tile's edges, composed with `enable clip_distances;` first).
 #import view/common.wgsl
+#import layered/load.wgsl
 
 // The view of the pass (the group's first for multiview).
 @group(1) @binding(0) var<uniform> pass_view: ShadowView;
@@ -35,6 +36,6 @@ struct CulledOut {
 fn vs_culled(@builtin(vertex_index) vertex_index: u32) -> CulledOut {
     let c = corner(vertex_index);
     var out: CulledOut;
-    out.clip = shadow_clip_position(pass_view, c.instance, c.position);
+    out.clip = loaded(pass_view, shadow_clip_position(pass_view, c.instance, c.position));
     return out;
 }

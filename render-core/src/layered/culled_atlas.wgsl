@@ -6,5 +6,5 @@
 fn vs_culled_atlas(@builtin(vertex_index) vertex_index: u32) -> AtlasOut {
     let c = corner(vertex_index);
     let view = shadow_views[c.view];
-    return in_tile(view, shadow_clip_position(view, c.instance, c.position), page.x);
+    return in_tile(view, loaded(view, shadow_clip_position(view, c.instance, c.position)), page.x);
 }

@@ -5,6 +5,7 @@
 fn vs_culled_multiview(@builtin(vertex_index) vertex_index: u32, @builtin(view_index) view_index: u32) -> CulledOut {
     let c = corner(vertex_index);
     var out: CulledOut;
-    out.clip = shadow_clip_position(shadow_views[pass_view.index.x + view_index], c.instance, c.position);
+    let view = shadow_views[pass_view.index.x + view_index];
+    out.clip = loaded(view, shadow_clip_position(view, c.instance, c.position));
     return out;
 }

@@ -25,7 +25,7 @@ pub(crate) use culled::culled_sources;
 pub use lights::{LightRecord, LightViews, light_views};
 use paths::{PathInput, Paths};
 #[cfg(test)]
-pub(crate) use paths::{atlas_source, multiview_source};
+pub(crate) use paths::{atlas_source, multiview_source, traditional_source};
 pub use probe::multiview_reaches_every_layer;
 #[cfg(test)]
 pub(crate) use probe::probe_source;
@@ -217,7 +217,10 @@ impl ShadowTechnique for LayeredTechnique {
             .iter()
             .zip(lights.frusta)
             .zip(targets)
-            .map(|((name, light), target)| ShadowView::covering_all_depths(name, light, target))
+            .map(|((name, light), target)| ShadowView {
+                load: input.layered.load,
+                ..ShadowView::covering_all_depths(name, light, target)
+            })
             .collect()
     }
 

@@ -1,6 +1,7 @@
 // The multiview path: one pass draws a group of maps, a layer each, and the view index picks
 // the group's view (layered/paths.rs). Depth only.
 #import view/common.wgsl
+#import layered/load.wgsl
 
 // The group's first view.
 @group(1) @binding(0) var<uniform> pass_view: ShadowView;
@@ -17,7 +18,8 @@ fn vs_multiview(
     @builtin(view_index) view_index: u32,
 ) -> MultiviewOut {
     var out: MultiviewOut;
-    out.clip = shadow_clip_position(shadow_views[pass_view.index.x + view_index], instance, position);
+    let view = shadow_views[pass_view.index.x + view_index];
+    out.clip = loaded(view, shadow_clip_position(view, instance, position));
     return out;
 }
 

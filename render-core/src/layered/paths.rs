@@ -18,6 +18,11 @@ use crate::shaders::compose;
 use crate::shadow_map::cpu_casters::CpuCasters;
 use crate::shadow_view::{SHADOW_FORMAT, ShadowView, ViewBuffer};
 
+/// The traditional path's shader, as the renderer and the validation test compose it.
+pub(crate) fn traditional_source() -> String {
+    compose("layered/traditional.wgsl", &[])
+}
+
 /// The multiview path's shader, as the renderer and the validation test compose it.
 pub(crate) fn multiview_source() -> String {
     compose("layered/multiview.wgsl", &[])
@@ -77,12 +82,8 @@ impl Paths {
     pub fn new(ctx: &GpuContext, [frame, pass_view]: [&wgpu::BindGroupLayout; 2]) -> Self {
         let device = &ctx.device;
         let layout = pipeline_layout(device, "Layered::layout", &[frame, pass_view]);
-        let module = shader_module(
-            device,
-            "Layered::traditional",
-            crate::shadow_map::maps::shader_source(),
-        );
-        let traditional = depth_pipeline(device, (&layout, &module, "vs_shadow"), None, false);
+        let module = shader_module(device, "Layered::traditional", traditional_source());
+        let traditional = depth_pipeline(device, (&layout, &module, "vs_layered"), None, false);
         let max_views = device.limits().max_multiview_view_count.min(32);
         let multiview_exposed = ctx.features().contains(wgpu::Features::MULTIVIEW);
         let multiview = super::probe::multiview_reaches_every_layer(ctx).then(|| Multiview {

@@ -25,7 +25,8 @@ pub struct ShadowViewGpu {
     /// the view direction, 1 from the eye (`DepthMeasure`); w: unused.
     pub shades_depth_m: [f32; 4],
     /// x: the view's index; y: 1 for a perspective view from a point (texels per w, depth
-    /// metres per w squared); z, w: unused.
+    /// metres per w squared); z: 1 when its passes rasterise nothing, w: rounds of extra
+    /// vertex work (`GeometryLoad`).
     pub index: [u32; 4],
     /// A snapped view's texel grid (`TexelGrid`, `light_clip` in WGSL): xyz the light-space
     /// translation of `light_from_world`, w 1 when the view has a grid.
@@ -67,7 +68,12 @@ impl ShadowViewGpu {
                 },
                 0.0,
             ],
-            index: [index, u32::from(light.perspective.is_some()), 0, 0],
+            index: [
+                index,
+                u32::from(light.perspective.is_some()),
+                u32::from(view.load.no_raster),
+                view.load.vertex_work,
+            ],
             grid_origin: light.grid.map_or([0.0; 4], |_| {
                 light
                     .light_from_world

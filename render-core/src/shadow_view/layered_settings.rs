@@ -113,6 +113,8 @@ pub struct LayeredSettings {
     pub lights: u32,
     /// Per-layer culling of triangles in compute before the draw.
     pub culling: LayerCulling,
+    /// Extra load on the maps' geometry stage, to measure it (`bench`).
+    pub load: super::GeometryLoad,
 }
 
 impl LayeredSettings {

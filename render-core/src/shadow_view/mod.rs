@@ -62,6 +62,20 @@ pub struct ShadowView {
     /// `shades_by` says.
     pub shades_depth_m: [f32; 2],
     pub shades_by: DepthMeasure,
+    /// What the passes that render it add to their geometry stage, to measure it (the
+    /// many-lights technique's bench options; none otherwise).
+    pub load: GeometryLoad,
+}
+
+/// Extra load on the geometry stage of the passes that render a view, as Rákos measures it
+/// (GPU Pro 4, ch. 19, Figures 19.4 and 19.6).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct GeometryLoad {
+    /// Every vertex lands outside the view after its work: nothing is rasterised.
+    pub no_raster: bool,
+    /// Rounds of skinning-like work per vertex (a chain of matrix products).
+    pub vertex_work: u32,
 }
 
 /// How a point's camera depth is measured when views choose which of them shades it.
@@ -94,6 +108,7 @@ impl ShadowView {
             target,
             shades_depth_m: [f32::MIN, f32::MAX],
             shades_by: DepthMeasure::ViewDepth,
+            load: GeometryLoad::default(),
         }
     }
 }

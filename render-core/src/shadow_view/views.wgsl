@@ -20,7 +20,8 @@ struct ShadowView {
     shades_depth_m: vec4<f32>,
     // x: this view's index; y: 1 for a perspective view from a point (a spot light, a cube
     // face: texels per w in light_right.w and light_up.w, depth metres per w squared in
-    // light_dir.w); z, w: unused.
+    // light_dir.w); z: 1 when the many-lights passes rasterise nothing; w: rounds of extra
+    // vertex work (shadow_view/mod.rs GeometryLoad, layered/load.wgsl).
     index: vec4<u32>,
     // A snapped view's texel grid (`light_clip`): xyz the light-space translation, w 1 when
     // the view has one.
