@@ -15,6 +15,8 @@ pub struct LoadOptions {
     pub seed: u64,
     pub chunking: ChunkSettings,
     pub units: Units,
+    /// Every object this many times in its place (0 or 1: once).
+    pub copies: u32,
 }
 
 /// A loaded scene and what the user should know about it (a unit that looks wrong).
@@ -25,7 +27,7 @@ pub struct Loaded {
 
 /// Loads `spec` (see [`load_scene_in_file_units`]) in metres, with notes on its unit.
 pub fn load_scene(spec: &str, options: &LoadOptions) -> anyhow::Result<Loaded> {
-    let scene = load_scene_in_file_units(spec, options)?;
+    let scene = load_scene_in_file_units(spec, options)?.with_copies(options.copies);
     if spec.starts_with("builtin:") {
         let notes = (options.units != Units::Metres)
             .then(|| {

@@ -88,6 +88,10 @@ pub struct SceneArgs {
     /// The unit of a glTF file's coordinates: m, cm, mm, in (the scene is scaled to metres).
     #[arg(long, value_name = "UNIT", default_value = "m", value_parser = parse_units)]
     pub units: Units,
+    /// Every object this many times in its place, 1 to 16: the same shadows from that many
+    /// times the geometry (Rákos's Figure 19.7 instances the scene four times).
+    #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=16))]
+    pub copies: u32,
 }
 
 /// The scene when none is named.
@@ -106,6 +110,7 @@ impl SceneArgs {
                 max_extent_fraction: self.chunk_fraction,
             },
             units: self.units,
+            copies: self.copies,
         }
     }
 }

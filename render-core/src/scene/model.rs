@@ -275,6 +275,28 @@ impl Scene {
         }
     }
 
+    /// The scene with every instance `copies` times in its place (Rákos's Figure 19.7: the
+    /// scene instanced four times): the same shadows from `copies` times the geometry. The
+    /// copies are named `NAME#copy K` and stand still; the lights and the originals' motion
+    /// stay.
+    #[must_use]
+    pub fn with_copies(self, copies: u32) -> Self {
+        if copies <= 1 {
+            return self;
+        }
+        let mut instances = self.instances.clone();
+        for k in 1..copies {
+            instances.extend(self.instances.iter().map(|i| Instance {
+                name: format!("{}#copy {k}", i.name),
+                ..i.clone()
+            }));
+        }
+        let mut scene = Self::new(self.name, self.meshes, instances, self.sun);
+        scene.motions = self.motions;
+        scene.lights = self.lights;
+        scene
+    }
+
     /// The box around every instance, in world space.
     pub fn bounds(&self) -> Aabb {
         self.bounds
@@ -386,5 +408,21 @@ mod tests {
                 .iter()
                 .all(|n| n.is_finite() && (n.length() - 1.0).abs() < 1e-6)
         );
+    }
+
+    #[test]
+    fn copies_stand_in_their_originals_place_with_the_lights_kept() {
+        let hall = crate::scene::load_builtin("hall", 3).expect("the hall");
+        let (objects, triangles) = (hall.instances.len(), hall.triangle_count());
+        let lights = hall.lights.clone();
+        let bounds = hall.bounds();
+        let four = hall.with_copies(4);
+        assert_eq!(four.instances.len(), 4 * objects);
+        assert_eq!(four.triangle_count(), 4 * triangles);
+        assert_eq!(four.lights, lights);
+        assert_eq!(four.bounds(), bounds);
+        let copy = &four.instances[2 * objects + 5];
+        assert_eq!(copy.name, format!("{}#copy 2", four.instances[5].name));
+        assert_eq!(copy.world_from_local, four.instances[5].world_from_local);
     }
 }
