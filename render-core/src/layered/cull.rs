@@ -148,14 +148,15 @@ impl TriangleCull {
     }
 
     /// This frame's jobs: every caster of every slot, its records' room and its slot's draw
-    /// cleared; `tests` is `CULL_FRUSTUM | CULL_BACK_FACES` as asked.
+    /// cleared; `tests` is `CULL_FRUSTUM | CULL_BACK_FACES` as asked. An error says why the
+    /// frame cannot cull (its records would not fit a buffer the adapter binds).
     pub fn prepare(
         &mut self,
         ctx: &GpuContext,
         (scene, scene_gpu): (&Scene, &SceneGpu),
         slots: &[Slot<'_>],
         tests: u32,
-    ) {
+    ) -> Result<(), String> {
         if self.closed.0 != scene_gpu.id {
             let closed = scene
                 .meshes
@@ -201,6 +202,17 @@ impl TriangleCull {
                 pad: 0,
             });
         }
+        let limits = ctx.device.limits();
+        let most = u64::from(limits.max_storage_buffer_binding_size).min(limits.max_buffer_size);
+        let records = 16 * u64::from(offset.max(1));
+        if records > most || bytes_of_len::<Job>(jobs.len()) > most {
+            return Err(format!(
+                "per-layer culling of {offset} triangles needs {} MB of records, more than this \
+                 adapter binds ({} MB): the maps were drawn unculled",
+                records >> 20,
+                most >> 20
+            ));
+        }
         self.triangles = u64::from(offset);
         self.slot_count = slots.len() as u32;
         let device = &ctx.device;
@@ -211,7 +223,7 @@ impl TriangleCull {
             &mut self.slots,
             bytes_of_len::<SlotGpu>(slots.len()),
         );
-        grown |= grow(device, &mut self.records, 16 * u64::from(offset.max(1)));
+        grown |= grow(device, &mut self.records, records);
         grown |= grow(device, &mut self.draws, 16 * slots.len().max(1) as u64);
         if grown
             || self
@@ -237,6 +249,7 @@ impl TriangleCull {
         let params = [jobs.len() as u32, offset, tests, self.groups[0]];
         ctx.queue
             .write_buffer(&self.params, 0, bytemuck::cast_slice(&params));
+        Ok(())
     }
 
     /// The culling dispatch, timed as one step.
@@ -327,9 +340,11 @@ fn grow(device: &wgpu::Device, buffer: &mut wgpu::Buffer, bytes: u64) -> bool {
     if buffer.size() >= bytes {
         return false;
     }
+    let limits = device.limits();
+    let most = u64::from(limits.max_storage_buffer_binding_size).min(limits.max_buffer_size);
     *buffer = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("Layered::cull_grown"),
-        size: bytes.next_power_of_two(),
+        size: bytes.next_power_of_two().min(most.max(bytes)),
         usage: buffer.usage(),
         mapped_at_creation: false,
     });

@@ -55,6 +55,7 @@ pub struct LayeredTechnique {
     method: Method,
     last: LastFrame,
     fallbacks: LogOnce,
+    culling_failures: LogOnce,
 }
 
 #[derive(Default)]
@@ -91,6 +92,7 @@ impl LayeredTechnique {
             method: Method::Vfc,
             last: LastFrame::default(),
             fallbacks: LogOnce::default(),
+            culling_failures: LogOnce::default(),
         }
     }
 
@@ -254,17 +256,15 @@ impl ShadowTechnique for LayeredTechnique {
             timer: draw.timer,
             indirect_first_instance: draw.indirect_first_instance,
         };
-        let culling = Self::culling_for(input, draw.views.len());
-        let (passes, draws, triangles) = if culling == LayerCulling::None {
-            self.last.triangles_tested = 0;
-            draw_direct(
-                (&mut self.paths, &self.maps, &self.cpu),
-                (ctx, encoder),
-                (path, &path_input),
-            )
+        let mut culling = Self::culling_for(input, draw.views.len());
+        let mut prepared = Err(String::new());
+        let slots = if culling == LayerCulling::None {
+            Vec::new()
         } else {
-            let slots = slots_of(path, &self.cpu, draw.views, self.paths.multiview_group());
-            let slots: Vec<Slot<'_>> = slots
+            slots_of(path, &self.cpu, draw.views, self.paths.multiview_group())
+        };
+        if culling != LayerCulling::None {
+            let gpu_slots: Vec<Slot<'_>> = slots
                 .iter()
                 .map(|(first_view, views, casters, lights)| Slot {
                     first_view: *first_view,
@@ -275,8 +275,28 @@ impl ShadowTechnique for LayeredTechnique {
                 .collect();
             let tests = (u32::from(culling.frustum()) * cull::CULL_FRUSTUM)
                 | (u32::from(culling.back_faces()) * cull::CULL_BACK_FACES);
-            self.cull
-                .prepare(ctx, (input.scene, input.scene_gpu), &slots, tests);
+            prepared = self
+                .cull
+                .prepare(ctx, (input.scene, input.scene_gpu), &gpu_slots, tests);
+            if let Err(why) = &prepared {
+                self.culling_failures.warn(
+                    "per-layer culling's records do not fit a buffer this adapter binds: the \
+                     maps are drawn unculled (the notes give the sizes)",
+                );
+                self.last.notes.push(why.clone());
+                culling = LayerCulling::None;
+            } else {
+                self.culling_failures.clear();
+            }
+        }
+        let (passes, draws, triangles) = if prepared.is_err() {
+            self.last.triangles_tested = 0;
+            draw_direct(
+                (&mut self.paths, &self.maps, &self.cpu),
+                (ctx, encoder),
+                (path, &path_input),
+            )
+        } else {
             self.culled
                 .prepare(ctx, &self.cull, input.scene_gpu, self.maps.side());
             self.cull.encode(encoder, draw.frame_group, draw.timer);

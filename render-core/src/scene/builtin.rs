@@ -22,6 +22,11 @@ pub const BUILTIN_SCENES: &[BuiltinScene] = &[
         description: "Manhattan-like city: about 9,500 objects and 1.1M triangles, cars that move",
     },
     BuiltinScene {
+        name: "city-night",
+        description: "the city with 48 sodium street lamps over the crossings of its middle, \
+                      spot lights shining down (`--shadow lights`)",
+    },
+    BuiltinScene {
         name: "city-small",
         description: "the city generator on 4 x 4 blocks: a few hundred objects, for tests",
     },
@@ -54,6 +59,12 @@ pub fn load_builtin(name: &str, seed: u64) -> Option<Scene> {
     match name {
         "city" => Some(build_city(scene_name, &CityParams::full(seed))),
         "city-small" => Some(build_city(scene_name, &CityParams::small(seed))),
+        "city-night" => {
+            let params = CityParams::full(seed);
+            let mut scene = build_city(scene_name, &params);
+            scene.lights = super::city::street_lamps(&params);
+            Some(scene)
+        }
         "boxes" => Some(boxes_scene(scene_name)),
         "robots" => Some(super::robots::robots_scene(scene_name, seed)),
         "corridor" => Some(super::corridor::corridor_scene(scene_name, seed)),

@@ -75,7 +75,7 @@ impl CameraPath {
     /// The default path of a scene: streets for the built-in cities, an orbit otherwise.
     pub fn default_for(scene: &Scene) -> Self {
         match scene.name.as_str() {
-            "builtin:city" => Self::city_streets(&CityParams::full(0)),
+            "builtin:city" | "builtin:city-night" => Self::city_streets(&CityParams::full(0)),
             "builtin:city-small" => Self::city_streets(&CityParams::small(0)),
             "builtin:robots" => super::robots::robots_walk(),
             "builtin:corridor" => super::corridor::corridor_walk(),

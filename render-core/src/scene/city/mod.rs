@@ -10,6 +10,7 @@
 
 mod buildings;
 mod cars;
+mod lamps;
 mod params;
 mod proto;
 mod rng;
@@ -18,6 +19,7 @@ mod trees;
 use glam::{Mat4, Vec3};
 
 use super::{Instance, Mesh, Mobility, Motion, Scene, Sun};
+pub use lamps::street_lamps;
 pub use params::{CityParams, RectXz};
 use proto::Proto;
 pub(super) use rng::SplitMix64;
