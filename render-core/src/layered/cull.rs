@@ -202,8 +202,7 @@ impl TriangleCull {
                 pad: 0,
             });
         }
-        let limits = ctx.device.limits();
-        let most = u64::from(limits.max_storage_buffer_binding_size).min(limits.max_buffer_size);
+        let most = binding_limit(&ctx.device);
         let records = 16 * u64::from(offset.max(1));
         if records > most || bytes_of_len::<Job>(jobs.len()) > most {
             return Err(format!(
@@ -317,6 +316,14 @@ fn instance_around(instance: &crate::scene::Instance, lights: &[glam::Vec3]) -> 
         .any(|p| p.cmpge(b.min - margin).all() && p.cmple(b.max + margin).all())
 }
 
+/// The largest storage buffer this device binds whole.
+fn binding_limit(device: &wgpu::Device) -> u64 {
+    let limits = device.limits();
+    limits
+        .max_storage_buffer_binding_size
+        .min(limits.max_buffer_size)
+}
+
 fn bytes_of_len<T>(len: usize) -> u64 {
     (len.max(1) * size_of::<T>()) as u64
 }
@@ -340,8 +347,7 @@ fn grow(device: &wgpu::Device, buffer: &mut wgpu::Buffer, bytes: u64) -> bool {
     if buffer.size() >= bytes {
         return false;
     }
-    let limits = device.limits();
-    let most = u64::from(limits.max_storage_buffer_binding_size).min(limits.max_buffer_size);
+    let most = binding_limit(device);
     *buffer = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("Layered::cull_grown"),
         size: bytes.next_power_of_two().min(most.max(bytes)),
