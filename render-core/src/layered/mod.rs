@@ -61,7 +61,6 @@ pub struct LayeredTechnique {
 #[derive(Default)]
 struct LastFrame {
     views: Vec<ShadowView>,
-    settings: LayeredSettings,
     /// The path that drew, after the adapter's fallbacks.
     path: LayeredPath,
     /// Render passes and draw calls the path recorded.
@@ -203,14 +202,7 @@ impl ShadowTechnique for LayeredTechnique {
             }
         }
         self.maps.ensure(ctx, (side, layers), &records);
-        if path == LayeredPath::Multiview {
-            notes.push(format!(
-                "multiview renders up to {} maps a pass on this adapter",
-                self.paths.multiview_group()
-            ));
-        }
         self.last.path = path;
-        self.last.settings = *input.layered;
         self.last.lights = records.len();
         self.last.notes = notes;
         self.last.resolution = resolution;
@@ -347,19 +339,7 @@ impl ShadowTechnique for LayeredTechnique {
             })
             .collect();
         let last = &self.last;
-        let mut notes = last.notes.clone();
-        notes.push(format!(
-            "{} lights, {} maps of {} texels by '{}', culling {}: {} passes, {} draws, {} \
-             triangles",
-            last.lights,
-            last.views.len(),
-            last.resolution,
-            last.path.name(),
-            last.culling.name(),
-            last.passes,
-            last.draws,
-            last.triangles
-        ));
+        let notes = last.notes.clone();
         ShadowReport {
             casters_total: self.cpu.casters_total(),
             views,
