@@ -146,7 +146,7 @@ fn every_path_and_culling_renders_the_same_maps_and_shadows_as_a_pass_per_map() 
         (LayeredPath::Traditional, 14, 14)
     );
     // The spot that looks at the sky sees nothing: its map is clear, and vfc drew nothing.
-    assert!(traditional[7].iter().all(|&d| d == 1.0));
+    assert!(traditional[7].iter().all(|&d| d >= 1.0));
     assert_eq!(report.views[7].name, "spot 2");
     assert_eq!(report.views[7].casters_rendered, 0);
     for culling in LayerCulling::ALL {
@@ -206,10 +206,10 @@ fn same_maps(expected: &[Vec<f32>], maps: &[Vec<f32>], case: &str) {
     let mut worst = 0.0f32;
     for (a, b) in expected.iter().zip(maps) {
         for (&x, &y) in a.iter().zip(b) {
-            if (x < 1.0) != (y < 1.0) {
-                covered_differently += 1;
-            } else {
+            if (x < 1.0) == (y < 1.0) {
                 worst = worst.max((x - y).abs());
+            } else {
+                covered_differently += 1;
             }
         }
     }
@@ -307,7 +307,7 @@ fn the_geometry_loads_of_the_bench_change_no_map_or_leave_every_map_empty() {
         heavy.layered.load.no_raster = true;
         let (_, empty, _, _) = frame(&scene, &heavy);
         assert!(
-            empty.iter().flatten().all(|&d| d == 1.0),
+            empty.iter().flatten().all(|&d| d >= 1.0),
             "{path} rasterised"
         );
     }

@@ -136,16 +136,7 @@ fn run(
     session.renderer = render_core::frame::FrameRenderer::new(&session.ctx);
     let mut reports = Vec::new();
     for frame in 0..args.warmup + frames {
-        let u = frame.saturating_sub(args.warmup) as f32 / (frames.max(2) - 1) as f32;
-        let key = path.sample(u);
-        let camera = Camera::look_at(
-            key.eye,
-            key.target,
-            template.fov_y_rad,
-            template.near_m,
-            template.far_m,
-        )
-        .with_up(template.world_up);
+        let camera = super::camera_at(path, template, (frame, args));
         let (_, report) = session.frame(&camera, settings)?;
         if frame >= args.warmup {
             let culled = report

@@ -331,16 +331,7 @@ fn run_path(
     session.renderer = FrameRenderer::new(&session.ctx);
     let mut reports = Vec::new();
     for frame in 0..args.warmup + frames {
-        let u = frame.saturating_sub(args.warmup) as f32 / (frames.max(2) - 1) as f32;
-        let key = path.sample(u);
-        let camera = Camera::look_at(
-            key.eye,
-            key.target,
-            template.fov_y_rad,
-            template.near_m,
-            template.far_m,
-        )
-        .with_up(template.world_up);
+        let camera = camera_at(path, template, (frame, args));
         if args.animate {
             session.animate(args.view.time.unwrap_or(0.0) + f64::from(frame) / 30.0);
         } else {
@@ -368,6 +359,22 @@ fn run_path(
         }
     }
     Ok(reports)
+}
+
+/// Frame `frame` of a run along `path` (the warm-up frames at its start), with `template`'s
+/// lens and up.
+fn camera_at(path: &CameraPath, template: &Camera, (frame, args): (u32, &BenchArgs)) -> Camera {
+    let frames = args.frames.max(1);
+    let u = frame.saturating_sub(args.warmup) as f32 / (frames.max(2) - 1) as f32;
+    let key = path.sample(u);
+    Camera::look_at(
+        key.eye,
+        key.target,
+        template.fov_y_rad,
+        template.near_m,
+        template.far_m,
+    )
+    .with_up(template.world_up)
 }
 
 fn median(mut values: Vec<f64>) -> Option<f64> {

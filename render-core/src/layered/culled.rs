@@ -7,11 +7,10 @@ use std::collections::HashMap;
 use std::num::NonZeroU32;
 
 use super::cull::TriangleCull;
-use super::paths::{PathInput, depth_pass, depth_pipeline};
+use super::paths::{MapPass, PathInput, depth_pipeline, map_pass};
 use super::targets::{LayeredMaps, layer_range};
 use crate::gpu::{
-    GpuContext, bind_group_layout, buffer_entry, pass_label, pipeline_layout, shader_module,
-    storage, uniform,
+    GpuContext, bind_group_layout, buffer_entry, pipeline_layout, shader_module, storage, uniform,
 };
 use crate::scene_gpu::SceneGpu;
 use crate::shaders::compose;
@@ -138,16 +137,16 @@ impl CulledDraws {
             ) else {
                 continue;
             };
-            let query = input.timer.begin_pass(pass_label::SHADOW_MAP, encoder);
-            let mut pass = depth_pass(encoder, target, None, query.as_ref());
-            view.target.set_viewport(&mut pass);
-            pass.set_pipeline(&self.traditional);
-            pass.set_bind_group(0, input.frame_group, &[]);
-            pass.set_bind_group(1, pass_group, &[]);
-            pass.set_bind_group(2, group, &[]);
-            pass.draw_indirect(&cull.draws, 16 * u64::from(v));
-            drop(pass);
-            input.timer.end_pass(encoder, query);
+            let pass = MapPass {
+                target,
+                mask: None,
+                square: Some(view.target),
+                pipeline: &self.traditional,
+                groups: &[input.frame_group, pass_group, group],
+            };
+            map_pass(encoder, input.timer, pass, |render| {
+                render.draw_indirect(&cull.draws, 16 * u64::from(v));
+            });
             passes += 1;
         }
         passes
@@ -179,17 +178,18 @@ impl CulledDraws {
             let Some(pass_group) = input.view_buffer.pass_group(first as u32) else {
                 continue;
             };
-            let target = layer_range(&maps.texture, input.views[first].target.layer, count);
-            let query = input.timer.begin_pass(pass_label::SHADOW_MAP, encoder);
-            let mut pass = depth_pass(encoder, &target, mask, query.as_ref());
-            input.views[first].target.set_viewport(&mut pass);
-            pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, input.frame_group, &[]);
-            pass.set_bind_group(1, pass_group, &[]);
-            pass.set_bind_group(2, bind_group, &[]);
-            pass.draw_indirect(&cull.draws, 16 * g as u64);
-            drop(pass);
-            input.timer.end_pass(encoder, query);
+            let square = input.views[first].target;
+            let target = layer_range(&maps.texture, square.layer, count);
+            let pass = MapPass {
+                target: &target,
+                mask,
+                square: Some(square),
+                pipeline,
+                groups: &[input.frame_group, pass_group, bind_group],
+            };
+            map_pass(encoder, input.timer, pass, |render| {
+                render.draw_indirect(&cull.draws, 16 * g as u64);
+            });
         }
         Some(groups as u32)
     }
@@ -211,17 +211,18 @@ impl CulledDraws {
                 .iter()
                 .filter(|v| v.target.layer == page)
                 .count();
-            let query = input.timer.begin_pass(pass_label::SHADOW_MAP, encoder);
-            let mut pass = depth_pass(encoder, target, None, query.as_ref());
-            pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, input.frame_group, &[]);
-            pass.set_bind_group(1, pass_group, &[]);
-            pass.set_bind_group(2, bind_group, &[]);
-            if let Some(first) = first {
-                pass.multi_draw_indirect(&cull.draws, 16 * first as u64, count as u32);
-            }
-            drop(pass);
-            input.timer.end_pass(encoder, query);
+            let pass = MapPass {
+                target,
+                mask: None,
+                square: None,
+                pipeline,
+                groups: &[input.frame_group, pass_group, bind_group],
+            };
+            map_pass(encoder, input.timer, pass, |render| {
+                if let Some(first) = first {
+                    render.multi_draw_indirect(&cull.draws, 16 * first as u64, count as u32);
+                }
+            });
         }
         Some(maps.layers.len() as u32)
     }

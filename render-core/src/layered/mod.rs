@@ -386,38 +386,28 @@ fn draw_direct(
     (ctx, encoder): (&GpuContext, &mut wgpu::CommandEncoder),
     (path, input): (LayeredPath, &PathInput<'_>),
 ) -> (u32, u32, u64) {
-    let (passes, lists): (u32, Vec<(u32, u64)>) = match path {
+    let (passes, lists): (u32, Vec<&crate::scene_gpu::DrawList>) = match path {
         LayeredPath::Traditional => {
             let passes = paths.draw_traditional(encoder, maps, input);
-            let lists = (0..input.views.len())
-                .filter_map(|v| cpu.draws(v))
-                .map(|l| (l.len(), l.triangles))
-                .collect();
-            (passes, lists)
+            let lists = (0..input.views.len()).filter_map(|v| cpu.draws(v));
+            (passes, lists.collect())
         }
         LayeredPath::Multiview => {
             let groups = paths.draw_multiview(ctx, encoder, maps, input).unwrap_or(0);
-            let lists = paths
-                .multiview_lists()
-                .take(groups as usize)
-                .map(|l| (l.len(), l.triangles))
-                .collect();
-            (groups, lists)
+            (
+                groups,
+                paths.multiview_lists().take(groups as usize).collect(),
+            )
         }
         LayeredPath::Atlas => {
             let pages = paths.draw_atlas(ctx, encoder, maps, input).unwrap_or(0);
-            let lists = paths
-                .atlas_lists()
-                .take(pages as usize)
-                .map(|l| (l.len(), l.triangles))
-                .collect();
-            (pages, lists)
+            (pages, paths.atlas_lists().take(pages as usize).collect())
         }
     };
     (
         passes,
-        lists.iter().map(|l| l.0).sum(),
-        lists.iter().map(|l| l.1).sum(),
+        lists.iter().map(|l| l.len()).sum(),
+        lists.iter().map(|l| l.triangles).sum(),
     )
 }
 

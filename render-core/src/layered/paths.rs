@@ -135,15 +135,16 @@ impl Paths {
             ) else {
                 continue;
             };
-            let query = input.timer.begin_pass(pass_label::SHADOW_MAP, encoder);
-            let mut pass = depth_pass(encoder, target, None, query.as_ref());
-            view.target.set_viewport(&mut pass);
-            pass.set_pipeline(&self.traditional);
-            pass.set_bind_group(0, input.frame_group, &[]);
-            pass.set_bind_group(1, pass_group, &[]);
-            list.draw(&mut pass, input.scene_gpu, input.indirect_first_instance);
-            drop(pass);
-            input.timer.end_pass(encoder, query);
+            let pass = MapPass {
+                target,
+                mask: None,
+                square: Some(view.target),
+                pipeline: &self.traditional,
+                groups: &[input.frame_group, pass_group],
+            };
+            map_pass(encoder, input.timer, pass, |render| {
+                list.draw(render, input.scene_gpu, input.indirect_first_instance);
+            });
             passes += 1;
         }
         passes
@@ -188,22 +189,18 @@ impl Paths {
             let Some(pass_group) = input.view_buffer.pass_group(first as u32) else {
                 continue;
             };
-            let layer = input.views[first].target.layer;
-            let target = layer_range(&maps.texture, layer, count);
-            let query = input.timer.begin_pass(pass_label::SHADOW_MAP, encoder);
-            let mut pass = depth_pass(
-                encoder,
-                &target,
-                NonZeroU32::new((1u32 << count) - 1),
-                query.as_ref(),
-            );
-            input.views[first].target.set_viewport(&mut pass);
-            pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, input.frame_group, &[]);
-            pass.set_bind_group(1, pass_group, &[]);
-            m.lists[g].draw(&mut pass, input.scene_gpu, input.indirect_first_instance);
-            drop(pass);
-            input.timer.end_pass(encoder, query);
+            let square = input.views[first].target;
+            let target = layer_range(&maps.texture, square.layer, count);
+            let pass = MapPass {
+                target: &target,
+                mask: NonZeroU32::new((1u32 << count) - 1),
+                square: Some(square),
+                pipeline,
+                groups: &[input.frame_group, pass_group],
+            };
+            map_pass(encoder, input.timer, pass, |render| {
+                m.lists[g].draw(render, input.scene_gpu, input.indirect_first_instance);
+            });
         }
         Some(groups as u32)
     }
@@ -219,15 +216,17 @@ impl Paths {
     ) -> Option<u32> {
         let atlas = self.atlas.as_mut()?;
         atlas.prepare(ctx, maps, input);
-        for (page, list) in atlas.lists.iter().enumerate().take(maps.layers.len()) {
-            let query = input.timer.begin_pass(pass_label::SHADOW_MAP, encoder);
-            let mut pass = depth_pass(encoder, &maps.layers[page], None, query.as_ref());
-            pass.set_pipeline(&atlas.pipeline);
-            pass.set_bind_group(0, input.frame_group, &[]);
-            pass.set_bind_group(1, &atlas.group, &[]);
-            list.draw(&mut pass, input.scene_gpu, input.indirect_first_instance);
-            drop(pass);
-            input.timer.end_pass(encoder, query);
+        for (target, list) in maps.layers.iter().zip(&atlas.lists) {
+            let pass = MapPass {
+                target,
+                mask: None,
+                square: None,
+                pipeline: &atlas.pipeline,
+                groups: &[input.frame_group, &atlas.group],
+            };
+            map_pass(encoder, input.timer, pass, |render| {
+                list.draw(render, input.scene_gpu, input.indirect_first_instance);
+            });
         }
         Some(maps.layers.len() as u32)
     }
@@ -348,8 +347,40 @@ fn atlas_group(
     })
 }
 
+/// One map pass: its target (every layer of it through multiview where `mask` says), the
+/// square it draws in (none: the whole target), its pipeline and its bind groups in order.
+#[derive(Clone, Copy)]
+pub(super) struct MapPass<'a> {
+    pub target: &'a wgpu::TextureView,
+    pub mask: Option<NonZeroU32>,
+    pub square: Option<crate::shadow_view::ViewTarget>,
+    pub pipeline: &'a wgpu::RenderPipeline,
+    pub groups: &'a [&'a wgpu::BindGroup],
+}
+
+/// Records `pass`, its target cleared, timed as a shadow-map pass; `draw` records its draws.
+pub(super) fn map_pass(
+    encoder: &mut wgpu::CommandEncoder,
+    timer: &FrameTimer,
+    pass: MapPass<'_>,
+    draw: impl FnOnce(&mut wgpu::RenderPass<'_>),
+) {
+    let query = timer.begin_pass(pass_label::SHADOW_MAP, encoder);
+    let mut render = depth_pass(encoder, pass.target, pass.mask, query.as_ref());
+    if let Some(square) = pass.square {
+        square.set_viewport(&mut render);
+    }
+    render.set_pipeline(pass.pipeline);
+    for (i, group) in (0..).zip(pass.groups) {
+        render.set_bind_group(i, *group, &[]);
+    }
+    draw(&mut render);
+    drop(render);
+    timer.end_pass(encoder, query);
+}
+
 /// A depth pass on `target` (every layer of it through multiview where `mask` says), cleared.
-pub(super) fn depth_pass<'e>(
+fn depth_pass<'e>(
     encoder: &'e mut wgpu::CommandEncoder,
     target: &wgpu::TextureView,
     mask: Option<NonZeroU32>,

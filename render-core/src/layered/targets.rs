@@ -211,9 +211,11 @@ mod tests {
 
     #[test]
     fn the_atlas_packs_views_in_square_pages_within_the_texture_limit() {
-        let mut limits = wgpu::Limits::default();
-        limits.max_texture_dimension_2d = 4096;
-        limits.max_texture_array_layers = 256;
+        let limits = wgpu::Limits {
+            max_texture_dimension_2d: 4096,
+            max_texture_array_layers: 256,
+            ..wgpu::Limits::default()
+        };
         // 10 maps of 1024: rows of 4, one page of 4096.
         let (targets, side, layers) = place(LayeredPath::Atlas, 10, 1024, &limits);
         assert_eq!((side, layers), (4096, 1));
