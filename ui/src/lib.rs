@@ -73,12 +73,34 @@ pub enum UiAction {
     ResetSettings,
     /// Freeze the view and fly an observer camera outside it, or go back to the view.
     ToggleObserver,
+    /// Add a spot light at the camera, shining where it looks.
+    AddSpotLight,
+    /// Remove the scene's light of this index.
+    RemoveLight(usize),
+    /// Move the scene's light of this index to this position.
+    MoveLight(usize, Position),
+}
+
+/// A position in metres, kept as the floats' bits so that actions compare exactly.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Position([u32; 3]);
+
+impl Position {
+    pub fn new(metres: [f32; 3]) -> Self {
+        Self(metres.map(f32::to_bits))
+    }
+
+    pub fn metres(self) -> [f32; 3] {
+        self.0.map(f32::from_bits)
+    }
 }
 
 /// Read-only facts the panel shows this frame.
 #[derive(Clone, Copy, Debug)]
 pub struct PanelInput<'a> {
     pub scene: &'a SceneFacts,
+    /// The scene's point and spot lights (the many-lights technique edits them).
+    pub lights: &'a [render_core::scene::PunctualLight],
     /// The unit the scene's file was read in (built-in scenes are in metres).
     pub units: render_core::scene::Units,
     /// The newest frame report; `None` before the first frame.

@@ -9,6 +9,7 @@
 mod camera_control;
 mod exact;
 mod input;
+mod lights;
 mod loading;
 mod remembered;
 mod screenshot;

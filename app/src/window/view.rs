@@ -22,6 +22,7 @@ impl Running {
         let settings_file = self.settings_file.as_ref().map(|p| p.display().to_string());
         let input = ui::PanelInput {
             scene: &self.facts,
+            lights: &self.scene.lights,
             units: self.load_options.units,
             report: self.last_report.as_ref(),
             light_view: Some(self.light_view_texture),
@@ -70,6 +71,13 @@ impl Running {
                 ui::UiAction::SetUnits(units) => self.set_units(units),
                 ui::UiAction::ResetSettings => self.reset_settings(),
                 ui::UiAction::ToggleObserver => self.toggle_observer(),
+                ui::UiAction::AddSpotLight => self.add_spot_light(),
+                ui::UiAction::RemoveLight(i) => self.remove_light(i),
+                ui::UiAction::MoveLight(i, position) => {
+                    if let Some(light) = self.scene.lights.get_mut(i) {
+                        light.position = position.metres().into();
+                    }
+                }
             }
         }
         EguiFrame {

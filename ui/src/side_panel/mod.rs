@@ -237,6 +237,10 @@ impl Panes<'_, '_> {
                 shadows::ui(ui, self.settings);
                 heading(ui, "Setup");
                 cascades::ui(ui, self.settings, input.report);
+                if self.settings.setup == render_core::frame::ShadowSetup::Lights {
+                    heading(ui, "Lights");
+                    lights::edit_ui(ui, input.lights, self.actions);
+                }
                 ui.add_space(theme::SECTION_GAP);
                 shadows::remembered_ui(ui, input.settings_file, self.actions);
             }

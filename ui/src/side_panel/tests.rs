@@ -37,6 +37,7 @@ struct Lab {
     compare: Vec<CompareRow>,
     /// Draw through [`SidePanel::show`] (panel + scrolling) instead of [`SidePanel::ui`].
     in_own_panel: bool,
+    lights: Vec<render_core::scene::PunctualLight>,
     actions: Vec<UiAction>,
 }
 
@@ -134,6 +135,7 @@ impl Lab {
             light_view: None,
             compare: Vec::new(),
             in_own_panel: false,
+            lights: Vec::new(),
             actions: Vec::new(),
         }
     }
@@ -148,6 +150,7 @@ impl Lab {
             .id();
         let input = PanelInput {
             scene: &self.scene,
+            lights: &self.lights,
             units: Units::default(),
             report: Some(&self.report),
             light_view: Some(light_view),
@@ -404,6 +407,37 @@ fn the_lights_setup_chooses_how_its_maps_are_rendered_and_says_what_was_drawn() 
     );
     // The last frame still drew the traditional way: the row says it fell back.
     harness.get_by_label("32 lights, 72 maps: 72 passes, 1080 draws by traditional (fallback)");
+}
+
+#[test]
+fn the_lights_section_adds_a_spot_at_the_camera_and_removes_the_chosen_light() {
+    let mut lab = Lab::new();
+    lab.settings.setup = ShadowSetup::Lights;
+    lab.lights = ["spot_0", "point_1"]
+        .into_iter()
+        .map(|name| render_core::scene::PunctualLight {
+            name: name.to_owned(),
+            position: glam::Vec3::new(1.0, 4.0, 2.0),
+            kind: render_core::scene::LightKind::Point,
+            color: [1.0; 3],
+            intensity: 1000.0,
+            range: None,
+        })
+        .collect();
+    let mut harness = harness_on(lab, PanelTab::Shadows);
+    harness.get_by_role_and_label(Role::ComboBox, "Edit");
+    harness.get_by_label("Position");
+    harness.get_by_label("Add spot at camera").click();
+    harness.run();
+    harness.get_by_label("Remove").click();
+    harness.run();
+    let actions = &harness.state().actions;
+    assert!(actions.contains(&UiAction::AddSpotLight), "{actions:?}");
+    assert!(actions.contains(&UiAction::RemoveLight(0)), "{actions:?}");
+    assert!(
+        !actions.iter().any(|a| matches!(a, UiAction::MoveLight(..))),
+        "nothing moved: {actions:?}"
+    );
 }
 
 #[test]
