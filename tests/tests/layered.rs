@@ -312,3 +312,49 @@ fn the_geometry_loads_of_the_bench_change_no_map_or_leave_every_map_empty() {
         );
     }
 }
+
+#[test]
+fn pipeline_statistics_count_the_triangles_each_pass_draws() {
+    let ctx = gpu();
+    if !ctx
+        .features()
+        .contains(wgpu::Features::PIPELINE_STATISTICS_QUERY)
+    {
+        return; // Lavapipe has them; another adapter may not.
+    }
+    let scene = scene(four_lights());
+    let scene_gpu = SceneGpu::new(ctx, &scene);
+    let camera = camera();
+    for culling in [LayerCulling::None, LayerCulling::Both] {
+        let settings = with_culling(LayeredPath::Traditional, culling);
+        let mut renderer = FrameRenderer::new(ctx);
+        let input = FrameInput {
+            camera: &camera,
+            width: SIZE.0,
+            height: SIZE.1,
+            settings: &settings,
+        };
+        let report = renderer
+            .render_and_wait(ctx, &scene, &scene_gpu, &input)
+            .expect("frame renders");
+        let passes = renderer.lights_pass_statistics(ctx).expect("reads back");
+        let facts = report.layered.expect("the technique reports its path");
+        // A pass a map, each counted.
+        assert_eq!(passes.len(), 14);
+        let clipped: u64 = passes.iter().map(|p| p.clipper_invocations).sum();
+        let drawn = if culling == LayerCulling::None {
+            facts.triangles
+        } else {
+            let kept = renderer.lights_kept_triangles(ctx).expect("reads back");
+            kept.iter().map(|&k| u64::from(k)).sum()
+        };
+        // Every triangle a pass draws enters its clipper once.
+        assert_eq!(clipped, drawn, "culling {culling}");
+        // Some are rasterised (clipping at the near plane may split one in two).
+        assert!(
+            passes
+                .iter()
+                .any(|p| p.rasterised > 0 && p.vertex_invocations > 0)
+        );
+    }
+}

@@ -38,6 +38,8 @@ struct MapsRow {
     /// Per-layer culling's triangles tested and kept (medians over frames).
     tested: Option<f64>,
     kept: Option<f64>,
+    /// Triangles the maps' clippers passed on to be rasterised (pipeline statistics).
+    rasterised: Option<f64>,
     /// `traditional`'s maps time without culling over this row's, for the same lights and
     /// size.
     saved: Option<f64>,
@@ -123,15 +125,21 @@ pub(super) fn sweep_maps(
     Ok(())
 }
 
-/// Warm-up frames, then the measured ones along the path, each with the triangles culling
-/// kept (read after the frame, so not in its times).
+/// What a frame's GPU counted, read after it (so not in its times): the triangles culling
+/// kept, and those the maps' clippers passed on to be rasterised (pipeline statistics).
+struct FrameCounts {
+    kept: Option<u64>,
+    rasterised: Option<u64>,
+}
+
+/// Warm-up frames, then the measured ones along the path, each with its counts.
 fn run(
     session: &mut Session,
     path: &CameraPath,
     template: &Camera,
     settings: &FrameSettings,
     args: &BenchArgs,
-) -> anyhow::Result<Vec<(FrameReport, Option<u64>)>> {
+) -> anyhow::Result<Vec<(FrameReport, FrameCounts)>> {
     let frames = args.frames.max(1);
     session.renderer = render_core::frame::FrameRenderer::new(&session.ctx);
     let mut reports = Vec::new();
@@ -148,7 +156,10 @@ fn run(
             } else {
                 None
             };
-            reports.push((report, kept));
+            let passes = session.renderer.lights_pass_statistics(&session.ctx)?;
+            let rasterised =
+                (!passes.is_empty()).then(|| passes.iter().map(|p| p.rasterised).sum());
+            reports.push((report, FrameCounts { kept, rasterised }));
         }
     }
     Ok(reports)
@@ -157,7 +168,7 @@ fn run(
 fn summarise(
     path: LayeredPath,
     (lights, size, culling): (u32, u32, LayerCulling),
-    frames: &[(FrameReport, Option<u64>)],
+    frames: &[(FrameReport, FrameCounts)],
 ) -> MapsRow {
     let collect = |f: &dyn Fn(&FrameReport) -> Option<f64>| {
         median(frames.iter().map(|(r, _)| r).filter_map(f).collect())
@@ -194,14 +205,20 @@ fn summarise(
         kept: median(
             frames
                 .iter()
-                .filter_map(|(_, k)| k.map(|k| k as f64))
+                .filter_map(|(_, c)| c.kept.map(|k| k as f64))
+                .collect(),
+        ),
+        rasterised: median(
+            frames
+                .iter()
+                .filter_map(|(_, c)| c.rasterised.map(|r| r as f64))
                 .collect(),
         ),
         saved: None,
     }
 }
 
-const COLUMNS: [&str; 16] = [
+const COLUMNS: [&str; 17] = [
     "path",
     "culling",
     "load",
@@ -216,6 +233,7 @@ const COLUMNS: [&str; 16] = [
     "draws",
     "triangles tested",
     "kept",
+    "rasterised",
     "CPU submit ms",
     "CPU cull ms",
 ];
@@ -236,7 +254,7 @@ fn load_name(load: GeometryLoad) -> String {
     }
 }
 
-fn cells(r: &MapsRow) -> [String; 16] {
+fn cells(r: &MapsRow) -> [String; 17] {
     let opt = |v: Option<f64>| v.map_or_else(|| "n/a".into(), |v| format!("{v:.2}"));
     let path = if r.ran_as == r.path {
         r.path.name().to_owned()
@@ -259,6 +277,7 @@ fn cells(r: &MapsRow) -> [String; 16] {
         r.draws.to_string(),
         count(r.tested),
         count(r.kept),
+        count(r.rasterised),
         r.cpu_submit_ms
             .map_or_else(|| "n/a".into(), |v| format!("{v:.3}")),
         opt(r.cpu_culling_ms),
@@ -274,13 +293,13 @@ fn format_table(rows: &[MapsRow]) -> String {
 
 fn format_csv(rows: &[MapsRow]) -> String {
     let mut out = String::from(
-        "path,ran_as,culling,no_raster,vertex_work,lights,maps,size,frames,gpu_frame_ms,maps_ms,traditional_over_this,passes,draws,triangles,triangles_tested,triangles_kept,cpu_submit_ms,cpu_culling_ms\n",
+        "path,ran_as,culling,no_raster,vertex_work,lights,maps,size,frames,gpu_frame_ms,maps_ms,traditional_over_this,passes,draws,triangles,triangles_tested,triangles_kept,triangles_rasterised,cpu_submit_ms,cpu_culling_ms\n",
     );
     let opt = |v: Option<f64>| v.map_or_else(String::new, |v| format!("{v:.4}"));
     for r in rows {
         let _ = writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             r.path.name(),
             r.ran_as.name(),
             r.culling.name(),
@@ -298,6 +317,7 @@ fn format_csv(rows: &[MapsRow]) -> String {
             r.triangles,
             opt(r.tested),
             opt(r.kept),
+            opt(r.rasterised),
             opt(r.cpu_submit_ms),
             opt(r.cpu_culling_ms)
         );

@@ -148,6 +148,15 @@ impl FrameRenderer {
         self.techniques.layered().read_kept(ctx)
     }
 
+    /// The pipeline statistics of the many-lights technique's last frame, a map pass each.
+    /// Blocks: for tests and the bench.
+    pub fn lights_pass_statistics(
+        &self,
+        ctx: &GpuContext,
+    ) -> Result<Vec<crate::layered::PassCounts>, GpuError> {
+        self.techniques.layered().read_pass_statistics(ctx)
+    }
+
     /// The last frame's intervals of `instance`'s shadow volume (metres along the light from
     /// the caster; empty when culled), with shadow volumes the frame's setup; `None` otherwise
     /// or for a non-caster. Blocks: for a click, tests and reports.

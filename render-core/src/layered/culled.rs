@@ -144,7 +144,7 @@ impl CulledDraws {
                 pipeline: &self.traditional,
                 groups: &[input.frame_group, pass_group, group],
             };
-            map_pass(encoder, input.timer, pass, |render| {
+            map_pass(encoder, input, pass, |render| {
                 render.draw_indirect(&cull.draws, 16 * u64::from(v));
             });
             passes += 1;
@@ -187,7 +187,7 @@ impl CulledDraws {
                 pipeline,
                 groups: &[input.frame_group, pass_group, bind_group],
             };
-            map_pass(encoder, input.timer, pass, |render| {
+            map_pass(encoder, input, pass, |render| {
                 render.draw_indirect(&cull.draws, 16 * g as u64);
             });
         }
@@ -218,7 +218,7 @@ impl CulledDraws {
                 pipeline,
                 groups: &[input.frame_group, pass_group, bind_group],
             };
-            map_pass(encoder, input.timer, pass, |render| {
+            map_pass(encoder, input, pass, |render| {
                 if let Some(first) = first {
                     render.multi_draw_indirect(&cull.draws, 16 * first as u64, count as u32);
                 }

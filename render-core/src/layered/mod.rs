@@ -12,6 +12,7 @@ mod culled;
 mod lights;
 mod paths;
 mod probe;
+mod statistics;
 mod targets;
 
 use std::time::Instant;
@@ -29,6 +30,8 @@ pub(crate) use paths::{atlas_source, multiview_source, traditional_source};
 pub use probe::multiview_reaches_every_layer;
 #[cfg(test)]
 pub(crate) use probe::probe_source;
+pub use statistics::PassCounts;
+use statistics::PassStatistics;
 use targets::LayeredMaps;
 pub use targets::place;
 
@@ -51,6 +54,7 @@ pub struct LayeredTechnique {
     paths: Paths,
     cull: TriangleCull,
     culled: CulledDraws,
+    statistics: PassStatistics,
     cpu: CpuCasters,
     method: Method,
     last: LastFrame,
@@ -85,6 +89,7 @@ impl LayeredTechnique {
         Self {
             maps: LayeredMaps::new(&ctx.device),
             cull: TriangleCull::new(ctx, layouts[0]),
+            statistics: PassStatistics::new(ctx),
             culled: CulledDraws::new(ctx, layouts, runs),
             paths,
             cpu: CpuCasters::new(ctx),
@@ -104,6 +109,15 @@ impl LayeredTechnique {
     /// culled. Blocks: for tests and reports.
     pub fn read_kept(&self, ctx: &GpuContext) -> Result<Vec<u32>, crate::gpu::GpuError> {
         self.cull.read_kept(ctx)
+    }
+
+    /// The pipeline statistics of the last frame's map passes, a pass each (none where the
+    /// adapter has no pipeline-statistics queries). Blocks: for tests and the bench.
+    pub fn read_pass_statistics(
+        &self,
+        ctx: &GpuContext,
+    ) -> Result<Vec<PassCounts>, crate::gpu::GpuError> {
+        self.statistics.read(ctx)
     }
 
     /// The culling this frame runs: none where a record cannot name the view or the
@@ -246,8 +260,10 @@ impl ShadowTechnique for LayeredTechnique {
             scene_gpu: input.scene_gpu,
             casters: &self.cpu,
             timer: draw.timer,
+            statistics: &self.statistics,
             indirect_first_instance: draw.indirect_first_instance,
         };
+        self.statistics.begin_frame();
         let mut culling = Self::culling_for(input, draw.views.len());
         let mut prepared = Err(String::new());
         let slots = if culling == LayerCulling::None {
@@ -308,6 +324,7 @@ impl ShadowTechnique for LayeredTechnique {
             };
             (passes.unwrap_or(0), slots.len() as u32, self.cull.triangles)
         };
+        self.statistics.resolve(encoder);
         self.last.culling = culling;
         self.last.cpu_submit_ms = recording.elapsed().as_secs_f64() * 1000.0;
         self.last.passes = passes;

@@ -44,6 +44,8 @@ pub struct PathInput<'a> {
     pub scene_gpu: &'a SceneGpu,
     pub casters: &'a CpuCasters,
     pub timer: &'a FrameTimer,
+    /// Each pass's pipeline statistics, where the adapter has them.
+    pub statistics: &'a super::statistics::PassStatistics,
     pub indirect_first_instance: bool,
 }
 
@@ -142,7 +144,7 @@ impl Paths {
                 pipeline: &self.traditional,
                 groups: &[input.frame_group, pass_group],
             };
-            map_pass(encoder, input.timer, pass, |render| {
+            map_pass(encoder, input, pass, |render| {
                 list.draw(render, input.scene_gpu, input.indirect_first_instance);
             });
             passes += 1;
@@ -198,7 +200,7 @@ impl Paths {
                 pipeline,
                 groups: &[input.frame_group, pass_group],
             };
-            map_pass(encoder, input.timer, pass, |render| {
+            map_pass(encoder, input, pass, |render| {
                 m.lists[g].draw(render, input.scene_gpu, input.indirect_first_instance);
             });
         }
@@ -224,7 +226,7 @@ impl Paths {
                 pipeline: &atlas.pipeline,
                 groups: &[input.frame_group, &atlas.group],
             };
-            map_pass(encoder, input.timer, pass, |render| {
+            map_pass(encoder, input, pass, |render| {
                 list.draw(render, input.scene_gpu, input.indirect_first_instance);
             });
         }
@@ -358,14 +360,15 @@ pub(super) struct MapPass<'a> {
     pub groups: &'a [&'a wgpu::BindGroup],
 }
 
-/// Records `pass`, its target cleared, timed as a shadow-map pass; `draw` records its draws.
+/// Records `pass`, its target cleared, timed as a shadow-map pass and counted by the
+/// pipeline statistics; `draw` records its draws.
 pub(super) fn map_pass(
     encoder: &mut wgpu::CommandEncoder,
-    timer: &FrameTimer,
+    input: &PathInput<'_>,
     pass: MapPass<'_>,
     draw: impl FnOnce(&mut wgpu::RenderPass<'_>),
 ) {
-    let query = timer.begin_pass(pass_label::SHADOW_MAP, encoder);
+    let query = input.timer.begin_pass(pass_label::SHADOW_MAP, encoder);
     let mut render = depth_pass(encoder, pass.target, pass.mask, query.as_ref());
     if let Some(square) = pass.square {
         square.set_viewport(&mut render);
@@ -374,9 +377,16 @@ pub(super) fn map_pass(
     for (i, group) in (0..).zip(pass.groups) {
         render.set_bind_group(i, *group, &[]);
     }
+    let statistics = input.statistics.next();
+    if let Some((set, index)) = statistics {
+        render.begin_pipeline_statistics_query(set, index);
+    }
     draw(&mut render);
+    if statistics.is_some() {
+        render.end_pipeline_statistics_query();
+    }
     drop(render);
-    timer.end_pass(encoder, query);
+    input.timer.end_pass(encoder, query);
 }
 
 /// A depth pass on `target` (every layer of it through multiview where `mask` says), cleared.
