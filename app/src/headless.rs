@@ -157,6 +157,10 @@ impl Session {
     }
 }
 
+/// Why a frame of many lights has no exact error.
+pub const NO_TRUTH_FOR_LIGHTS: &str = "the exact shadow casts rays towards the sun or one point \
+     light: many lights have no exact shadow yet, so no exact error is reported";
+
 pub fn shot(args: &ShotArgs) -> anyhow::Result<()> {
     let mut session = Session::open(&args.scene, &args.view)?;
     let camera = args.view.camera(&session.scene, session.aspect())?;
@@ -167,7 +171,11 @@ pub fn shot(args: &ShotArgs) -> anyhow::Result<()> {
     session.settle(&camera, &settings)?;
     let (wall_ms, mut report) = session.frame(&camera, &settings)?;
     if !args.no_truth {
-        report.exact_error = Some(session.exact_error(&camera, &settings)?);
+        if settings.exact_truth_applies() {
+            report.exact_error = Some(session.exact_error(&camera, &settings)?);
+        } else {
+            report.notes.push(NO_TRUTH_FOR_LIGHTS.to_owned());
+        }
     }
     if let Some(from) = args.observe_from {
         let target = args

@@ -712,3 +712,39 @@ fn window_opens_renders_and_saves_a_screenshot() {
     assert!(colours(0, w / 5) > 5, "the side panel looks empty");
     assert!(colours(w / 2, w) > 50, "the 3D view looks empty");
 }
+
+#[test]
+fn shot_of_the_hall_lit_by_its_lights_names_its_path_and_reports_no_exact_error() {
+    let dir = out_dir("shot_hall_lights");
+    let png = dir.join("hall.png");
+    let output = run(shadowlab()
+        .args([
+            "shot",
+            "builtin:hall",
+            "--layered",
+            "atlas",
+            "--lights",
+            "4",
+            "--shadow-res",
+            "128",
+            "--size",
+            "161x91",
+            "--out",
+        ])
+        .arg(&png));
+    assert!(output.status.success(), "{}", text(&output));
+    let stats: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(png.with_extension("json")).expect("stats JSON written"),
+    )
+    .expect("valid JSON");
+    // Three spots and a point light: nine maps, one atlas pass.
+    let layered = &stats["layered"];
+    assert_eq!(layered["path"], "atlas");
+    assert_eq!(layered["lights"], 4);
+    assert_eq!(layered["maps"], 9);
+    assert_eq!(layered["passes"], 1);
+    // The exact shadow is the sun's: none is reported for many lights, and the notes say why.
+    assert!(stats["exact_error"].is_null(), "{}", stats["exact_error"]);
+    let notes = stats["notes"].to_string();
+    assert!(notes.contains("no exact shadow"), "{notes}");
+}

@@ -348,7 +348,7 @@ fn run_path(
         report.counts.casters_oracle = measured.counts.casters_oracle;
         report.error = measured.error;
         report.undersampling = measured.undersampling;
-        if frame >= args.warmup && !args.no_truth {
+        if frame >= args.warmup && !args.no_truth && settings.exact_truth_applies() {
             report.exact_error = Some(session.exact_error(&camera, &settings)?);
         }
         if frame >= args.warmup && args.flicker {

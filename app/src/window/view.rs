@@ -128,14 +128,16 @@ impl Running {
             log::error!("exact shadow: {e}");
             self.message = Some(format!("Could not compare with the exact shadow: {e}"));
         }
-        let pending = self
-            .exact
-            .after_frame(&self.scene, view, &settings)
-            .and_then(|exact| self.renderer.request_light_at(&self.ctx, &exact.points));
-        if let Some(pending) = pending {
-            self.exact.comparing(&settings, pending);
+        if settings.exact_truth_applies() {
+            let pending = self
+                .exact
+                .after_frame(&self.scene, view, &settings)
+                .and_then(|exact| self.renderer.request_light_at(&self.ctx, &exact.points));
+            if let Some(pending) = pending {
+                self.exact.comparing(&settings, pending);
+            }
+            report.exact_error = self.exact.error_of(view, &settings);
         }
-        report.exact_error = self.exact.error_of(view, &settings);
         if self.settings.compare_all {
             let compare = self
                 .compare

@@ -134,6 +134,13 @@ impl std::str::FromStr for ShadowSetup {
 }
 
 impl FrameSettings {
+    /// Whether the exact shadow (`truth/`: a ray per pixel towards the sun or the point light)
+    /// is this frame's truth. Many lights have none yet: their error against it would
+    /// measure the sun's shadow, so none is reported.
+    pub fn exact_truth_applies(&self) -> bool {
+        self.setup != ShadowSetup::Lights
+    }
+
     /// Where this frame's shadows come from.
     pub fn shadow_light(&self) -> ShadowLight {
         match self.point_light {
