@@ -50,14 +50,14 @@ struct SlotGpu {
     pad: u32,
 }
 
-/// What a slot draws: views `first_view..first_view + views`, the casters it tests, and
-/// where its views' lights are (a closed mesh around one of them keeps its back faces: they
-/// are what that light sees first).
-pub struct Slot<'a> {
+/// What a slot draws: views `first_view..first_view + views`, the casters any of them chose
+/// (sorted), and where its views' lights are (a closed mesh around one of them keeps its
+/// back faces: they are what that light sees first).
+pub struct Slot {
     pub first_view: u32,
     pub views: u32,
-    pub casters: &'a [u32],
-    pub lights: &'a [glam::Vec3],
+    pub casters: Vec<u32>,
+    pub lights: Vec<glam::Vec3>,
 }
 
 /// The culling pass and its buffers, grown as needed.
@@ -72,6 +72,11 @@ pub struct TriangleCull {
     pub draws: wgpu::Buffer,
     params: wgpu::Buffer,
     group: Option<(u64, wgpu::BindGroup)>,
+    /// Bumped whenever the buffers the culled draws read change (records grown, another
+    /// scene's vertices).
+    pub generation: u64,
+    /// The scene's vertex buffer the records index.
+    vertices: Option<wgpu::Buffer>,
     /// Per mesh of the scene `closed.0`, whether it is closed.
     closed: (u64, Vec<bool>),
     /// This frame's triangles before culling, and the dispatch.
@@ -140,6 +145,8 @@ impl TriangleCull {
                 wgpu::BufferUsages::UNIFORM,
             ),
             group: None,
+            generation: 0,
+            vertices: None,
             closed: (u64::MAX, Vec::new()),
             triangles: 0,
             groups: [0, 0],
@@ -154,7 +161,7 @@ impl TriangleCull {
         &mut self,
         ctx: &GpuContext,
         (scene, scene_gpu): (&Scene, &SceneGpu),
-        slots: &[Slot<'_>],
+        slots: &[Slot],
         tests: u32,
     ) -> Result<(), String> {
         if self.closed.0 != scene_gpu.id {
@@ -170,11 +177,11 @@ impl TriangleCull {
         let mut offset = 0u32;
         for (s, slot) in (0..).zip(slots) {
             let base = offset;
-            for &i in slot.casters {
+            for &i in &slot.casters {
                 let range = scene_gpu.instance_ranges[i as usize];
                 let instance = &scene.instances[i as usize];
                 let mesh = instance.mesh as usize;
-                let around = instance_around(instance, slot.lights);
+                let around = instance_around(instance, &slot.lights);
                 let triangles = range.index_count / 3;
                 if triangles == 0 {
                     continue;
@@ -231,6 +238,8 @@ impl TriangleCull {
                 .is_none_or(|(id, _)| *id != scene_gpu.id)
         {
             self.group = Some((scene_gpu.id, self.bind_group(device, scene_gpu)));
+            self.vertices = Some(scene_gpu.vertex_buffer.clone());
+            self.generation += 1;
         }
         if !jobs.is_empty() {
             ctx.queue
@@ -249,6 +258,12 @@ impl TriangleCull {
         ctx.queue
             .write_buffer(&self.params, 0, bytemuck::cast_slice(&params));
         Ok(())
+    }
+
+    /// The scene's vertex buffer the records index (a placeholder, the records, before the
+    /// first frame).
+    pub fn vertices(&self) -> &wgpu::Buffer {
+        self.vertices.as_ref().unwrap_or(&self.records)
     }
 
     /// The culling dispatch, timed as one step.

@@ -8,11 +8,10 @@ use std::num::NonZeroU32;
 
 use super::cull::TriangleCull;
 use super::paths::{MapPass, PathInput, depth_pipeline, map_pass};
-use super::targets::{LayeredMaps, layer_range};
+use super::targets::LayeredMaps;
 use crate::gpu::{
     GpuContext, bind_group_layout, buffer_entry, pipeline_layout, shader_module, storage, uniform,
 };
-use crate::scene_gpu::SceneGpu;
 use crate::shaders::compose;
 
 /// The culled draws' shaders, as the renderer and the validation test compose them: a pass
@@ -41,8 +40,8 @@ pub struct CulledDraws {
     traditional: wgpu::RenderPipeline,
     multiview: Option<(wgpu::ShaderModule, HashMap<u32, wgpu::RenderPipeline>)>,
     atlas: Option<wgpu::RenderPipeline>,
-    page: wgpu::Buffer,
-    group: Option<wgpu::BindGroup>,
+    /// The bind group and the culling's generation it was made for.
+    group: Option<(u64, wgpu::BindGroup)>,
 }
 
 impl CulledDraws {
@@ -78,45 +77,36 @@ impl CulledDraws {
             let module = shader_module(device, "Layered::culled_atlas", tiles);
             depth_pipeline(device, (&layout, &module, "vs_culled_atlas"), None, true)
         });
-        let page = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("Layered::culled_page"),
-            size: 16,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
         Self {
             group_layout,
             layout,
             traditional,
             multiview,
             atlas,
-            page,
             group: None,
         }
     }
 
-    /// This frame's bind group: the culling's records, the scene's vertices, the page side.
-    pub fn prepare(
-        &mut self,
-        ctx: &GpuContext,
-        cull: &TriangleCull,
-        scene_gpu: &SceneGpu,
-        side: u32,
-    ) {
-        ctx.queue.write_buffer(
-            &self.page,
-            0,
-            bytemuck::cast_slice(&[side as f32, 0.0, 0.0, 0.0]),
-        );
-        self.group = Some(ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+    /// The bind group of the culling's records, the scene's vertices and the page side, made
+    /// again only when the culling's buffers change (`TriangleCull::generation`).
+    pub fn prepare(&mut self, device: &wgpu::Device, cull: &TriangleCull, maps: &LayeredMaps) {
+        if self
+            .group
+            .as_ref()
+            .is_some_and(|(g, _)| *g == cull.generation)
+        {
+            return;
+        }
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("Layered::culled"),
             layout: &self.group_layout,
             entries: &[
                 buffer_entry(0, &cull.records),
-                buffer_entry(1, &scene_gpu.vertex_buffer),
-                buffer_entry(2, &self.page),
+                buffer_entry(1, cull.vertices()),
+                buffer_entry(2, &maps.page),
             ],
-        }));
+        });
+        self.group = Some((cull.generation, group));
     }
 
     /// A pass per view, one indirect draw of its slot.
@@ -126,7 +116,7 @@ impl CulledDraws {
         (maps, cull): (&LayeredMaps, &TriangleCull),
         input: &PathInput<'_>,
     ) -> u32 {
-        let Some(group) = &self.group else {
+        let Some((_, group)) = &self.group else {
             return 0;
         };
         let mut passes = 0;
@@ -161,7 +151,7 @@ impl CulledDraws {
         (input, group): (&PathInput<'_>, usize),
     ) -> Option<u32> {
         let (module, pipelines) = self.multiview.as_mut()?;
-        let bind_group = self.group.as_ref()?;
+        let (_, bind_group) = self.group.as_ref()?;
         let groups = input.views.len().div_ceil(group.max(1));
         for g in 0..groups {
             let first = g * group;
@@ -179,9 +169,11 @@ impl CulledDraws {
                 continue;
             };
             let square = input.views[first].target;
-            let target = layer_range(&maps.texture, square.layer, count);
+            let Some(target) = maps.groups.get(g) else {
+                continue;
+            };
             let pass = MapPass {
-                target: &target,
+                target,
                 mask,
                 square: Some(square),
                 pipeline,
@@ -202,7 +194,7 @@ impl CulledDraws {
         input: &PathInput<'_>,
     ) -> Option<u32> {
         let pipeline = self.atlas.as_ref()?;
-        let bind_group = self.group.as_ref()?;
+        let (_, bind_group) = self.group.as_ref()?;
         let pass_group = input.view_buffer.pass_group(0)?;
         for (page, target) in (0..).zip(&maps.layers) {
             let first = input.views.iter().position(|v| v.target.layer == page);

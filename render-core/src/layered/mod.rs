@@ -76,7 +76,6 @@ struct LastFrame {
     cpu_culling_ms: f64,
     /// CPU time of recording the path's passes and draws, milliseconds.
     cpu_submit_ms: f64,
-    resolution: u32,
     culling: LayerCulling,
     triangles_tested: u64,
 }
@@ -84,10 +83,11 @@ struct LastFrame {
 impl LayeredTechnique {
     /// `layouts`: group 0 of scene passes and one view alone.
     pub fn new(ctx: &GpuContext, layouts: [&wgpu::BindGroupLayout; 2]) -> Self {
-        let paths = Paths::new(ctx, layouts);
+        let maps = LayeredMaps::new(&ctx.device);
+        let paths = Paths::new(ctx, layouts, &maps.page);
         let runs = (paths.multiview_group() > 0, paths.has_atlas());
         Self {
-            maps: LayeredMaps::new(&ctx.device),
+            maps,
             cull: TriangleCull::new(ctx, layouts[0]),
             statistics: PassStatistics::new(ctx),
             culled: CulledDraws::new(ctx, layouts, runs),
@@ -120,13 +120,39 @@ impl LayeredTechnique {
         self.statistics.read(ctx)
     }
 
-    /// The culling this frame runs: none where a record cannot name the view or the
-    /// instance (more than 256 views, or 2^24 instances).
-    fn culling_for(input: &TechniqueInput<'_>, views: usize) -> LayerCulling {
-        if views > 256 || input.scene_gpu.instance_count >= 1 << 24 {
-            LayerCulling::None
-        } else {
-            input.layered.culling
+    /// The culling this frame runs, its jobs prepared: none where it is off, where a record
+    /// cannot name the view or the instance (more than 256 views, or 2^24 instances), or
+    /// where its records would not fit a buffer the adapter binds (noted).
+    fn cull_if_it_fits(
+        &mut self,
+        ctx: &GpuContext,
+        input: &TechniqueInput<'_>,
+        slots: &[Slot],
+    ) -> LayerCulling {
+        let culling = input.layered.culling;
+        let views: u32 = slots.iter().map(|s| s.views).sum();
+        if culling == LayerCulling::None || views > 256 || input.scene_gpu.instance_count >= 1 << 24
+        {
+            return LayerCulling::None;
+        }
+        let tests = (u32::from(culling.frustum()) * cull::CULL_FRUSTUM)
+            | (u32::from(culling.back_faces()) * cull::CULL_BACK_FACES);
+        match self
+            .cull
+            .prepare(ctx, (input.scene, input.scene_gpu), slots, tests)
+        {
+            Ok(()) => {
+                self.culling_failures.clear();
+                culling
+            }
+            Err(why) => {
+                self.culling_failures.warn(
+                    "per-layer culling's records do not fit a buffer this adapter binds: the \
+                     maps are drawn unculled (the notes give the sizes)",
+                );
+                self.last.notes.push(why);
+                LayerCulling::None
+            }
         }
     }
 
@@ -215,11 +241,14 @@ impl ShadowTechnique for LayeredTechnique {
                 r.views[1] = 0;
             }
         }
-        self.maps.ensure(ctx, (side, layers), &records);
+        let group = match path {
+            LayeredPath::Multiview => self.paths.multiview_group(),
+            _ => 0,
+        };
+        self.maps.ensure(ctx, (side, layers, group), &records);
         self.last.path = path;
         self.last.lights = records.len();
         self.last.notes = notes;
-        self.last.resolution = resolution;
         lights
             .names
             .iter()
@@ -253,6 +282,16 @@ impl ShadowTechnique for LayeredTechnique {
         );
         self.last.cpu_culling_ms = started.elapsed().as_secs_f64() * 1000.0;
         let recording = Instant::now();
+        // Slots: a view each, or a multiview group each, for the culling and multiview's draws
+        // (a pass per map or an atlas page unculled draws each view's own list).
+        let needs_slots =
+            input.layered.culling != LayerCulling::None || path == LayeredPath::Multiview;
+        let slots = if needs_slots {
+            slots_of(path, &self.cpu, draw.views, self.paths.multiview_group())
+        } else {
+            Vec::new()
+        };
+        let culling = self.cull_if_it_fits(ctx, input, &slots);
         let path_input = PathInput {
             views: draw.views,
             view_buffer: draw.view_buffer,
@@ -264,49 +303,15 @@ impl ShadowTechnique for LayeredTechnique {
             indirect_first_instance: draw.indirect_first_instance,
         };
         self.statistics.begin_frame();
-        let mut culling = Self::culling_for(input, draw.views.len());
-        let mut prepared = Err(String::new());
-        let slots = if culling == LayerCulling::None {
-            Vec::new()
-        } else {
-            slots_of(path, &self.cpu, draw.views, self.paths.multiview_group())
-        };
-        if culling != LayerCulling::None {
-            let gpu_slots: Vec<Slot<'_>> = slots
-                .iter()
-                .map(|(first_view, views, casters, lights)| Slot {
-                    first_view: *first_view,
-                    views: *views,
-                    casters,
-                    lights,
-                })
-                .collect();
-            let tests = (u32::from(culling.frustum()) * cull::CULL_FRUSTUM)
-                | (u32::from(culling.back_faces()) * cull::CULL_BACK_FACES);
-            prepared = self
-                .cull
-                .prepare(ctx, (input.scene, input.scene_gpu), &gpu_slots, tests);
-            if let Err(why) = &prepared {
-                self.culling_failures.warn(
-                    "per-layer culling's records do not fit a buffer this adapter binds: the \
-                     maps are drawn unculled (the notes give the sizes)",
-                );
-                self.last.notes.push(why.clone());
-                culling = LayerCulling::None;
-            } else {
-                self.culling_failures.clear();
-            }
-        }
-        let (passes, draws, triangles) = if prepared.is_err() {
+        let (passes, draws, triangles) = if culling == LayerCulling::None {
             self.last.triangles_tested = 0;
             draw_direct(
                 (&mut self.paths, &self.maps, &self.cpu),
                 (ctx, encoder),
-                (path, &path_input),
+                (path, &path_input, &slots),
             )
         } else {
-            self.culled
-                .prepare(ctx, &self.cull, input.scene_gpu, self.maps.side());
+            self.culled.prepare(&ctx.device, &self.cull, &self.maps);
             self.cull.encode(encoder, draw.frame_group, draw.timer);
             self.last.triangles_tested = self.cull.triangles;
             let both = (&self.maps, &self.cull);
@@ -401,7 +406,7 @@ impl ShadowTechnique for LayeredTechnique {
 fn draw_direct(
     (paths, maps, cpu): (&mut Paths, &LayeredMaps, &CpuCasters),
     (ctx, encoder): (&GpuContext, &mut wgpu::CommandEncoder),
-    (path, input): (LayeredPath, &PathInput<'_>),
+    (path, input, slots): (LayeredPath, &PathInput<'_>, &[Slot]),
 ) -> (u32, u32, u64) {
     let (passes, lists): (u32, Vec<&crate::scene_gpu::DrawList>) = match path {
         LayeredPath::Traditional => {
@@ -410,7 +415,9 @@ fn draw_direct(
             (passes, lists.collect())
         }
         LayeredPath::Multiview => {
-            let groups = paths.draw_multiview(ctx, encoder, maps, input).unwrap_or(0);
+            let groups = paths
+                .draw_multiview(ctx, encoder, maps, (input, slots))
+                .unwrap_or(0);
             (
                 groups,
                 paths.multiview_lists().take(groups as usize).collect(),
@@ -428,11 +435,9 @@ fn draw_direct(
     )
 }
 
-/// The culling's slots for `path`: a view each, or a multiview group each with the union of
-/// its views' casters. (first view, views, casters, the views' lights).
-type SlotOf = (u32, u32, Vec<u32>, Vec<glam::Vec3>);
-
-fn slots_of(path: LayeredPath, cpu: &CpuCasters, views: &[ShadowView], group: u32) -> Vec<SlotOf> {
+/// The slots of `path`: a view each, or a multiview group each with the union of its views'
+/// casters.
+fn slots_of(path: LayeredPath, cpu: &CpuCasters, views: &[ShadowView], group: u32) -> Vec<Slot> {
     let group = match path {
         LayeredPath::Multiview => (group as usize).max(1),
         _ => 1,
@@ -445,13 +450,19 @@ fn slots_of(path: LayeredPath, cpu: &CpuCasters, views: &[ShadowView], group: u3
                 .clone()
                 .flat_map(|v| cpu.chosen(v).iter().copied())
                 .collect();
-            casters.sort_unstable();
-            casters.dedup();
-            let lights = views[range.clone()]
-                .iter()
-                .filter_map(|v| v.light.perspective.map(|p| p.position))
-                .collect();
-            (first as u32, range.len() as u32, casters, lights)
+            if range.len() > 1 {
+                casters.sort_unstable();
+                casters.dedup();
+            }
+            Slot {
+                first_view: first as u32,
+                views: range.len() as u32,
+                casters,
+                lights: views[range]
+                    .iter()
+                    .filter_map(|v| v.light.perspective.map(|p| p.position))
+                    .collect(),
+            }
         })
         .collect()
 }

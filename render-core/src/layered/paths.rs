@@ -8,7 +8,7 @@ use std::num::NonZeroU32;
 
 use wgpu::util::DrawIndexedIndirectArgs;
 
-use super::targets::{LayeredMaps, layer_range};
+use super::targets::LayeredMaps;
 use crate::gpu::{
     FrameTimer, GpuContext, bind_group_layout, buffer_entry, depth_attachment, pass_label,
     pipeline_layout, shader_module, storage, uniform,
@@ -73,7 +73,6 @@ struct Atlas {
     pipeline: wgpu::RenderPipeline,
     group_layout: wgpu::BindGroupLayout,
     pairs: wgpu::Buffer,
-    page: wgpu::Buffer,
     group: wgpu::BindGroup,
     /// Per page, one instanced draw per mesh.
     lists: Vec<DrawList>,
@@ -81,7 +80,13 @@ struct Atlas {
 
 impl Paths {
     /// `layouts`: group 0 of scene passes and one view alone.
-    pub fn new(ctx: &GpuContext, [frame, pass_view]: [&wgpu::BindGroupLayout; 2]) -> Self {
+    /// `layouts`: group 0 of scene passes and one view alone; `page`: the maps' page-side
+    /// uniform (`LayeredMaps::page`).
+    pub fn new(
+        ctx: &GpuContext,
+        [frame, pass_view]: [&wgpu::BindGroupLayout; 2],
+        page: &wgpu::Buffer,
+    ) -> Self {
         let device = &ctx.device;
         let layout = pipeline_layout(device, "Layered::layout", &[frame, pass_view]);
         let module = shader_module(device, "Layered::traditional", traditional_source());
@@ -98,7 +103,7 @@ impl Paths {
         let atlas = ctx
             .features()
             .contains(wgpu::Features::CLIP_DISTANCES)
-            .then(|| Atlas::new(ctx, frame));
+            .then(|| Atlas::new(ctx, frame, page));
         Self {
             traditional,
             multiview,
@@ -152,30 +157,23 @@ impl Paths {
         passes
     }
 
-    /// A pass per group of consecutive views, each a layer; `None` without multiview.
+    /// A pass per slot (a group of consecutive views, each a layer), drawing the casters any
+    /// of its views chose; `None` without multiview.
     pub fn draw_multiview(
         &mut self,
         ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
         maps: &LayeredMaps,
-        input: &PathInput<'_>,
+        (input, slots): (&PathInput<'_>, &[super::cull::Slot]),
     ) -> Option<u32> {
         let m = self.multiview.as_mut()?;
         let group = m.max_views as usize;
-        let groups = input.views.len().div_ceil(group);
+        let groups = slots.len();
         while m.lists.len() < groups {
             m.lists.push(DrawList::new(ctx, "Layered::multiview_draws"));
         }
-        let mut casters = Vec::new();
-        for (g, list) in m.lists.iter_mut().enumerate().take(groups) {
-            let views = g * group..((g + 1) * group).min(input.views.len());
-            casters.clear();
-            for v in views {
-                casters.extend_from_slice(input.casters.chosen(v));
-            }
-            casters.sort_unstable();
-            casters.dedup();
-            list.upload(ctx, input.scene_gpu, &casters);
+        for (list, slot) in m.lists.iter_mut().zip(slots) {
+            list.upload(ctx, input.scene_gpu, &slot.casters);
         }
         for g in 0..groups {
             let first = g * group;
@@ -192,9 +190,11 @@ impl Paths {
                 continue;
             };
             let square = input.views[first].target;
-            let target = layer_range(&maps.texture, square.layer, count);
+            let Some(target) = maps.groups.get(g) else {
+                continue;
+            };
             let pass = MapPass {
-                target: &target,
+                target,
                 mask: NonZeroU32::new((1u32 << count) - 1),
                 square: Some(square),
                 pipeline,
@@ -233,11 +233,12 @@ impl Paths {
         Some(maps.layers.len() as u32)
     }
 
-    /// Triangles the last frame's draws of `path` submitted (each instance's, each view's).
+    /// The draws of the last frame's multiview passes, a pass each.
     pub fn multiview_lists(&self) -> impl Iterator<Item = &DrawList> {
         self.multiview.iter().flat_map(|m| m.lists.iter())
     }
 
+    /// The draws of the last frame's atlas pages, a page each.
     pub fn atlas_lists(&self) -> impl Iterator<Item = &DrawList> {
         self.atlas.iter().flat_map(|a| a.lists.iter())
     }
@@ -247,7 +248,7 @@ impl Paths {
 type PagePairs = std::collections::BTreeMap<(u32, u32, i32), Vec<[u32; 2]>>;
 
 impl Atlas {
-    fn new(ctx: &GpuContext, frame: &wgpu::BindGroupLayout) -> Self {
+    fn new(ctx: &GpuContext, frame: &wgpu::BindGroupLayout, page: &wgpu::Buffer) -> Self {
         let device = &ctx.device;
         let group_layout = bind_group_layout(
             device,
@@ -259,18 +260,11 @@ impl Atlas {
         let module = shader_module(device, "Layered::atlas", atlas_source());
         let pipeline = depth_pipeline(device, (&layout, &module, "vs_atlas"), None, false);
         let pairs = pairs_buffer(device, 64);
-        let page = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("Layered::atlas_page"),
-            size: 16,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let group = atlas_group(device, &group_layout, &pairs, &page);
+        let group = atlas_group(device, &group_layout, &pairs, page);
         Self {
             pipeline,
             group_layout,
             pairs,
-            page,
             group,
             lists: Vec::new(),
         }
@@ -315,15 +309,12 @@ impl Atlas {
         let bytes = (pairs.len().max(1) * 8) as u64;
         if self.pairs.size() < bytes {
             self.pairs = pairs_buffer(&ctx.device, bytes.next_power_of_two());
-            self.group = atlas_group(&ctx.device, &self.group_layout, &self.pairs, &self.page);
+            self.group = atlas_group(&ctx.device, &self.group_layout, &self.pairs, &maps.page);
         }
         if !pairs.is_empty() {
             ctx.queue
                 .write_buffer(&self.pairs, 0, bytemuck::cast_slice(&pairs));
         }
-        let side = [maps.side() as f32, 0.0, 0.0, 0.0];
-        ctx.queue
-            .write_buffer(&self.page, 0, bytemuck::cast_slice(&side));
     }
 }
 

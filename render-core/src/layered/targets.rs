@@ -65,6 +65,11 @@ pub struct LayeredMaps {
     side: u32,
     records: wgpu::Buffer,
     pub light_group: wgpu::BindGroup,
+    /// x: a layer's side in texels, as the atlas paths' vertex stages read it (uniform).
+    pub page: wgpu::Buffer,
+    /// Multiview: the layers in consecutive groups of `group`, a view each (a pass's target).
+    pub groups: Vec<wgpu::TextureView>,
+    group: u32,
 }
 
 impl LayeredMaps {
@@ -92,23 +97,42 @@ impl LayeredMaps {
             side: 64,
             records,
             light_group,
+            page: page_buffer(device, 64),
+            groups: Vec::new(),
+            group: 0,
         }
     }
 
-    /// A depth array `side` texels square with `layers` layers, and room for `records`; the
-    /// records written.
+    /// A depth array `side` texels square with `layers` layers, its layers in consecutive
+    /// groups of `group` for multiview (0: none), and room for `records`; the records written.
     pub fn ensure(
         &mut self,
         ctx: &GpuContext,
-        (side, layers): (u32, u32),
+        (side, layers, group): (u32, u32, u32),
         records: &[LightRecord],
     ) {
         let device = &ctx.device;
         let mut changed = false;
-        if self.side != side || self.layers.len() != layers as usize {
+        let resized = self.side != side || self.layers.len() != layers as usize;
+        if resized || self.group != group {
+            self.group = group;
+            self.groups.clear();
+        }
+        if resized {
             (self.texture, self.array, self.layers) = depth_array(device, side, layers);
+            if self.side != side {
+                let page = [side as f32, 0.0, 0.0, 0.0];
+                ctx.queue
+                    .write_buffer(&self.page, 0, bytemuck::cast_slice(&page));
+            }
             self.side = side;
             changed = true;
+        }
+        if group > 0 && self.groups.is_empty() {
+            self.groups = (0..layers)
+                .step_by(group as usize)
+                .map(|first| layer_range(&self.texture, first, group.min(layers - first)))
+                .collect();
         }
         let bytes = RECORDS_OFFSET + (records.len().max(1) * size_of::<LightRecord>()) as u64;
         if self.records.size() < bytes {
@@ -125,10 +149,6 @@ impl LayeredMaps {
             ctx.queue
                 .write_buffer(&self.records, RECORDS_OFFSET, bytemuck::cast_slice(records));
         }
-    }
-
-    pub fn side(&self) -> u32 {
-        self.side
     }
 }
 
@@ -173,7 +193,7 @@ fn depth_array(
 }
 
 /// Layers `first..first + count` of `texture` as one array view (a multiview group's target).
-pub fn layer_range(texture: &wgpu::Texture, first: u32, count: u32) -> wgpu::TextureView {
+pub(super) fn layer_range(texture: &wgpu::Texture, first: u32, count: u32) -> wgpu::TextureView {
     texture.create_view(&wgpu::TextureViewDescriptor {
         label: Some("Layered::layers"),
         dimension: Some(wgpu::TextureViewDimension::D2Array),
@@ -181,6 +201,19 @@ pub fn layer_range(texture: &wgpu::Texture, first: u32, count: u32) -> wgpu::Tex
         array_layer_count: Some(count),
         ..Default::default()
     })
+}
+
+/// The page-side uniform, holding `side`.
+fn page_buffer(device: &wgpu::Device, side: u32) -> wgpu::Buffer {
+    let page = [side as f32, 0.0, 0.0, 0.0];
+    wgpu::util::DeviceExt::create_buffer_init(
+        device,
+        &wgpu::util::BufferInitDescriptor {
+            label: Some("Layered::page"),
+            contents: bytemuck::cast_slice(&page),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        },
+    )
 }
 
 fn records_buffer(device: &wgpu::Device, count: usize) -> wgpu::Buffer {

@@ -113,7 +113,9 @@ pub struct LayeredSettings {
     pub lights: u32,
     /// Per-layer culling of triangles in compute before the draw.
     pub culling: LayerCulling,
-    /// Extra load on the maps' geometry stage, to measure it (`bench`).
+    /// Extra load on the maps' geometry stage, to measure it (`bench`). Not remembered: a
+    /// window must not reopen with maps left empty by `--no-raster`.
+    #[serde(skip)]
     pub load: super::GeometryLoad,
 }
 

@@ -69,8 +69,7 @@ pub struct ShadowView {
 
 /// Extra load on the geometry stage of the passes that render a view, as Rákos measures it
 /// (GPU Pro 4, ch. 19, Figures 19.4 and 19.6).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
-#[serde(default)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct GeometryLoad {
     /// Every vertex lands outside the view after its work: nothing is rasterised.
     pub no_raster: bool,
