@@ -105,7 +105,11 @@ fn frame(
         .render_and_wait(ctx, scene, &scene_gpu, &input)
         .expect("frame renders");
     let views = renderer.last_views().to_vec();
-    let texture = renderer.lights_depth_texture();
+    let texture = if settings.setup == ShadowSetup::Lights {
+        renderer.lights_depth_texture()
+    } else {
+        renderer.shadow_depth_texture()
+    };
     let maps = views.iter().map(|v| view_map(texture, v)).collect();
     let capture =
         render_core::frame::FrameCapture::read(ctx, renderer.targets().unwrap()).expect("readback");
@@ -199,6 +203,58 @@ fn every_path_and_culling_renders_the_same_maps_and_shadows_as_a_pass_per_map() 
     }
 }
 
+#[test]
+fn the_suns_cascades_through_every_path_are_the_cascades_techniques_maps_and_shadows() {
+    // The sun over the box and the four lights: three cascades of the sun rendered by the
+    // cascades technique, then by each path with the lights' fourteen maps.
+    let scene = scene(four_lights());
+    let mut alone = FrameSettings {
+        setup: ShadowSetup::Cascades,
+        method: Method::Vfc,
+        ..FrameSettings::default()
+    };
+    // The sun's maps are 512 texels at least.
+    alone.shadow.resolution = 512;
+    alone.cascades.count = 3;
+    let (expected_report, expected, sun, _) = frame(&scene, &alone);
+    assert_eq!(expected.len(), 3);
+    let shadowed = sun.iter().filter(|&&s| s < 128).count();
+    assert!(
+        shadowed > 100,
+        "the box shadows the ground: {shadowed} pixels"
+    );
+    for path in LayeredPath::ALL {
+        for culling in [LayerCulling::None, LayerCulling::Both] {
+            let mut settings = with_culling(path, culling);
+            settings.layered.sun = true;
+            settings.cascades = alone.cascades;
+            settings.shadow.resolution = alone.shadow.resolution;
+            let case = format!("{path}, culling {culling}, with the sun");
+            let (report, maps, light, _) = frame(&scene, &settings);
+            assert_eq!(maps.len(), 3 + 14, "{case}");
+            for (v, (a, b)) in expected_report.views.iter().zip(&report.views).enumerate() {
+                assert_eq!(a.name, format!("cascade {v}"));
+                assert_eq!(
+                    (&a.name, a.texel_size_m, a.depth_range_m),
+                    (&b.name, b.texel_size_m, b.depth_range_m),
+                    "{case}"
+                );
+            }
+            assert_eq!(report.views[3].name, "spot 0", "{case}: the lights follow");
+            same_maps(&expected, &maps[..3], &case);
+            // With the sun, the light term's visibility is the sun's, as the cascades shade it.
+            let differ = sun
+                .iter()
+                .zip(&light)
+                .filter(|(a, b)| (**a < 128) != (**b < 128))
+                .count();
+            assert!(differ <= 2, "{case}: {differ} pixels shadowed differently");
+            let facts = report.layered.expect("the technique reports its path");
+            assert_eq!(facts.maps, 17, "{case}");
+        }
+    }
+}
+
 /// The maps agree texel by texel: the same texels covered (but for one in 10,000, the
 /// rasteriser's rounding on a triangle's edge) and their depths within 1e-5.
 fn same_maps(expected: &[Vec<f32>], maps: &[Vec<f32>], case: &str) {
@@ -213,7 +269,7 @@ fn same_maps(expected: &[Vec<f32>], maps: &[Vec<f32>], case: &str) {
             }
         }
     }
-    let texels = expected.len() * (MAP * MAP) as usize;
+    let texels: usize = expected.iter().map(Vec::len).sum();
     assert!(
         covered_differently * 10_000 <= texels,
         "{case}: {covered_differently} of {texels} texels covered differently"

@@ -20,6 +20,10 @@ pub struct LayeredArgs {
     /// none, frustum (each view's), back-faces (a closed mesh's, away from the light) or both.
     #[arg(long, value_parser = parse_culling, value_name = "CULL")]
     pub layer_culling: Option<LayerCulling>,
+    /// Many lights: the sun shines too, shadowed by cascades (`--cascades N` and its flags)
+    /// that the same path renders with the lights' maps.
+    #[arg(long)]
+    pub sun_cascades: bool,
     /// Many lights, to measure the geometry stage (Rákos's Figure 19.4): every vertex lands
     /// outside its map after its work, so nothing is rasterised.
     #[arg(long)]
@@ -37,6 +41,7 @@ impl LayeredArgs {
         let any = self.layered.is_some()
             || self.lights.is_some()
             || self.layer_culling.is_some()
+            || self.sun_cascades
             || self.no_raster
             || self.vertex_work.is_some();
         shadow == Some(ShadowSetup::Lights) || (shadow.is_none() && any)
@@ -62,6 +67,9 @@ impl LayeredArgs {
         }
         if let Some(culling) = self.layer_culling {
             settings.layered.culling = culling;
+        }
+        if self.sun_cascades {
+            settings.layered.sun = true;
         }
         if self.no_raster {
             settings.layered.load.no_raster = true;
@@ -123,12 +131,14 @@ mod tests {
         let s = settings(&[
             "--layer-culling",
             "frustum",
+            "--sun-cascades",
             "--no-raster",
             "--vertex-work",
             "8",
         ])
         .unwrap();
         assert_eq!(s.layered.culling, LayerCulling::Frustum);
+        assert!(s.layered.sun && s.cascaded_sun() && s.exact_truth_applies());
         assert!(s.layered.load.no_raster);
         assert_eq!(s.layered.load.vertex_work, 8);
         assert!(settings(&["--vertex-work", "1000"]).is_err());

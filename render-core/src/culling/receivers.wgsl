@@ -35,7 +35,7 @@ const MASK_MARGIN: f32 = 1e-5;
 fn receiver_lookup(in: VsOut, geometric: vec3<f32>, v: u32, chosen: u32) -> ShadowLookup {
     var l = shadow_lookup(in.world_pos, geometric, v);
     let receives = (instances[in.instance].flags.x & FLAG_RECEIVER) != 0u;
-    l.inside = l.inside && receives && frame.params.y != 0u && view_selected(v, in.world_pos, chosen);
+    l.inside = l.inside && receives && frame.params.y != 0u && view_selected(v, in.world_pos, chosen, frame.views.x);
     return l;
 }
 
@@ -135,7 +135,7 @@ fn view_may_shade(v: u32, world_pos: vec3<f32>, reach: f32) -> bool {
     let own = shadow_views[v].shades_depth_m;
     var near = own.x;
     let band = frame.shadow.w;
-    if (band > 0.0 && v > 0u && next_adjacent(v - 1u)) {
+    if (band > 0.0 && v > 0u && next_adjacent(v - 1u, frame.views.x)) {
         let before = shadow_views[v - 1u].shades_depth_m;
         near = before.y - band_width(before.xy, band);
     }
@@ -227,7 +227,7 @@ fn mark_oracle_casters(l: ShadowLookup) {
 @fragment
 fn fs_oracle(in: VsOut) {
     let geometric = geometric_normal(in.world_pos, in.normal);
-    let chosen = chosen_view(in.world_pos, geometric);
+    let chosen = chosen_view(in.world_pos, geometric, frame.views.x);
     for (var v = 0u; v < frame.views.x; v++) {
         let l = receiver_lookup(in, geometric, v, chosen);
         if (l.inside) {

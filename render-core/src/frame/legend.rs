@@ -78,9 +78,10 @@ pub fn legend(settings: &FrameSettings) -> Vec<LegendGroup> {
     }
     // Shadow volumes have no views to tint by.
     if overlays.cascades && settings.setup != super::ShadowSetup::Volumes {
-        let count = match settings.setup {
-            super::ShadowSetup::Cascades => settings.cascades.count.clamp(1, VIEWS.len() as u32),
-            _ => 1,
+        let count = if settings.cascaded_sun() {
+            settings.cascades.count.clamp(1, VIEWS.len() as u32)
+        } else {
+            1
         };
         groups.push(LegendGroup {
             title: "Cascade tint",

@@ -45,14 +45,12 @@ use camera::ShadingGroups;
 pub(crate) use camera::shader_source as camera_shader_source;
 use results::Latest;
 
-use crate::cascades::{CascadeSettings, Cascades};
 use crate::geom::{Camera, Frustum};
 use crate::gpu::{FrameTimer, GpuContext};
 use crate::metrics::{HeatMapOverlay, MeasureResources, ShadowError};
 use crate::overlays::{LightInset, ObserverLines};
 use crate::scene::Scene;
 use crate::scene_gpu::DrawList;
-use crate::shadow_map::{SunView, WarpedSunView};
 use crate::shadow_view::{ShadowView, ViewBuffer};
 use crate::technique::{DrawInput, ShadowPasses, TechniqueInput};
 use crate::truth::{ExactShadow, FrameGroups, PendingLight, SurfacePoint};
@@ -91,8 +89,6 @@ pub struct FrameRenderer {
     techniques: Techniques,
     /// Copies of the single map's view (1 but in tests of the per-view path).
     repeated_views: u32,
-    /// What the technique's view layout was made from; a new one only when it changes.
-    layout_key: Option<(ShadowSetup, CascadeSettings, LispsmSettings, u32)>,
     visibility: VisibilityPass,
     /// Objects in the view frustum (camera passes), refilled per frame.
     camera_list: DrawList,
@@ -144,7 +140,6 @@ impl FrameRenderer {
             views,
             techniques,
             repeated_views: 1,
-            layout_key: None,
             visibility: VisibilityPass::new(ctx),
             camera_list: DrawList::new(ctx, "Frame::camera_draws"),
             scratch: Vec::new(),
@@ -186,25 +181,8 @@ impl FrameRenderer {
         self.techniques.active = Family::of(input.settings.setup);
         let setup = self.begin_frame(ctx, scene, scene_gpu, input);
         let technique_input = self.technique_input(&setup, scene, scene_gpu, input.camera);
-        let key = (
-            setup.settings.setup,
-            setup.settings.cascades,
-            setup.settings.lispsm,
-            self.repeated_views,
-        );
-        if self.layout_key != Some(key) {
-            self.layout_key = Some(key);
-            let layout: Box<dyn crate::shadow_map::ViewLayout> = match key.0 {
-                ShadowSetup::Single | ShadowSetup::Volumes | ShadowSetup::Lights => {
-                    Box::new(SunView { copies: key.3 })
-                }
-                ShadowSetup::Lispsm => Box::new(WarpedSunView {
-                    n_scale: key.2.n_scale,
-                }),
-                ShadowSetup::Cascades => Box::new(Cascades::new(key.1)),
-            };
-            self.techniques.maps.set_layout(layout);
-        }
+        self.techniques
+            .arrange(&setup.settings, self.repeated_views);
         let views = self.techniques.active_mut().prepare(ctx, &technique_input);
         let frame_group = self.write_frame(ctx, &setup, input.camera, scene_gpu, &views);
         let mut encoder = ctx
@@ -362,7 +340,7 @@ impl FrameRenderer {
                 shadow.depth_bias_m,
                 shadow.slope_bias,
                 shadow.normal_offset_texels,
-                if settings.setup == ShadowSetup::Cascades {
+                if settings.cascaded_sun() {
                     settings.cascades.blend.clamp(0.0, 0.5)
                 } else {
                     0.0
@@ -378,7 +356,7 @@ impl FrameRenderer {
             views: [
                 views.len() as u32,
                 scene_gpu.instance_count,
-                if settings.setup == ShadowSetup::Cascades {
+                if settings.cascaded_sun() {
                     settings.cascades.selection.code()
                 } else {
                     0

@@ -135,10 +135,18 @@ impl std::str::FromStr for ShadowSetup {
 
 impl FrameSettings {
     /// Whether the exact shadow (`truth/`: a ray per pixel towards the sun or the point light)
-    /// is this frame's truth. Many lights have none yet: their error against it would
-    /// measure the sun's shadow, so none is reported.
+    /// is this frame's truth. Many lights alone have none yet: their error against it would
+    /// measure the sun's shadow, so none is reported; with the sun, the sun's shadow is what
+    /// their error measures.
     pub fn exact_truth_applies(&self) -> bool {
-        self.setup != ShadowSetup::Lights
+        self.setup != ShadowSetup::Lights || self.layered.sun
+    }
+
+    /// Whether the sun is shadowed by cascades: the cascades setup, or many lights with the
+    /// sun (their first views).
+    pub fn cascaded_sun(&self) -> bool {
+        self.setup == ShadowSetup::Cascades
+            || (self.setup == ShadowSetup::Lights && self.layered.sun)
     }
 
     /// Where this frame's shadows come from.

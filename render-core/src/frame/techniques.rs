@@ -2,11 +2,12 @@
 //! camera's shading and the light at the truth's points. The setup chooses which one a frame
 //! runs ([`Family::of`]); the frame talks to it only through [`ShadowTechnique`].
 
-use super::ShadowSetup;
 use super::camera::CameraPasses;
+use super::{FrameSettings, LispsmSettings, ShadowSetup};
+use crate::cascades::{CascadeSettings, Cascades};
 use crate::gpu::GpuContext;
 use crate::layered::LayeredTechnique;
-use crate::shadow_map::MapTechnique;
+use crate::shadow_map::{MapTechnique, SunView, ViewLayout, WarpedSunView};
 use crate::technique::ShadowTechnique;
 use crate::truth::LightAtPoints;
 use crate::volumes::VolumeTechnique;
@@ -80,6 +81,8 @@ pub(super) struct Techniques {
     volume_shading: Shading,
     layered_shading: Shading,
     pub active: Family,
+    /// What the map technique's layout was made for (setup, cascades, LiSPSM, copies).
+    layout_key: Option<(ShadowSetup, CascadeSettings, LispsmSettings, u32)>,
     /// The active one cannot cast the frame's point light's shadows: logged once.
     refusals: crate::gpu::LogOnce,
 }
@@ -102,8 +105,34 @@ impl Techniques {
             volumes,
             layered,
             active: Family::Maps,
+            layout_key: None,
             refusals: crate::gpu::LogOnce::default(),
         }
+    }
+
+    /// The views `settings` ask of the techniques: the map technique's layout (the single
+    /// map, `copies` of it in tests, LiSPSM, cascades), remade when they change; many lights'
+    /// cascades of the sun, where it shines with them.
+    pub fn arrange(&mut self, settings: &FrameSettings, copies: u32) {
+        let key = (settings.setup, settings.cascades, settings.lispsm, copies);
+        if self.layout_key != Some(key) {
+            self.layout_key = Some(key);
+            let layout: Box<dyn ViewLayout> = match key.0 {
+                ShadowSetup::Single | ShadowSetup::Volumes | ShadowSetup::Lights => {
+                    Box::new(SunView { copies })
+                }
+                ShadowSetup::Lispsm => Box::new(WarpedSunView {
+                    n_scale: key.2.n_scale,
+                }),
+                ShadowSetup::Cascades => Box::new(Cascades::new(key.1)),
+            };
+            self.maps.set_layout(layout);
+        }
+        let sun = settings
+            .layered
+            .sun
+            .then(|| Cascades::new(settings.cascades));
+        self.layered.set_sun(sun);
     }
 
     /// Where the active technique cannot cast `settings`' point light's shadows, turns

@@ -1,8 +1,10 @@
 // The many-lights technique's "light reaching this point": every light of the scene that
-// reaches the point, each through its shadow map (PCF), summed (layered/mod.rs). A spot light
+// reaches the point, each through its shadow map (PCF), summed (layered/mod.rs), and, when
+// the sun shines too, the sun through its cascades, the first views. A spot light
 // reads its one view; a point light the cube face its direction to the point falls in.
-// `method` is the share of the lights' irradiance that arrives unshadowed, so error counts
-// treat it as they treat one light's visibility; `added` is the light itself, coloured.
+// Without the sun, `method` is the share of the lights' irradiance that arrives unshadowed,
+// so error counts treat it as they treat one light's visibility; with it, the sun's
+// visibility, as the map technique's is. `added` is the lights' light, coloured.
 // Bound as group 1 of the shading pass.
 #import shadow_view/lookup.wgsl
 #import metrics/measure.wgsl
@@ -20,7 +22,8 @@ struct LightRecord {
 }
 
 struct Lights {
-    // x: how many records are this frame's.
+    // x: how many records are this frame's; y: the sun's views (cascades), the first views,
+    // 0 when the sun does not shine.
     count: vec4<u32>,
     records: array<LightRecord>,
 }
@@ -124,8 +127,56 @@ fn lights_at(world_pos: vec3<f32>, geometric: vec3<f32>, shadowed: bool) -> Ligh
     return out;
 }
 
+// The sun's visibility through its cascades, as the map technique shades it
+// (shadow_map/light.wgsl): the views `view_selected` picks, the least of them, or with a blend
+// band each weighted by `blend_weight`, faded out over the last one's band.
+fn sun_light(world_pos: vec3<f32>, geometric: vec3<f32>) -> LightReaching {
+    let count = lights.count.y;
+    var out = LightReaching(1.0, 1.0, 0u, false, vec3<f32>(0.0));
+    let blended = frame.shadow.w > 0.0 && frame.views.z == 0u;
+    let chosen = chosen_view(world_pos, geometric, count);
+    var weighted = 0.0;
+    var weight = 0.0;
+    var first = true;
+    for (var v = 0u; v < count; v++) {
+        var w = 1.0;
+        if (blended) {
+            w = blend_weight(v, world_pos, count);
+        } else if (!view_selected(v, world_pos, chosen, count)) {
+            w = 0.0;
+        }
+        if (w <= 0.0) {
+            continue;
+        }
+        let lookup = shadow_lookup(world_pos, geometric, v);
+        if (first) {
+            out.view = v;
+            out.shaded = lookup.inside;
+            first = false;
+        }
+        if (blended && !lookup.inside) {
+            continue;
+        }
+        let lit = map_light(lookup);
+        out.method = min(out.method, lit);
+        weighted += w * lit;
+        weight += w;
+    }
+    if (blended && weight > 0.0) {
+        out.method = mix(weighted / weight, 1.0, fade_out(world_pos, count));
+    }
+    out.reference = out.method;
+    return out;
+}
+
 fn light_reaching(world_pos: vec3<f32>, geometric: vec3<f32>, measuring: bool) -> LightReaching {
-    return lights_at(world_pos, geometric, true);
+    let lamps = lights_at(world_pos, geometric, true);
+    if (lights.count.y == 0u) {
+        return lamps;
+    }
+    var out = sun_light(world_pos, geometric);
+    out.added = lamps.added;
+    return out;
 }
 
 fn light_unshadowed(world_pos: vec3<f32>, geometric: vec3<f32>) -> vec3<f32> {

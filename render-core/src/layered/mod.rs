@@ -35,11 +35,13 @@ use statistics::PassStatistics;
 use targets::LayeredMaps;
 pub use targets::place;
 
+use crate::cascades::Cascades;
 use crate::culling::{CasterOutcome, Method};
 use crate::gpu::{GpuContext, LogOnce};
 use crate::scene_gpu::DrawList;
+use crate::shadow_map::ViewLayout;
 use crate::shadow_map::cpu_casters::CpuCasters;
-use crate::shadow_view::{LayerCulling, LayeredPath, LayeredSettings, ShadowView};
+use crate::shadow_view::{LayerCulling, LayeredPath, LayeredSettings, ShadowView, ViewTarget};
 use crate::technique::{
     DrawInput, InsetSources, ShadowPasses, ShadowReport, ShadowTechnique, TechniqueInput,
     ViewReport,
@@ -57,6 +59,8 @@ pub struct LayeredTechnique {
     statistics: PassStatistics,
     cpu: CpuCasters,
     method: Method,
+    /// The sun's cascades, when the sun shines too (the first views).
+    sun: Option<Cascades>,
     last: LastFrame,
     fallbacks: LogOnce,
     culling_failures: LogOnce,
@@ -72,6 +76,8 @@ struct LastFrame {
     draws: u32,
     triangles: u64,
     lights: usize,
+    /// The sun shines, through the first views (cascades).
+    sun: bool,
     notes: Vec<String>,
     cpu_culling_ms: f64,
     /// CPU time of recording the path's passes and draws, milliseconds.
@@ -94,10 +100,17 @@ impl LayeredTechnique {
             paths,
             cpu: CpuCasters::new(ctx),
             method: Method::Vfc,
+            sun: None,
             last: LastFrame::default(),
             fallbacks: LogOnce::default(),
             culling_failures: LogOnce::default(),
         }
+    }
+
+    /// The sun shines too, shadowed by these cascades (rendered first, by the same path), or
+    /// not at all.
+    pub fn set_sun(&mut self, cascades: Option<Cascades>) {
+        self.sun = cascades;
     }
 
     /// The depth array the maps are in, for tests that read them back.
@@ -195,8 +208,9 @@ impl ShadowTechnique for LayeredTechnique {
         }
     }
 
+    /// The sun shines only when asked for (its cascades are then the first views).
     fn sun_scale(&self) -> f32 {
-        0.0
+        if self.last.sun { 1.0 } else { 0.0 }
     }
 
     fn prepare(&mut self, ctx: &GpuContext, input: &TechniqueInput<'_>) -> Vec<ShadowView> {
@@ -220,22 +234,34 @@ impl ShadowTechnique for LayeredTechnique {
         }
         let lights = light_views(input.scene, input.layered.lights, resolution);
         if lights.records.is_empty() {
-            notes.push(
-                "this scene has no point or spot lights (glTF KHR_lights_punctual; \
-                 builtin:hall has 32): only ambient light"
-                    .to_owned(),
-            );
-        }
-        let (targets, side, layers) = place(path, lights.frusta.len(), resolution, &limits);
-        if targets.len() < lights.frusta.len() {
             notes.push(format!(
-                "{} of {} maps fit this adapter's textures; the rest are lit unshadowed",
-                targets.len(),
-                lights.frusta.len()
+                "this scene has no point or spot lights (glTF KHR_lights_punctual; \
+                 builtin:hall has 32): only {} light",
+                if self.sun.is_some() {
+                    "the sun's and ambient"
+                } else {
+                    "ambient"
+                }
             ));
         }
+        // The sun's cascades first (the light term reads them as views 0..sun), then the
+        // lights' views.
+        let sun: Vec<ShadowView> = match &self.sun {
+            Some(cascades) => cascades.views(input, self.method, resolution),
+            None => Vec::new(),
+        };
+        let total = sun.len() + lights.frusta.len();
+        let (targets, side, layers) = place(path, total, resolution, &limits);
+        if targets.len() < total {
+            notes.push(format!(
+                "{} of {total} maps fit this adapter's textures; the rest are lit unshadowed",
+                targets.len(),
+            ));
+        }
+        let sun_views = sun.len().min(targets.len()) as u32;
         let mut records = lights.records;
         for r in &mut records {
+            r.views[0] += sun_views;
             // A light whose views did not fit shines unshadowed.
             if r.views[0] + r.views[1] > targets.len() as u32 {
                 r.views[1] = 0;
@@ -245,19 +271,28 @@ impl ShadowTechnique for LayeredTechnique {
             LayeredPath::Multiview => self.paths.multiview_group(),
             _ => 0,
         };
-        self.maps.ensure(ctx, (side, layers, group), &records);
+        self.maps
+            .ensure(ctx, (side, layers, group), (&records, sun_views));
         self.last.path = path;
         self.last.lights = records.len();
+        self.last.sun = self.sun.is_some();
         self.last.notes = notes;
-        lights
+        let lights = lights
             .names
             .iter()
             .zip(lights.frusta)
-            .zip(targets)
-            .map(|((name, light), target)| ShadowView {
+            .map(|(name, light)| ShadowView {
                 load: input.layered.load,
-                ..ShadowView::covering_all_depths(name, light, target)
+                ..ShadowView::covering_all_depths(name, light, ViewTarget::layer(0, resolution))
+            });
+        sun.into_iter()
+            .map(|view| ShadowView {
+                load: input.layered.load,
+                ..view
             })
+            .chain(lights)
+            .zip(targets)
+            .map(|(view, target)| ShadowView { target, ..view })
             .collect()
     }
 

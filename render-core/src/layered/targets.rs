@@ -104,12 +104,13 @@ impl LayeredMaps {
     }
 
     /// A depth array `side` texels square with `layers` layers, its layers in consecutive
-    /// groups of `group` for multiview (0: none), and room for `records`; the records written.
+    /// groups of `group` for multiview (0: none), and room for `records`; the records written
+    /// after the header, which also says how many first views are the sun's (`sun_views`).
     pub fn ensure(
         &mut self,
         ctx: &GpuContext,
         (side, layers, group): (u32, u32, u32),
-        records: &[LightRecord],
+        (records, sun_views): (&[LightRecord], u32),
     ) {
         let device = &ctx.device;
         let mut changed = false;
@@ -142,7 +143,7 @@ impl LayeredMaps {
         if changed {
             self.light_group = light_group(device, &self.light_layout, &self.array, &self.records);
         }
-        let count = [records.len() as u32, 0, 0, 0];
+        let count = [records.len() as u32, sun_views, 0, 0];
         ctx.queue
             .write_buffer(&self.records, 0, bytemuck::cast_slice(&count));
         if !records.is_empty() {

@@ -75,9 +75,9 @@ fn light_reaching(world_pos: vec3<f32>, geometric: vec3<f32>, measuring: bool) -
     }
     var out = LightReaching(1.0, 1.0, 0u, false, vec3<f32>(0.0));
     var first = true;
-    let chosen = chosen_view(world_pos, geometric);
+    let chosen = chosen_view(world_pos, geometric, frame.views.x);
     for (var v = 0u; v < frame.views.x; v++) {
-        if (!view_selected(v, world_pos, chosen)) {
+        if (!view_selected(v, world_pos, chosen, frame.views.x)) {
             continue;
         }
         let lookup = shadow_lookup(world_pos, geometric, v);
@@ -103,7 +103,7 @@ fn light_blended(world_pos: vec3<f32>, geometric: vec3<f32>, measuring: bool) ->
     var weight = 0.0;
     var first = true;
     for (var v = 0u; v < frame.views.x; v++) {
-        let w = blend_weight(v, world_pos);
+        let w = blend_weight(v, world_pos, frame.views.x);
         if (w <= 0.0) {
             continue;
         }
@@ -123,7 +123,7 @@ fn light_blended(world_pos: vec3<f32>, geometric: vec3<f32>, measuring: bool) ->
         weight += w;
     }
     if (weight > 0.0) {
-        let fade = fade_out(world_pos);
+        let fade = fade_out(world_pos, frame.views.x);
         out.method = mix(method / weight, 1.0, fade);
         out.reference = mix(reference / weight, 1.0, fade);
     }

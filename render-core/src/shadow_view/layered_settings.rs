@@ -113,6 +113,9 @@ pub struct LayeredSettings {
     pub lights: u32,
     /// Per-layer culling of triangles in compute before the draw.
     pub culling: LayerCulling,
+    /// The sun shines too, shadowed by the frame's cascades (`FrameSettings::cascades`),
+    /// which the same path renders as the first views.
+    pub sun: bool,
     /// Extra load on the maps' geometry stage, to measure it (`bench`). Not remembered: a
     /// window must not reopen with maps left empty by `--no-raster`.
     #[serde(skip)]

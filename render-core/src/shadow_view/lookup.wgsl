@@ -146,13 +146,15 @@ fn lookup_contained(l: ShadowLookup) -> bool {
 const NO_VIEW: u32 = 0xffffffffu;
 
 // When the frame selects by map (frame.views.z == 1, cascades/mod.rs `CascadeSelection`): the
-// first view whose map holds every tap of the point. Selecting by depth needs no lookup here.
-// A point's callers compute it once and hand it to `view_selected` for every view.
-fn chosen_view(world_pos: vec3<f32>, geometric: vec3<f32>) -> u32 {
+// first of the sun's views `0..count` whose map holds every tap of the point. Selecting by
+// depth needs no lookup here. A point's callers compute it once and hand it to
+// `view_selected` for every view. `count`: the views that shade the sun, frame.views.x for the
+// map technique, the cascades before the lights' views for many lights (layered/light.wgsl).
+fn chosen_view(world_pos: vec3<f32>, geometric: vec3<f32>, count: u32) -> u32 {
     if (frame.views.z == 0u) {
         return NO_VIEW;
     }
-    for (var v = 0u; v < frame.views.x; v++) {
+    for (var v = 0u; v < count; v++) {
         if (lookup_contained(shadow_lookup(world_pos, geometric, v))) {
             return v;
         }
@@ -160,19 +162,20 @@ fn chosen_view(world_pos: vec3<f32>, geometric: vec3<f32>) -> u32 {
     return NO_VIEW;
 }
 
-// Whether view `v` shades the point: by view depth (`blend_weight`, `view_shades` without a
-// band), or by map, when `v` is `chosen` (`chosen_view`). Shading and the receiver passes both
-// choose through this.
-fn view_selected(v: u32, world_pos: vec3<f32>, chosen: u32) -> bool {
+// Whether view `v` of the sun's `count` shades the point: by view depth (`blend_weight`,
+// `view_shades` without a band), or by map, when `v` is `chosen` (`chosen_view`). Shading
+// and the receiver passes both choose through this.
+fn view_selected(v: u32, world_pos: vec3<f32>, chosen: u32, count: u32) -> bool {
     if (frame.views.z == 0u) {
-        return blend_weight(v, world_pos) > 0.0;
+        return blend_weight(v, world_pos, count) > 0.0;
     }
     return v == chosen;
 }
 
-// Whether view `v + 1` shades the depths right after `v`'s, so `v` can blend into it.
-fn next_adjacent(v: u32) -> bool {
-    return v + 1u < frame.views.x
+// Whether view `v + 1` of the sun's `count` shades the depths right after `v`'s, so `v` can
+// blend into it.
+fn next_adjacent(v: u32, count: u32) -> bool {
+    return v + 1u < count
         && shadow_views[v + 1u].shades_depth_m.x == shadow_views[v].shades_depth_m.y;
 }
 
@@ -180,7 +183,7 @@ fn next_adjacent(v: u32) -> bool {
 // over the blend band at their far end (frame.shadow.w of the depths, cascades/mod.rs) where
 // the next view takes over, and what the previous view gives up in its band. Without a band,
 // 1 exactly where `view_shades`.
-fn blend_weight(v: u32, world_pos: vec3<f32>) -> f32 {
+fn blend_weight(v: u32, world_pos: vec3<f32>, count: u32) -> f32 {
     let band = frame.shadow.w;
     if (band <= 0.0) {
         return select(0.0, 1.0, view_shades(v, world_pos));
@@ -188,12 +191,12 @@ fn blend_weight(v: u32, world_pos: vec3<f32>) -> f32 {
     let depth_m = shading_depth(v, world_pos);
     let own = shadow_views[v].shades_depth_m;
     if (depth_m >= own.x && depth_m < own.y) {
-        if (!next_adjacent(v)) {
+        if (!next_adjacent(v, count)) {
             return 1.0;
         }
         return band_left(own.xy, depth_m, band);
     }
-    if (v > 0u && next_adjacent(v - 1u)) {
+    if (v > 0u && next_adjacent(v - 1u, count)) {
         let before = shadow_views[v - 1u].shades_depth_m;
         let depth_before = shading_depth(v - 1u, world_pos);
         if (depth_before >= before.x && depth_before < before.y) {
@@ -213,15 +216,15 @@ fn band_width(range: vec2<f32>, band: f32) -> f32 {
     return max(band * (range.y - max(range.x, 0.0)), 1e-6);
 }
 
-// How far the shadow has faded out at the point: over the blend band at the last view's far
-// end, from 0 to 1.
-fn fade_out(world_pos: vec3<f32>) -> f32 {
+// How far the shadow has faded out at the point: over the blend band at the far end of the
+// last of the sun's `count` views, from 0 to 1.
+fn fade_out(world_pos: vec3<f32>, count: u32) -> f32 {
     let band = frame.shadow.w;
-    if (band <= 0.0 || frame.views.x == 0u) {
+    if (band <= 0.0 || count == 0u) {
         return 0.0;
     }
-    let last = shadow_views[frame.views.x - 1u].shades_depth_m;
-    let depth_m = shading_depth(frame.views.x - 1u, world_pos);
+    let last = shadow_views[count - 1u].shades_depth_m;
+    let depth_m = shading_depth(count - 1u, world_pos);
     if (depth_m < last.x || depth_m >= last.y) {
         return 0.0;
     }

@@ -17,7 +17,8 @@ struct FrameUniforms {
     // error and oracle; w: overlay bits.
     params: vec4<u32>,
     // x: shadow views this frame; y: instances, the stride of per-view blocks of
-    // per-instance data; z, w: unused.
+    // per-instance data; z: how cascades are selected (0 by depth, 1 by map); w: constant
+    // bias in texels of each view (f32 bits).
     views: vec4<u32>,
     // xyz: the point light that lights the frame in place of the sun; w: its intensity over
     // the sun's illuminance, candela per lux (0: the sun does; view/gpu_data.rs).

@@ -58,7 +58,6 @@ const SELECT_HELP: &str = "depth: each point from the cascade whose slice holds 
     the sphere fit its boundaries stand still as the camera turns)";
 
 pub fn ui(ui: &mut egui::Ui, settings: &mut FrameSettings, report: Option<&FrameReport>) {
-    let cascades = &mut settings.cascades;
     grid::facts(ui, "cascade_settings", |ui| {
         grid::labelled(ui, "Setup", SETUP_HELP, |ui| {
             egui::ComboBox::from_id_salt("shadow_setup")
@@ -113,9 +112,11 @@ pub fn ui(ui: &mut egui::Ui, settings: &mut FrameSettings, report: Option<&Frame
         if settings.setup == ShadowSetup::Lights {
             super::lights::rows(ui, &mut settings.layered, report);
         }
-        if settings.setup != ShadowSetup::Cascades {
+        // Many lights with the sun cascade it as the cascades setup does.
+        if !settings.cascaded_sun() {
             return;
         }
+        let cascades = &mut settings.cascades;
         grid::labelled(ui, "Cascades", COUNT_HELP, |ui| {
             ui.add(egui::Slider::new(&mut cascades.count, 1..=MAX_CASCADES))
         });

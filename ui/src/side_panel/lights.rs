@@ -14,6 +14,9 @@ const PATH_HELP: &str = "How the lights' shadow maps are rendered (Rákos, GPU P
 const LIGHTS_HELP: &str = "Only the scene's first this many lights shine and cast shadows \
      (0: all). A spot light has one map, a point light six";
 
+const SUN_HELP: &str = "The sun shines too, shadowed by cascades (set below) that the same \
+     path renders with the lights' maps, as an engine draws its sun and its lamps";
+
 /// The rows (inside the tab's grid).
 pub fn rows(ui: &mut egui::Ui, layered: &mut LayeredSettings, report: Option<&FrameReport>) {
     grid::labelled(ui, "Maps by", PATH_HELP, |ui| {
@@ -28,6 +31,9 @@ pub fn rows(ui: &mut egui::Ui, layered: &mut LayeredSettings, report: Option<&Fr
     });
     grid::labelled(ui, "Lights", LIGHTS_HELP, |ui| {
         ui.add(egui::DragValue::new(&mut layered.lights).range(0..=1024))
+    });
+    grid::labelled(ui, "Sun", SUN_HELP, |ui| {
+        ui.checkbox(&mut layered.sun, "by cascades")
     });
     let Some(facts) = report.and_then(|r| r.layered) else {
         return;

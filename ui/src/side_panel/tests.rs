@@ -407,6 +407,17 @@ fn the_lights_setup_chooses_how_its_maps_are_rendered_and_says_what_was_drawn() 
     );
     // The last frame still drew the traditional way: the row says it fell back.
     harness.get_by_label("32 lights, 72 maps: 72 passes, 1080 draws by traditional (fallback)");
+    // The sun joins the lights, through cascades set in the same tab.
+    assert!(
+        harness
+            .query_by_role_and_label(Role::Slider, "Cascades")
+            .is_none(),
+        "no sun, no cascades"
+    );
+    harness.get_by_role_and_label(Role::CheckBox, "Sun").click();
+    harness.run();
+    assert!(harness.state().settings.layered.sun);
+    harness.get_by_role_and_label(Role::Slider, "Cascades");
 }
 
 #[test]
