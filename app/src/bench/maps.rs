@@ -122,7 +122,49 @@ pub(super) fn sweep_maps(
             .with_context(|| format!("writing {}", csv.display()))?;
         eprintln!("wrote {}", csv.display());
     }
+    if let Some(out) = &args.plot {
+        let title = plot_title(&session.scene.name, &base, rows.first().map(|r| r.frames));
+        super::maps_plot::plot(&plot_points(&rows), &title, out)?;
+        eprintln!("wrote {}", out.display());
+    }
     Ok(())
+}
+
+/// The figure's title: the scene and what makes it one of Rákos's figures.
+fn plot_title(scene: &str, base: &FrameSettings, frames: Option<usize>) -> String {
+    let mut title = format!("{scene}: many lights' maps");
+    let load = load_name(base.layered.load);
+    if load != "-" {
+        title += &format!(", {load}");
+    }
+    if base.layered.sun {
+        title += ", with the sun's cascades";
+    }
+    if let Some(frames) = frames {
+        title += &format!(" (medians of {frames} frames)");
+    }
+    title
+}
+
+fn plot_points(rows: &[MapsRow]) -> Vec<super::maps_plot::PlotPoint> {
+    rows.iter()
+        .map(|r| super::maps_plot::PlotPoint {
+            series: if r.ran_as == r.path {
+                format!("{}, culled {}", r.path.name(), r.culling.name())
+            } else {
+                format!(
+                    "{} (as {}), culled {}",
+                    r.path.name(),
+                    r.ran_as.name(),
+                    r.culling.name()
+                )
+            },
+            size: r.size,
+            maps: r.maps,
+            gpu_ms: r.maps_ms,
+            cpu_ms: r.cpu_submit_ms,
+        })
+        .collect()
 }
 
 /// What a frame's GPU counted, read after it (so not in its times): the triangles culling

@@ -4,6 +4,7 @@
 //! or many lights' paths, counts and map sizes (`maps.rs`).
 
 mod maps;
+mod maps_plot;
 mod table;
 
 use anyhow::Context as _;

@@ -76,6 +76,11 @@ pub struct BenchArgs {
     /// Also write the table as CSV.
     #[arg(long, value_name = "FILE")]
     pub csv: Option<PathBuf>,
+    /// `--sweep maps`: also draw it as a PNG, Rákos's figures: per map size, the maps' GPU
+    /// time and the CPU time of recording them against the number of maps, a line per path
+    /// and culling.
+    #[arg(long, value_name = "FILE.png")]
+    pub plot: Option<PathBuf>,
     /// Also print each method's GPU time per pass, with the culling's steps inside it
     #[arg(long)]
     pub passes: bool,

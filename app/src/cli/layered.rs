@@ -47,7 +47,7 @@ impl LayeredArgs {
         shadow == Some(ShadowSetup::Lights) || (shadow.is_none() && any)
     }
 
-    /// The options into `settings`; `--layered` alone picks `--shadow lights`.
+    /// The options into `settings`; any of them without `--shadow` picks `--shadow lights`.
     pub fn apply_to(
         &self,
         shadow: Option<ShadowSetup>,
@@ -55,9 +55,9 @@ impl LayeredArgs {
     ) -> anyhow::Result<()> {
         if let Some(path) = self.layered {
             settings.layered.path = path;
-            if shadow.is_none() {
-                settings.setup = ShadowSetup::Lights;
-            }
+        }
+        if shadow.is_none() && self.asks_for_lights(None) {
+            settings.setup = ShadowSetup::Lights;
         }
         if let Some(lights) = self.lights {
             if lights > 1024 {
@@ -138,6 +138,11 @@ mod tests {
         ])
         .unwrap();
         assert_eq!(s.layered.culling, LayerCulling::Frustum);
+        assert_eq!(
+            s.setup,
+            ShadowSetup::Lights,
+            "a many-lights option picks them"
+        );
         assert!(s.layered.sun && s.cascaded_sun() && s.exact_truth_applies());
         assert!(s.layered.load.no_raster);
         assert_eq!(s.layered.load.vertex_work, 8);
