@@ -82,12 +82,17 @@ pub(super) fn sweep_maps(
         .iter()
         .map(|c| c.parse::<LayerCulling>().map_err(anyhow::Error::msg))
         .collect::<anyhow::Result<Vec<_>>>()?;
+    let paths = args
+        .layered_paths
+        .iter()
+        .map(|p| p.parse::<LayeredPath>().map_err(anyhow::Error::msg))
+        .collect::<anyhow::Result<Vec<_>>>()?;
     let mut rows = Vec::new();
     for &size in &sizes {
         for &lights in &counts {
             let first = rows.len();
             for &culling in &cullings {
-                for path_kind in LayeredPath::ALL {
+                for &path_kind in &paths {
                     let mut settings = FrameSettings {
                         setup: ShadowSetup::Lights,
                         ..base
@@ -149,6 +154,14 @@ fn plot_title(scene: &str, base: &FrameSettings, frames: Option<usize>) -> Strin
 fn plot_points(rows: &[MapsRow]) -> Vec<super::maps_plot::PlotPoint> {
     rows.iter()
         .map(|r| super::maps_plot::PlotPoint {
+            colour: LayeredPath::ALL
+                .iter()
+                .position(|&p| p == r.path)
+                .unwrap_or(0),
+            style: LayerCulling::ALL
+                .iter()
+                .position(|&c| c == r.culling)
+                .unwrap_or(0),
             series: if r.ran_as == r.path {
                 format!("{}, culled {}", r.path.name(), r.culling.name())
             } else {

@@ -13,6 +13,9 @@ use plotters::prelude::*;
 pub(super) struct PlotPoint {
     /// The line it belongs to: "atlas, culled both" and the like.
     pub series: String,
+    /// Its colour (the path) and its line's style (the culling), by index.
+    pub colour: usize,
+    pub style: usize,
     pub size: u32,
     pub maps: u32,
     pub gpu_ms: Option<f64>,
@@ -20,16 +23,14 @@ pub(super) struct PlotPoint {
 }
 
 const PANEL: (u32, u32) = (480, 340);
-/// A line's colour, by its place among the series: strong and told apart on white.
-const COLOURS: [RGBColor; 8] = [
+/// A line's colour, by [`PlotPoint::colour`]: strong and told apart on white.
+const COLOURS: [RGBColor; 6] = [
     RGBColor(200, 30, 30),
     RGBColor(30, 130, 30),
     RGBColor(30, 70, 210),
     RGBColor(230, 130, 0),
     RGBColor(140, 30, 160),
     RGBColor(0, 150, 160),
-    RGBColor(120, 80, 40),
-    RGBColor(0, 0, 0),
 ];
 /// The font every label uses, registered once (egui's own, so nothing is read from the system).
 const FONT: &str = "sans-serif";
@@ -39,10 +40,10 @@ pub(super) fn plot(points: &[PlotPoint], title: &str, out: &Path) -> anyhow::Res
     let mut sizes: Vec<u32> = points.iter().map(|p| p.size).collect();
     sizes.sort_unstable();
     sizes.dedup();
-    let mut series: Vec<&str> = Vec::new();
+    let mut series: Vec<&PlotPoint> = Vec::new();
     for p in points {
-        if !series.contains(&p.series.as_str()) {
-            series.push(&p.series);
+        if !series.iter().any(|s| s.series == p.series) {
+            series.push(p);
         }
     }
     if sizes.is_empty() {
@@ -74,7 +75,7 @@ type DrawResult = Result<(), Box<dyn std::error::Error>>;
 fn draw(
     pixels: &mut [u8],
     size: (u32, u32),
-    (points, sizes, series): (&[PlotPoint], &[u32], &[&str]),
+    (points, sizes, series): (&[PlotPoint], &[u32], &[&PlotPoint]),
     title: &str,
 ) -> DrawResult {
     let root = BitMapBackend::with_buffer(pixels, size).into_drawing_area();
@@ -106,7 +107,7 @@ fn draw(
 /// double), labelled 1, 2, 4, ...
 fn panel(
     area: &DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>,
-    (points, series): (&[&PlotPoint], &[&str]),
+    (points, series): (&[&PlotPoint], &[&PlotPoint]),
     (caption, y_label): (String, &str),
     value: fn(&PlotPoint) -> Option<f64>,
 ) -> DrawResult {
@@ -133,26 +134,34 @@ fn panel(
         .x_label_formatter(&|x| format!("{:.0}", x.exp2()))
         .light_line_style(WHITE)
         .draw()?;
-    for (i, name) in series.iter().enumerate() {
+    for first in series {
         let mut line: Vec<(f64, f64)> = points
             .iter()
-            .filter(|p| p.series == *name)
+            .filter(|p| p.series == first.series)
             .filter_map(|p| value(p).map(|v| (f64::from(p.maps.max(1)).log2(), v)))
             .collect();
         line.sort_by(|a, b| a.0.total_cmp(&b.0));
         if line.is_empty() {
             continue;
         }
-        let colour = COLOURS[i % COLOURS.len()];
-        let style = colour.stroke_width(2);
+        let colour = COLOURS[first.colour % COLOURS.len()];
+        // The style: a thin line with open circles, then ever thicker lines with triangles,
+        // crosses and filled circles.
+        let style = first.style % 4;
+        let stroke = colour.stroke_width(1 + style as u32);
         chart
-            .draw_series(LineSeries::new(line.clone(), style))?
-            .label(*name)
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], style));
-        chart.draw_series(
-            line.iter()
-                .map(|&(x, y)| Circle::new((x, y), 3, colour.filled())),
-        )?;
+            .draw_series(LineSeries::new(line.clone(), stroke))?
+            .label(first.series.as_str())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], stroke));
+        let marker = |&(x, y): &(f64, f64)| -> DynElement<'static, BitMapBackend<'_>, (f64, f64)> {
+            match style {
+                0 => Circle::new((x, y), 4, colour.stroke_width(1)).into_dyn(),
+                1 => TriangleMarker::new((x, y), 5, colour.filled()).into_dyn(),
+                2 => Cross::new((x, y), 4, colour.stroke_width(2)).into_dyn(),
+                _ => Circle::new((x, y), 4, colour.filled()).into_dyn(),
+            }
+        };
+        chart.draw_series(line.iter().map(marker))?;
     }
     chart
         .configure_series_labels()
@@ -179,6 +188,8 @@ mod tests {
                         .enumerate()
                         .map(move |(i, series)| PlotPoint {
                             series: series.into(),
+                            colour: 2 * i,
+                            style: 3 * i,
                             size,
                             maps,
                             gpu_ms: Some(f64::from(maps) * (2.0 - i as f64)),
@@ -194,7 +205,7 @@ mod tests {
         let image = image::open(&out).expect("a PNG").to_rgb8();
         assert_eq!(image.dimensions(), (2 * PANEL.0, 40 + 2 * PANEL.1));
         // Each series' colour is drawn: its line and its legend.
-        for i in 0..2 {
+        for i in [0, 2] {
             let RGBColor(r, g, b) = COLOURS[i];
             let drawn = image.pixels().filter(|p| p.0 == [r, g, b]).count();
             assert!(drawn > 100, "series {i}: {drawn} pixels");

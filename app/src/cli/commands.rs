@@ -150,6 +150,14 @@ pub struct BenchArgs {
         value_name = "C,C"
     )]
     pub layer_cullings: Vec<String>,
+    /// The paths of `--sweep maps`: traditional, multiview, atlas.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "traditional,multiview,atlas",
+        value_name = "P,P"
+    )]
+    pub layered_paths: Vec<String>,
 }
 
 /// What `bench --sweep` varies.
