@@ -714,7 +714,7 @@ fn window_opens_renders_and_saves_a_screenshot() {
 }
 
 #[test]
-fn shot_of_the_hall_lit_by_its_lights_names_its_path_and_reports_no_exact_error() {
+fn shot_of_the_hall_lit_by_its_lights_names_its_path_and_has_exact_error_only_with_the_sun() {
     let dir = out_dir("shot_hall_lights");
     let png = dir.join("hall.png");
     let output = run(shadowlab()
@@ -747,4 +747,36 @@ fn shot_of_the_hall_lit_by_its_lights_names_its_path_and_reports_no_exact_error(
     assert!(stats["exact_error"].is_null(), "{}", stats["exact_error"]);
     let notes = stats["notes"].to_string();
     assert!(notes.contains("no exact shadow"), "{notes}");
+    // With the sun: two cascades before the nine maps, and the sun's error against the truth.
+    let output = run(shadowlab()
+        .args([
+            "shot",
+            "builtin:hall",
+            "--layered",
+            "atlas",
+            "--lights",
+            "4",
+            "--sun-cascades",
+            "--cascades",
+            "2",
+            "--shadow-res",
+            "512",
+            "--size",
+            "161x91",
+            "--out",
+        ])
+        .arg(&png));
+    assert!(output.status.success(), "{}", text(&output));
+    let stats: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(png.with_extension("json")).expect("stats JSON written"),
+    )
+    .expect("valid JSON");
+    assert_eq!(stats["layered"]["maps"], 11);
+    assert_eq!(stats["views"][0]["name"], "cascade 0");
+    assert!(
+        stats["exact_error"]["visible_px"].as_u64() > Some(0),
+        "{}",
+        stats["exact_error"]
+    );
+    assert!(!stats["notes"].to_string().contains("no exact shadow"));
 }

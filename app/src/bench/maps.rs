@@ -2,7 +2,7 @@
 //! each path (a pass per map, multiview groups, an instanced atlas) for each number of lights
 //! and map size along the camera path, with the GPU time of the maps, the passes and draws
 //! recorded and the CPU time of recording them. Ratios are against `traditional` in the same
-//! run.
+//! run, its configurations interleaved frame by frame.
 
 use std::fmt::Write as _;
 
@@ -91,8 +91,10 @@ pub(super) fn sweep_maps(
     for &size in &sizes {
         for &lights in &counts {
             let first = rows.len();
-            for &culling in &cullings {
-                for &path_kind in &paths {
+            let configs: Vec<FrameSettings> = cullings
+                .iter()
+                .flat_map(|&culling| paths.iter().map(move |&p| (culling, p)))
+                .map(|(culling, path_kind)| {
                     let mut settings = FrameSettings {
                         setup: ShadowSetup::Lights,
                         ..base
@@ -104,11 +106,15 @@ pub(super) fn sweep_maps(
                         culling,
                         ..base.layered
                     };
-                    let frames = run(session, path, template, &settings, args)?;
-                    let mut row = summarise(path_kind, (lights, size, culling), &frames);
-                    row.load = base.layered.load;
-                    rows.push(row);
-                }
+                    settings
+                })
+                .collect();
+            let measured = run_interleaved(session, path, template, &configs, args)?;
+            for (settings, frames) in configs.iter().zip(&measured) {
+                let layered = settings.layered;
+                let mut row = summarise(layered.path, (lights, size, layered.culling), frames);
+                row.load = base.layered.load;
+                rows.push(row);
             }
             // The baseline: a pass per map, no culling (the first row when it was run).
             let traditional = rows[first..]
@@ -187,37 +193,57 @@ struct FrameCounts {
     rasterised: Option<u64>,
 }
 
-/// Warm-up frames, then the measured ones along the path, each with its counts.
-fn run(
+/// Warm-up frames, then the measured ones along the path, each with its counts: every
+/// configuration renders each frame in turn, each with its own renderer, so that a change
+/// of the machine's pace during the run (a software adapter's threads share the CPU with
+/// everything else) falls on all of them alike.
+fn run_interleaved(
     session: &mut Session,
     path: &CameraPath,
     template: &Camera,
-    settings: &FrameSettings,
+    configs: &[FrameSettings],
     args: &BenchArgs,
-) -> anyhow::Result<Vec<(FrameReport, FrameCounts)>> {
+) -> anyhow::Result<Vec<Vec<(FrameReport, FrameCounts)>>> {
     let frames = args.frames.max(1);
-    session.renderer = render_core::frame::FrameRenderer::new(&session.ctx);
-    let mut reports = Vec::new();
+    let mut renderers: Vec<_> = configs
+        .iter()
+        .map(|_| render_core::frame::FrameRenderer::new(&session.ctx))
+        .collect();
+    let mut measured: Vec<Vec<_>> = configs.iter().map(|_| Vec::new()).collect();
     for frame in 0..args.warmup + frames {
         let camera = super::camera_at(path, template, (frame, args));
-        let (_, report) = session.frame(&camera, settings)?;
-        if frame >= args.warmup {
-            let culled = report
-                .layered
-                .is_some_and(|f| f.culling != LayerCulling::None);
-            let kept = if culled {
-                let kept = session.renderer.lights_kept_triangles(&session.ctx)?;
-                Some(kept.iter().map(|&k| u64::from(k)).sum())
-            } else {
-                None
-            };
-            let passes = session.renderer.lights_pass_statistics(&session.ctx)?;
-            let rasterised =
-                (!passes.is_empty()).then(|| passes.iter().map(|p| p.rasterised).sum());
-            reports.push((report, FrameCounts { kept, rasterised }));
+        for ((settings, renderer), out) in configs.iter().zip(&mut renderers).zip(&mut measured) {
+            std::mem::swap(&mut session.renderer, renderer);
+            let result = measure_frame(session, &camera, settings);
+            std::mem::swap(&mut session.renderer, renderer);
+            let measured = result?;
+            if frame >= args.warmup {
+                out.push(measured);
+            }
         }
     }
-    Ok(reports)
+    Ok(measured)
+}
+
+/// One frame and what its GPU counted.
+fn measure_frame(
+    session: &mut Session,
+    camera: &Camera,
+    settings: &FrameSettings,
+) -> anyhow::Result<(FrameReport, FrameCounts)> {
+    let (_, report) = session.frame(camera, settings)?;
+    let culled = report
+        .layered
+        .is_some_and(|f| f.culling != LayerCulling::None);
+    let kept = if culled {
+        let kept = session.renderer.lights_kept_triangles(&session.ctx)?;
+        Some(kept.iter().map(|&k| u64::from(k)).sum())
+    } else {
+        None
+    };
+    let passes = session.renderer.lights_pass_statistics(&session.ctx)?;
+    let rasterised = (!passes.is_empty()).then(|| passes.iter().map(|p| p.rasterised).sum());
+    Ok((report, FrameCounts { kept, rasterised }))
 }
 
 fn summarise(
