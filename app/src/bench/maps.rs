@@ -146,13 +146,13 @@ fn plot_title(scene: &str, base: &FrameSettings, frames: Option<usize>) -> Strin
     let mut title = format!("{scene}: many lights' maps");
     let load = load_name(base.layered.load);
     if load != "-" {
-        title += &format!(", {load}");
+        let _ = write!(title, ", {load}");
     }
     if base.layered.sun {
         title += ", with the sun's cascades";
     }
     if let Some(frames) = frames {
-        title += &format!(" (medians of {frames} frames)");
+        let _ = write!(title, " (medians of {frames} frames)");
     }
     title
 }

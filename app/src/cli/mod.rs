@@ -38,9 +38,9 @@ pub struct Cli {
 #[derive(Subcommand, Debug)]
 pub enum Command {
     /// Render one frame headless and write a PNG and a stats JSON.
-    Shot(ShotArgs),
+    Shot(Box<ShotArgs>),
     /// Fly a camera path and print a table of methods (median over frames, after warm-up).
-    Bench(BenchArgs),
+    Bench(Box<BenchArgs>),
     /// List the built-in scenes.
     Scenes,
 }
