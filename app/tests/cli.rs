@@ -717,26 +717,27 @@ fn window_opens_renders_and_saves_a_screenshot() {
 fn shot_of_the_hall_lit_by_its_lights_names_its_path_and_has_exact_error_only_with_the_sun() {
     let dir = out_dir("shot_hall_lights");
     let png = dir.join("hall.png");
-    let output = run(shadowlab()
-        .args([
+    let shot = |options: &[&str]| -> serde_json::Value {
+        let head = [
             "shot",
             "builtin:hall",
             "--layered",
             "atlas",
             "--lights",
             "4",
-            "--shadow-res",
-            "128",
-            "--size",
-            "161x91",
-            "--out",
-        ])
-        .arg(&png));
-    assert!(output.status.success(), "{}", text(&output));
-    let stats: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(png.with_extension("json")).expect("stats JSON written"),
-    )
-    .expect("valid JSON");
+        ];
+        let output = run(shadowlab()
+            .args(head)
+            .args(options)
+            .args(["--size", "161x91", "--out"])
+            .arg(&png));
+        assert!(output.status.success(), "{}", text(&output));
+        serde_json::from_str(
+            &std::fs::read_to_string(png.with_extension("json")).expect("stats JSON written"),
+        )
+        .expect("valid JSON")
+    };
+    let stats = shot(&["--shadow-res", "128"]);
     // Three spots and a point light: nine maps, one atlas pass.
     let layered = &stats["layered"];
     assert_eq!(layered["path"], "atlas");
@@ -748,29 +749,7 @@ fn shot_of_the_hall_lit_by_its_lights_names_its_path_and_has_exact_error_only_wi
     let notes = stats["notes"].to_string();
     assert!(notes.contains("no exact shadow"), "{notes}");
     // With the sun: two cascades before the nine maps, and the sun's error against the truth.
-    let output = run(shadowlab()
-        .args([
-            "shot",
-            "builtin:hall",
-            "--layered",
-            "atlas",
-            "--lights",
-            "4",
-            "--sun-cascades",
-            "--cascades",
-            "2",
-            "--shadow-res",
-            "512",
-            "--size",
-            "161x91",
-            "--out",
-        ])
-        .arg(&png));
-    assert!(output.status.success(), "{}", text(&output));
-    let stats: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(png.with_extension("json")).expect("stats JSON written"),
-    )
-    .expect("valid JSON");
+    let stats = shot(&["--sun-cascades", "--cascades", "2", "--shadow-res", "512"]);
     assert_eq!(stats["layered"]["maps"], 11);
     assert_eq!(stats["views"][0]["name"], "cascade 0");
     assert!(

@@ -172,12 +172,7 @@ fn every_path_and_culling_renders_the_same_maps_and_shadows_as_a_pass_per_map() 
                 assert_eq!(facts.path, path, "lavapipe has clip distances");
             }
             same_maps(&traditional, &maps, &case);
-            let differ = light
-                .iter()
-                .zip(&other_light)
-                .filter(|(a, b)| (**a < 128) != (**b < 128))
-                .count();
-            assert!(differ <= 2, "{case}: {differ} pixels shadowed differently");
+            same_shadows(&light, &other_light, &case);
             if culling != LayerCulling::None {
                 // Every slot's kept triangles are among those it tested, and culling kept
                 // fewer than it tested.
@@ -243,16 +238,22 @@ fn the_suns_cascades_through_every_path_are_the_cascades_techniques_maps_and_sha
             assert_eq!(report.views[3].name, "spot 0", "{case}: the lights follow");
             same_maps(&expected, &maps[..3], &case);
             // With the sun, the light term's visibility is the sun's, as the cascades shade it.
-            let differ = sun
-                .iter()
-                .zip(&light)
-                .filter(|(a, b)| (**a < 128) != (**b < 128))
-                .count();
-            assert!(differ <= 2, "{case}: {differ} pixels shadowed differently");
+            same_shadows(&sun, &light, &case);
             let facts = report.layered.expect("the technique reports its path");
             assert_eq!(facts.maps, 17, "{case}");
         }
     }
+}
+
+/// The pictures' light agrees: no more than two pixels (an edge's rounding) shadowed in one
+/// and lit in the other.
+fn same_shadows(expected: &[u8], light: &[u8], case: &str) {
+    let differ = expected
+        .iter()
+        .zip(light)
+        .filter(|(a, b)| (**a < 128) != (**b < 128))
+        .count();
+    assert!(differ <= 2, "{case}: {differ} pixels shadowed differently");
 }
 
 /// The maps agree texel by texel: the same texels covered (but for one in 10,000, the
