@@ -159,7 +159,8 @@ impl Session {
 
 /// Why a frame of many lights has no exact error.
 pub const NO_TRUTH_FOR_LIGHTS: &str = "the exact shadow casts rays towards the sun or one point \
-     light: many lights have no exact shadow yet, so no exact error is reported";
+     light: many lights without the sun (--sun-cascades) have no exact shadow yet, so no exact \
+     error is reported";
 
 pub fn shot(args: &ShotArgs) -> anyhow::Result<()> {
     let mut session = Session::open(&args.scene, &args.view)?;

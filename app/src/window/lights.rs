@@ -34,6 +34,13 @@ impl Running {
         self.message = Some(format!("added {name} at the camera"));
     }
 
+    /// Moves light `index` to `position`, metres (nothing where there is none).
+    pub(super) fn move_light(&mut self, index: usize, position: glam::Vec3) {
+        if let Some(light) = self.scene.lights.get_mut(index) {
+            light.position = position;
+        }
+    }
+
     /// Removes light `index` (nothing where there is none).
     pub(super) fn remove_light(&mut self, index: usize) {
         if index < self.scene.lights.len() {

@@ -74,9 +74,7 @@ impl Running {
                 ui::UiAction::AddSpotLight => self.add_spot_light(),
                 ui::UiAction::RemoveLight(i) => self.remove_light(i),
                 ui::UiAction::MoveLight(i, position) => {
-                    if let Some(light) = self.scene.lights.get_mut(i) {
-                        light.position = position.metres().into();
-                    }
+                    self.move_light(i, position.metres().into());
                 }
             }
         }

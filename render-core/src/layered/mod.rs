@@ -76,8 +76,6 @@ struct LastFrame {
     draws: u32,
     triangles: u64,
     lights: usize,
-    /// The sun shines, through the first views (cascades).
-    sun: bool,
     notes: Vec<String>,
     cpu_culling_ms: f64,
     /// CPU time of recording the path's passes and draws, milliseconds.
@@ -210,7 +208,7 @@ impl ShadowTechnique for LayeredTechnique {
 
     /// The sun shines only when asked for (its cascades are then the first views).
     fn sun_scale(&self) -> f32 {
-        if self.last.sun { 1.0 } else { 0.0 }
+        if self.sun.is_some() { 1.0 } else { 0.0 }
     }
 
     fn prepare(&mut self, ctx: &GpuContext, input: &TechniqueInput<'_>) -> Vec<ShadowView> {
@@ -275,7 +273,6 @@ impl ShadowTechnique for LayeredTechnique {
             .ensure(ctx, (side, layers, group), (&records, sun_views));
         self.last.path = path;
         self.last.lights = records.len();
-        self.last.sun = self.sun.is_some();
         self.last.notes = notes;
         let lights = lights
             .names
