@@ -35,7 +35,9 @@ const MASK_MARGIN: f32 = 1e-5;
 fn receiver_lookup(in: VsOut, geometric: vec3<f32>, v: u32, chosen: u32) -> ShadowLookup {
     var l = shadow_lookup(in.world_pos, geometric, v);
     let receives = (instances[in.instance].flags.x & FLAG_RECEIVER) != 0u;
-    l.inside = l.inside && receives && frame.params.y != 0u && view_selected(v, in.world_pos, chosen, frame.views.x);
+    // A light's perspective view (many lights) shades every point in its map.
+    let selected = shadow_views[v].index.y == 1u || view_selected(v, in.world_pos, chosen, frame.views.x);
+    l.inside = l.inside && receives && frame.params.y != 0u && selected;
     return l;
 }
 
@@ -146,11 +148,17 @@ fn view_may_shade(v: u32, world_pos: vec3<f32>, reach: f32) -> bool {
 // in every view that may shade such a point, so that a point between this frame's pixel
 // centres (the next frame's, after a small move) finds its casters too. Selecting by map, a
 // point takes the first view holding all its taps: the views up to the first that holds the
-// whole footprint's.
+// whole footprint's. A light's perspective views (many lights) each shade the point too.
 fn mark_receiver_pixel(world_pos: vec3<f32>, geometric: vec3<f32>) {
     let f = pixel_footprint(world_pos, geometric);
     let by_map = frame.views.z != 0u;
+    // A view of the sun holds the whole footprint: the sun's later views do not shade it.
+    var held = false;
     for (var v = 0u; v < frame.views.x; v++) {
+        let perspective = shadow_views[v].index.y == 1u;
+        if (held && !perspective) {
+            continue;
+        }
         if (!by_map && !view_may_shade(v, world_pos, footprint_depth_reach(f, v))) {
             continue;
         }
@@ -161,9 +169,9 @@ fn mark_receiver_pixel(world_pos: vec3<f32>, geometric: vec3<f32>) {
         let reach = footprint_reach(f, v, world_pos);
         mark_fragment_mask(l, reach);
         let taps = footprint_taps(l, reach);
-        if (by_map && all(taps[0] >= vec2<i32>(0)) && all(taps[1] <= vec2<i32>(l.size - 1))) {
+        if (by_map && !perspective && all(taps[0] >= vec2<i32>(0)) && all(taps[1] <= vec2<i32>(l.size - 1))) {
             // Every tap of every point of the footprint lies in this view's map.
-            break;
+            held = true;
         }
     }
 }

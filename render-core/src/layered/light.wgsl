@@ -4,7 +4,9 @@
 // reads its one view; a point light the cube face its direction to the point falls in.
 // Without the sun, `method` is the share of the lights' irradiance that arrives unshadowed,
 // so error counts treat it as they treat one light's visibility; with it, the sun's
-// visibility, as the map technique's is. `added` is the lights' light, coloured.
+// visibility, as the map technique's is. `added` is the lights' light, coloured. Where the
+// maps were culled on the GPU (`lights.count.z`), a measuring frame also reads the reference
+// maps of every caster (`reference`) and marks the oracle, as the map technique does.
 // Bound as group 1 of the shading pass.
 #import shadow_view/lookup.wgsl
 #import metrics/measure.wgsl
@@ -23,13 +25,17 @@ struct LightRecord {
 
 struct Lights {
     // x: how many records are this frame's; y: the sun's views (cascades), the first views,
-    // 0 when the sun does not shine.
+    // 0 when the sun does not shine; z: 1 when the reference maps are bound (else the
+    // method's maps are, and every caster in a view's frustum was drawn: the reference is
+    // the method).
     count: vec4<u32>,
     records: array<LightRecord>,
 }
 
 @group(1) @binding(0) var light_maps: texture_depth_2d_array;
 @group(1) @binding(1) var<storage, read> lights: Lights;
+@group(1) @binding(2) var reference_maps: texture_depth_2d_array;
+@group(1) @binding(3) var reference_ids: texture_2d_array<u32>;
 
 struct LightReaching {
     method: f32,
@@ -75,28 +81,42 @@ fn view_of(r: LightRecord, p: vec3<f32>) -> u32 {
     return r.views.x + face;
 }
 
-// Fraction of the kernel's taps that see the light.
-fn map_light(l: ShadowLookup) -> f32 {
+// Fraction of the kernel's taps that see the light: x in the method's maps, y in the
+// reference's when `measuring` and it is bound (marking the oracle), else x again.
+fn map_light(l: ShadowLookup, measuring: bool) -> vec2<f32> {
     if (!l.inside) {
-        return 1.0;
+        return vec2<f32>(1.0);
     }
-    var lit = 0.0;
+    let reference = measuring && lights.count.z != 0u;
+    var lit = vec2<f32>(0.0);
     for (var j = 0; j < l.kernel; j++) {
         for (var i = 0; i < l.kernel; i++) {
             let t = l.first + vec2<i32>(i, j);
-            if (!tap_in_map(l, t) || tap_threshold(l, t) <= textureLoad(light_maps, map_texel(l, t), l.layer, 0)) {
-                lit += 1.0;
+            if (!tap_in_map(l, t)) {
+                lit += vec2<f32>(1.0);
+                continue;
             }
+            let texel = map_texel(l, t);
+            let threshold = tap_threshold(l, t);
+            let tap = select(0.0, 1.0, threshold <= textureLoad(light_maps, texel, l.layer, 0));
+            var tap_reference = tap;
+            if (reference) {
+                tap_reference = select(0.0, 1.0, threshold <= textureLoad(reference_maps, texel, l.layer, 0));
+                if (tap_reference == 0.0) {
+                    mark_oracle(l.view, textureLoad(reference_ids, texel, l.layer, 0).x);
+                }
+            }
+            lit += vec2<f32>(tap, tap_reference);
         }
     }
     return lit / f32(l.kernel * l.kernel);
 }
 
 // Every light at the point, shadowed where `shadowed`.
-fn lights_at(world_pos: vec3<f32>, geometric: vec3<f32>, shadowed: bool) -> LightReaching {
+fn lights_at(world_pos: vec3<f32>, geometric: vec3<f32>, shadowed: bool, measuring: bool) -> LightReaching {
     var out = LightReaching(1.0, 1.0, 0u, false, vec3<f32>(0.0));
     var total = 0.0;
-    var lit = 0.0;
+    var lit = vec2<f32>(0.0);
     var first = true;
     for (var i = 0u; i < lights.count.x; i++) {
         let r = lights.records[i];
@@ -104,7 +124,7 @@ fn lights_at(world_pos: vec3<f32>, geometric: vec3<f32>, shadowed: bool) -> Ligh
         if (e <= 0.0) {
             continue;
         }
-        var v = 1.0;
+        var v = vec2<f32>(1.0);
         if (shadowed && r.views.y > 0u) {
             let view = view_of(r, world_pos);
             let lookup = shadow_lookup(world_pos, geometric, view);
@@ -113,29 +133,28 @@ fn lights_at(world_pos: vec3<f32>, geometric: vec3<f32>, shadowed: bool) -> Ligh
                 out.shaded = lookup.inside;
                 first = false;
             }
-            v = map_light(lookup);
+            v = map_light(lookup, measuring);
         }
         total += e;
         lit += e * v;
-        out.added += e * v * r.color_inner.rgb;
+        out.added += e * v.x * r.color_inner.rgb;
     }
     if (total > 0.0) {
-        out.method = lit / total;
+        out.method = lit.x / total;
+        out.reference = lit.y / total;
     }
-    // Every caster is drawn into every map that sees it: the reference is the method.
-    out.reference = out.method;
     return out;
 }
 
 // The sun's visibility through its cascades, as the map technique shades it
 // (shadow_map/light.wgsl): the views `view_selected` picks, the least of them, or with a blend
 // band each weighted by `blend_weight`, faded out over the last one's band.
-fn sun_light(world_pos: vec3<f32>, geometric: vec3<f32>) -> LightReaching {
+fn sun_light(world_pos: vec3<f32>, geometric: vec3<f32>, measuring: bool) -> LightReaching {
     let count = lights.count.y;
     var out = LightReaching(1.0, 1.0, 0u, false, vec3<f32>(0.0));
     let blended = frame.shadow.w > 0.0 && frame.views.z == 0u;
     let chosen = chosen_view(world_pos, geometric, count);
-    var weighted = 0.0;
+    var weighted = vec2<f32>(0.0);
     var weight = 0.0;
     var first = true;
     for (var v = 0u; v < count; v++) {
@@ -157,28 +176,30 @@ fn sun_light(world_pos: vec3<f32>, geometric: vec3<f32>) -> LightReaching {
         if (blended && !lookup.inside) {
             continue;
         }
-        let lit = map_light(lookup);
-        out.method = min(out.method, lit);
+        let lit = map_light(lookup, measuring);
+        out.method = min(out.method, lit.x);
+        out.reference = min(out.reference, lit.y);
         weighted += w * lit;
         weight += w;
     }
     if (blended && weight > 0.0) {
-        out.method = mix(weighted / weight, 1.0, fade_out(world_pos, count));
+        let fade = fade_out(world_pos, count);
+        out.method = mix(weighted.x / weight, 1.0, fade);
+        out.reference = mix(weighted.y / weight, 1.0, fade);
     }
-    out.reference = out.method;
     return out;
 }
 
 fn light_reaching(world_pos: vec3<f32>, geometric: vec3<f32>, measuring: bool) -> LightReaching {
-    let lamps = lights_at(world_pos, geometric, true);
+    let lamps = lights_at(world_pos, geometric, true, measuring);
     if (lights.count.y == 0u) {
         return lamps;
     }
-    var out = sun_light(world_pos, geometric);
+    var out = sun_light(world_pos, geometric, measuring);
     out.added = lamps.added;
     return out;
 }
 
 fn light_unshadowed(world_pos: vec3<f32>, geometric: vec3<f32>) -> vec3<f32> {
-    return lights_at(world_pos, geometric, false).added;
+    return lights_at(world_pos, geometric, false, false).added;
 }

@@ -2,13 +2,16 @@
 //! rendering", GPU Pro 4, ch. 19): a view per spot light and six per point light (cube faces),
 //! rendered by one of three paths (`paths.rs`: a pass per map, a multiview pass per group, or
 //! one instanced atlas draw per mesh), and a light term that sums every light through its map
-//! (`light.wgsl`). The sun does not light the frame: the scene's own lights do.
+//! (`light.wgsl`). The sun does not light the frame: the scene's own lights do. The CPU methods
+//! choose each view's casters here; the GPU methods cull each view as they cull cascades,
+//! through a map technique of their own that renders a pass per map (`gpu_culled.rs`).
 //!
 //! Long-lived: pipelines, the depth array and the light records (growing as needed). Per
 //! frame: the views (`lights.rs`), where they render (`targets.rs`), each view's casters.
 
 mod cull;
 mod culled;
+mod gpu_culled;
 mod lights;
 mod paths;
 mod probe;
@@ -23,6 +26,7 @@ use cull::{Slot, TriangleCull};
 use culled::CulledDraws;
 #[cfg(test)]
 pub(crate) use culled::culled_sources;
+use gpu_culled::GpuCulledMaps;
 pub use lights::{LightRecord, LightViews, light_views};
 use paths::{PathInput, Paths};
 #[cfg(test)]
@@ -39,8 +43,8 @@ use crate::cascades::Cascades;
 use crate::culling::{CasterOutcome, Method};
 use crate::gpu::{GpuContext, LogOnce};
 use crate::scene_gpu::DrawList;
-use crate::shadow_map::ViewLayout;
 use crate::shadow_map::cpu_casters::CpuCasters;
+use crate::shadow_map::{MapTechnique, ViewLayout};
 use crate::shadow_view::{LayerCulling, LayeredPath, LayeredSettings, ShadowView, ViewTarget};
 use crate::technique::{
     DrawInput, InsetSources, ShadowPasses, ShadowReport, ShadowTechnique, TechniqueInput,
@@ -58,6 +62,9 @@ pub struct LayeredTechnique {
     culled: CulledDraws,
     statistics: PassStatistics,
     cpu: CpuCasters,
+    /// The GPU methods' culling and maps.
+    gpu: GpuCulledMaps,
+    indirect_first_instance: bool,
     method: Method,
     /// The sun's cascades, when the sun shines too (the first views).
     sun: Option<Cascades>,
@@ -82,6 +89,8 @@ struct LastFrame {
     cpu_submit_ms: f64,
     culling: LayerCulling,
     triangles_tested: u64,
+    /// A GPU method culled and `gpu` rendered the maps.
+    gpu_culled: bool,
 }
 
 impl LayeredTechnique {
@@ -97,6 +106,10 @@ impl LayeredTechnique {
             culled: CulledDraws::new(ctx, layouts, runs),
             paths,
             cpu: CpuCasters::new(ctx),
+            gpu: GpuCulledMaps::new(layouts),
+            indirect_first_instance: ctx
+                .features()
+                .contains(wgpu::Features::INDIRECT_FIRST_INSTANCE),
             method: Method::Vfc,
             sun: None,
             last: LastFrame::default(),
@@ -111,9 +124,11 @@ impl LayeredTechnique {
         self.sun = cascades;
     }
 
-    /// The depth array the maps are in, for tests that read them back.
+    /// The depth array the maps are in (the map technique's where a GPU method culled), for
+    /// tests that read them back.
     pub fn depth_texture(&self) -> &wgpu::Texture {
-        &self.maps.texture
+        self.gpu_culled()
+            .map_or(&self.maps.texture, MapTechnique::depth_texture)
     }
 
     /// The triangles each slot (a view, or a multiview group) kept in the last frame that
@@ -197,12 +212,13 @@ impl ShadowTechnique for LayeredTechnique {
         (LIGHT_WGSL, &self.maps.light_layout)
     }
 
-    /// Every caster of a view (`none`) or those in its frustum; the other methods cull per
-    /// view on the GPU, which this technique does not have yet: they run as `vfc`.
+    /// Every method culls each view; the GPU methods need indirect draws with a first
+    /// instance, without which they run as `vfc`.
     fn effective_method(&self, requested: Method) -> Method {
-        match requested {
-            Method::None => Method::None,
-            _ => Method::Vfc,
+        if requested.gpu_driven() && !self.indirect_first_instance {
+            Method::Vfc
+        } else {
+            requested
         }
     }
 
@@ -213,22 +229,36 @@ impl ShadowTechnique for LayeredTechnique {
 
     fn prepare(&mut self, ctx: &GpuContext, input: &TechniqueInput<'_>) -> Vec<ShadowView> {
         self.method = self.effective_method(input.method);
+        let gpu = self.method.gpu_driven();
         let limits = ctx.device.limits();
-        let resolution = input.shadow.resolution.clamp(
-            LayeredSettings::MIN_RESOLUTION,
-            LayeredSettings::MAX_RESOLUTION.min(limits.max_texture_dimension_2d),
-        );
-        let (path, fallback) = self.path_for(input.layered.path);
+        let max = LayeredSettings::MAX_RESOLUTION.min(limits.max_texture_dimension_2d);
+        let resolution = if gpu {
+            GpuCulledMaps::resolution(input.shadow.resolution, max)
+        } else {
+            input
+                .shadow
+                .resolution
+                .clamp(LayeredSettings::MIN_RESOLUTION, max)
+        };
         let mut notes = Vec::new();
-        if let Some(fallback) = fallback {
-            self.fallbacks.warn(fallback);
-            notes.push(fallback.to_owned());
-        }
+        let path = if gpu {
+            notes.extend(gpu_culling_notes(self.method, input.layered));
+            LayeredPath::Traditional
+        } else {
+            let (path, fallback) = self.path_for(input.layered.path);
+            if let Some(fallback) = fallback {
+                self.fallbacks.warn(fallback);
+                notes.push(fallback.to_owned());
+            }
+            path
+        };
         if self.method != input.method {
-            notes.push(format!(
-                "many lights cull per view on the CPU only: '{}' runs as 'vfc'",
+            let message = format!(
+                "this adapter has no INDIRECT_FIRST_INSTANCE: '{}' runs as 'vfc'",
                 input.method.name()
-            ));
+            );
+            self.fallbacks.warn(&message);
+            notes.push(message);
         }
         let lights = light_views(input.scene, input.layered.lights, resolution);
         if lights.records.is_empty() {
@@ -269,9 +299,12 @@ impl ShadowTechnique for LayeredTechnique {
             LayeredPath::Multiview => self.paths.multiview_group(),
             _ => 0,
         };
+        // The GPU methods' maps are the map technique's: a token array here.
+        let (side, layers) = if gpu { (64, 1) } else { (side, layers) };
         self.maps
-            .ensure(ctx, (side, layers, group), (&records, sun_views));
+            .ensure(ctx, (side, layers, group), (&records, sun_views, gpu));
         self.last.path = path;
+        self.last.gpu_culled = gpu;
         self.last.lights = records.len();
         self.last.notes = notes;
         let lights = lights
@@ -282,7 +315,8 @@ impl ShadowTechnique for LayeredTechnique {
                 load: input.layered.load,
                 ..ShadowView::covering_all_depths(name, light, ViewTarget::layer(0, resolution))
             });
-        sun.into_iter()
+        let views = sun
+            .into_iter()
             .map(|view| ShadowView {
                 load: input.layered.load,
                 ..view
@@ -290,7 +324,12 @@ impl ShadowTechnique for LayeredTechnique {
             .chain(lights)
             .zip(targets)
             .map(|(view, target)| ShadowView { target, ..view })
-            .collect()
+            .collect();
+        if gpu {
+            self.gpu.prepare(ctx, input, (views, resolution))
+        } else {
+            views
+        }
     }
 
     fn draw(
@@ -299,6 +338,9 @@ impl ShadowTechnique for LayeredTechnique {
         input: &TechniqueInput<'_>,
         draw: &DrawInput<'_>,
     ) -> ShadowPasses {
+        if self.last.gpu_culled {
+            return self.draw_gpu_culled(encoder, input, draw);
+        }
         let ctx = draw.ctx;
         let started = Instant::now();
         let frusta: Vec<_> = draw.views.iter().map(|v| &v.light).collect();
@@ -374,9 +416,24 @@ impl ShadowTechnique for LayeredTechnique {
         }
     }
 
-    fn after_submit(&mut self) {}
+    fn after_submit(&mut self) {
+        if let Some(maps) = self.gpu_culled_mut() {
+            maps.after_submit();
+        }
+    }
 
     fn collect(&mut self) -> ShadowReport {
+        if let Some(maps) = self.gpu_culled_mut() {
+            let mut report = maps.collect();
+            let mut notes = self.last.notes.clone();
+            notes.append(&mut report.notes);
+            report.notes = notes;
+            let drawn = |f: fn(&ViewReport) -> u64| report.views.iter().map(f).sum::<u64>();
+            let draws = drawn(|v| u64::from(v.casters_rendered)) as u32;
+            let triangles = drawn(|v| v.triangles_shadow);
+            report.layered = Some(self.facts(draws, triangles));
+            return report;
+        }
         let views = (0..)
             .zip(&self.last.views)
             .map(|(v, view)| {
@@ -392,38 +449,30 @@ impl ShadowTechnique for LayeredTechnique {
                 }
             })
             .collect();
-        let last = &self.last;
-        let notes = last.notes.clone();
         ShadowReport {
             casters_total: self.cpu.casters_total(),
             views,
-            notes,
-            cpu_culling_ms: last.cpu_culling_ms,
-            layered: Some(crate::technique::LayeredFacts {
-                path: last.path,
-                lights: last.lights as u32,
-                maps: last.views.len() as u32,
-                passes: last.passes,
-                draws: last.draws,
-                triangles: last.triangles,
-                cpu_submit_ms: last.cpu_submit_ms,
-                multiview_group: self.paths.multiview_group(),
-                culling: last.culling,
-                triangles_tested: last.triangles_tested,
-            }),
+            notes: self.last.notes.clone(),
+            cpu_culling_ms: self.last.cpu_culling_ms,
+            layered: Some(self.facts(self.last.draws, self.last.triangles)),
             ..ShadowReport::default()
         }
     }
 
-    fn has_results_of(&self, _frame_index: u64) -> bool {
-        true
+    fn has_results_of(&self, frame_index: u64) -> bool {
+        self.gpu_culled()
+            .is_none_or(|maps| maps.has_results_of(frame_index))
     }
 
-    fn inset(&self, _view: u32) -> Option<InsetSources<'_>> {
-        None
+    /// The light's view inset where a GPU method culled (its masks and culled casters).
+    fn inset(&self, view: u32) -> Option<InsetSources<'_>> {
+        self.gpu_culled()?.inset(view)
     }
 
     fn view_outcomes(&self) -> Vec<&[CasterOutcome]> {
+        if let Some(maps) = self.gpu_culled() {
+            return maps.view_outcomes();
+        }
         (0..self.last.views.len())
             .map(|v| self.cpu.outcomes(v))
             .collect()
@@ -431,7 +480,78 @@ impl ShadowTechnique for LayeredTechnique {
 
     fn exclude(&mut self, instances: &[u32]) {
         self.cpu.exclude(instances);
+        if let Some(maps) = self.gpu.technique_mut() {
+            maps.exclude(instances);
+        }
     }
+}
+
+impl LayeredTechnique {
+    /// The map technique that culled and rendered the last frame's maps, if a GPU method did.
+    fn gpu_culled(&self) -> Option<&MapTechnique> {
+        self.gpu.technique().filter(|_| self.last.gpu_culled)
+    }
+
+    fn gpu_culled_mut(&mut self) -> Option<&mut MapTechnique> {
+        self.gpu.technique_mut().filter(|_| self.last.gpu_culled)
+    }
+
+    /// A GPU method's frame: its culling and a pass per map, by the map technique.
+    fn draw_gpu_culled(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        input: &TechniqueInput<'_>,
+        draw: &DrawInput<'_>,
+    ) -> ShadowPasses {
+        let recording = Instant::now();
+        let passes = self.gpu.draw(encoder, (input, draw), &self.maps);
+        self.last.cpu_culling_ms = 0.0;
+        self.last.cpu_submit_ms = recording.elapsed().as_secs_f64() * 1000.0;
+        self.last.passes = draw.views.len() as u32;
+        self.last.culling = LayerCulling::None;
+        self.last.triangles_tested = 0;
+        self.last.views = draw.views.to_vec();
+        passes
+    }
+
+    /// What the last frame drew, for the report.
+    fn facts(&self, draws: u32, triangles: u64) -> crate::technique::LayeredFacts {
+        let last = &self.last;
+        crate::technique::LayeredFacts {
+            path: last.path,
+            lights: last.lights as u32,
+            maps: last.views.len() as u32,
+            passes: last.passes,
+            draws,
+            triangles,
+            cpu_submit_ms: last.cpu_submit_ms,
+            multiview_group: self.paths.multiview_group(),
+            culling: last.culling,
+            triangles_tested: last.triangles_tested,
+        }
+    }
+}
+
+/// What a GPU method changes of the requested settings: it renders a pass per map, and culls
+/// casters per view instead of triangles per layer.
+fn gpu_culling_notes(method: Method, settings: &LayeredSettings) -> Vec<String> {
+    let mut notes = Vec::new();
+    if settings.path != LayeredPath::Traditional {
+        notes.push(format!(
+            "'{}' culls each view on the GPU and renders a pass per map: '{}' runs as \
+             'traditional'",
+            method.name(),
+            settings.path.name()
+        ));
+    }
+    if settings.culling != LayerCulling::None {
+        notes.push(format!(
+            "per-layer triangle culling runs with the CPU methods ('none', 'vfc'): '{}' culls \
+             whole casters per view instead",
+            method.name()
+        ));
+    }
+    notes
 }
 
 /// The unculled paths: each view's casters drawn whole. Passes, draws and triangles.

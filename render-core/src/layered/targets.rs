@@ -1,7 +1,8 @@
 //! Where the many-lights technique's views render: a layer each of a depth array (the
 //! traditional and multiview paths), or a tile each of an atlas whose pages are the array's
 //! layers (the atlas path). The depth array and the light records are what the light term
-//! reads (group 1 of the shading pass).
+//! reads (group 1 of the shading pass), with the reference maps and their caster ids where
+//! the maps were culled on the GPU (the map technique's arrays, `mod.rs`).
 
 use crate::gpu::{GpuContext, bind_group_layout, buffer_entry, storage, texture, view_entry};
 use crate::shadow_view::{LayeredPath, SHADOW_FORMAT, ViewTarget};
@@ -64,6 +65,8 @@ pub struct LayeredMaps {
     pub layers: Vec<wgpu::TextureView>,
     side: u32,
     records: wgpu::Buffer,
+    /// Stands in for the reference's caster ids where there is no reference (never read).
+    no_ids: wgpu::TextureView,
     pub light_group: wgpu::BindGroup,
     /// x: a layer's side in texels, as the atlas paths' vertex stages read it (uniform).
     pub page: wgpu::Buffer,
@@ -84,11 +87,20 @@ impl LayeredMaps {
                     wgpu::TextureViewDimension::D2Array,
                 ),
                 storage(true),
+                texture(
+                    wgpu::TextureSampleType::Depth,
+                    wgpu::TextureViewDimension::D2Array,
+                ),
+                texture(
+                    wgpu::TextureSampleType::Uint,
+                    wgpu::TextureViewDimension::D2Array,
+                ),
             ],
         );
         let (texture, array, layers) = depth_array(device, 64, 1);
         let records = records_buffer(device, 1);
-        let light_group = light_group(device, &light_layout, &array, &records);
+        let no_ids = no_ids(device);
+        let light_group = light_group(device, &light_layout, [&array, &array, &no_ids], &records);
         Self {
             light_layout,
             texture,
@@ -96,6 +108,7 @@ impl LayeredMaps {
             layers,
             side: 64,
             records,
+            no_ids,
             light_group,
             page: page_buffer(device, 64),
             groups: Vec::new(),
@@ -105,12 +118,13 @@ impl LayeredMaps {
 
     /// A depth array `side` texels square with `layers` layers, its layers in consecutive
     /// groups of `group` for multiview (0: none), and room for `records`; the records written
-    /// after the header, which also says how many first views are the sun's (`sun_views`).
+    /// after the header, which also says how many first views are the sun's (`sun_views`) and
+    /// whether the light group will bind reference maps (`reference`, [`Self::group_over`]).
     pub fn ensure(
         &mut self,
         ctx: &GpuContext,
         (side, layers, group): (u32, u32, u32),
-        (records, sun_views): (&[LightRecord], u32),
+        (records, sun_views, reference): (&[LightRecord], u32, bool),
     ) {
         let device = &ctx.device;
         let mut changed = false;
@@ -141,9 +155,14 @@ impl LayeredMaps {
             changed = true;
         }
         if changed {
-            self.light_group = light_group(device, &self.light_layout, &self.array, &self.records);
+            self.light_group = light_group(
+                device,
+                &self.light_layout,
+                [&self.array, &self.array, &self.no_ids],
+                &self.records,
+            );
         }
-        let count = [records.len() as u32, sun_views, 0, 0];
+        let count = [records.len() as u32, sun_views, u32::from(reference), 0];
         ctx.queue
             .write_buffer(&self.records, 0, bytemuck::cast_slice(&count));
         if !records.is_empty() {
@@ -226,17 +245,58 @@ fn records_buffer(device: &wgpu::Device, count: usize) -> wgpu::Buffer {
     })
 }
 
+impl LayeredMaps {
+    /// The light term's group over maps rendered elsewhere: the method's maps, the reference
+    /// maps and the reference's caster ids (`MapTechnique::map_arrays`), with these records.
+    pub fn group_over(
+        &self,
+        device: &wgpu::Device,
+        arrays: [&wgpu::TextureView; 3],
+    ) -> wgpu::BindGroup {
+        light_group(device, &self.light_layout, arrays, &self.records)
+    }
+}
+
+/// `arrays`: the maps, the reference maps and the reference's caster ids.
 fn light_group(
     device: &wgpu::Device,
     layout: &wgpu::BindGroupLayout,
-    array: &wgpu::TextureView,
+    [maps, reference, ids]: [&wgpu::TextureView; 3],
     records: &wgpu::Buffer,
 ) -> wgpu::BindGroup {
     device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("Layered::light_group"),
         layout,
-        entries: &[view_entry(0, array), buffer_entry(1, records)],
+        entries: &[
+            view_entry(0, maps),
+            buffer_entry(1, records),
+            view_entry(2, reference),
+            view_entry(3, ids),
+        ],
     })
+}
+
+/// A one-texel array of caster ids (`shadow_map::CASTER_ID_FORMAT`).
+fn no_ids(device: &wgpu::Device) -> wgpu::TextureView {
+    device
+        .create_texture(&wgpu::TextureDescriptor {
+            label: Some("Layered::no_ids"),
+            size: wgpu::Extent3d {
+                width: 1,
+                height: 1,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: crate::shadow_map::CASTER_ID_FORMAT,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        })
+        .create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        })
 }
 
 #[cfg(test)]

@@ -138,3 +138,22 @@ impl ViewLayout for WarpedSunView {
         )]
     }
 }
+
+/// Views another technique chose (many lights: its lamps' views and the sun's cascades, a
+/// layer each), rendered and culled here like any layout's.
+#[derive(Clone, Debug, Default)]
+pub struct GivenViews(pub Vec<ShadowView>);
+
+impl ViewLayout for GivenViews {
+    fn name(&self) -> &'static str {
+        "given"
+    }
+
+    fn layers(&self) -> u32 {
+        self.0.len().max(1) as u32
+    }
+
+    fn views(&self, _: &TechniqueInput<'_>, _: Method, _: u32) -> Vec<ShadowView> {
+        self.0.clone()
+    }
+}

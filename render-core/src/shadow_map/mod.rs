@@ -15,7 +15,7 @@ pub(crate) mod maps;
 use std::time::Instant;
 
 use cpu_casters::CpuCasters;
-pub use layout::{SunView, ViewLayout, WarpedSunView};
+pub use layout::{GivenViews, SunView, ViewLayout, WarpedSunView};
 pub use maps::{CASTER_ID_FORMAT, MapKind};
 use maps::{MapArrays, ViewPass};
 
@@ -107,6 +107,13 @@ impl MapTechnique {
     /// The method's depth array, for tests that read its layers back.
     pub fn depth_texture(&self) -> &wgpu::Texture {
         self.maps.depth_texture()
+    }
+
+    /// The method's maps, the reference maps and the reference's caster ids, every layer
+    /// (another technique's light term reads them: many lights culled on the GPU).
+    pub(crate) fn map_arrays(&self) -> [&wgpu::TextureView; 3] {
+        let (reference, ids) = self.maps.reference_arrays();
+        [self.maps.depth_array(), reference, ids]
     }
 
     /// Whether an incremental update needs last frame's maps under the same light, scene and
