@@ -4,6 +4,8 @@ mod bench;
 mod cli;
 mod headless;
 mod legend_image;
+mod plot_png;
+mod report;
 mod scene_source;
 mod window;
 
@@ -20,6 +22,7 @@ fn main() -> ExitCode {
     let result = match &cli.command {
         Some(cli::Command::Shot(args)) => headless::shot(args),
         Some(cli::Command::Bench(args)) => bench::bench(args),
+        Some(cli::Command::Report(args)) => report::report(args),
         Some(cli::Command::Scenes) => {
             headless::list_scenes();
             Ok(())

@@ -211,7 +211,7 @@ fn run_interleaved(
         .collect();
     let mut measured: Vec<Vec<_>> = configs.iter().map(|_| Vec::new()).collect();
     for frame in 0..args.warmup + frames {
-        let camera = super::camera_at(path, template, (frame, args));
+        let camera = super::camera_at(path, template, (frame, &super::RunOptions::from(args)));
         for ((settings, renderer), out) in configs.iter().zip(&mut renderers).zip(&mut measured) {
             std::mem::swap(&mut session.renderer, renderer);
             let result = measure_frame(session, &camera, settings);

@@ -6,8 +6,9 @@
 
 use std::path::Path;
 
-use anyhow::Context as _;
 use plotters::prelude::*;
+
+use crate::plot_png::{Area, COLOURS, DrawResult, FONT, write_png};
 
 /// One measured row of the sweep, as the plot reads it.
 pub(super) struct PlotPoint {
@@ -23,17 +24,6 @@ pub(super) struct PlotPoint {
 }
 
 const PANEL: (u32, u32) = (480, 340);
-/// A line's colour, by [`PlotPoint::colour`]: strong and told apart on white.
-const COLOURS: [RGBColor; 6] = [
-    RGBColor(200, 30, 30),
-    RGBColor(30, 130, 30),
-    RGBColor(30, 70, 210),
-    RGBColor(230, 130, 0),
-    RGBColor(140, 30, 160),
-    RGBColor(0, 150, 160),
-];
-/// The font every label uses, registered once (egui's own, so nothing is read from the system).
-const FONT: &str = "sans-serif";
 
 /// Draws `points` into the PNG `out`, under `title`.
 pub(super) fn plot(points: &[PlotPoint], title: &str, out: &Path) -> anyhow::Result<()> {
@@ -49,37 +39,18 @@ pub(super) fn plot(points: &[PlotPoint], title: &str, out: &Path) -> anyhow::Res
     if sizes.is_empty() {
         anyhow::bail!("--plot: the sweep measured nothing to plot");
     }
-    // Registering twice fails harmlessly; a font that does not parse is a bug.
-    let _ =
-        plotters::style::register_font(FONT, FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT);
     let width = PANEL.0 * sizes.len() as u32;
     let height = 40 + 2 * PANEL.1;
-    let mut pixels = vec![0u8; (width * height * 3) as usize];
-    draw(
-        &mut pixels,
-        (width, height),
-        (points, &sizes, &series),
-        title,
-    )
-    .map_err(|e| anyhow::anyhow!("drawing the plot: {e}"))?;
-    let image = image::RgbImage::from_raw(width, height, pixels)
-        .context("the plot's pixels do not fill its image")?;
-    image
-        .save(out)
-        .with_context(|| format!("writing {}", out.display()))?;
-    Ok(())
+    write_png((width, height), out, |root| {
+        draw(root, (points, &sizes, &series), title)
+    })
 }
 
-type DrawResult = Result<(), Box<dyn std::error::Error>>;
-
 fn draw(
-    pixels: &mut [u8],
-    size: (u32, u32),
+    root: &Area<'_>,
     (points, sizes, series): (&[PlotPoint], &[u32], &[&PlotPoint]),
     title: &str,
 ) -> DrawResult {
-    let root = BitMapBackend::with_buffer(pixels, size).into_drawing_area();
-    root.fill(&WHITE)?;
     let root = root.titled(title, (FONT, 22))?;
     let (gpu, cpu) = root.split_vertically(PANEL.1);
     let gpu_panels = gpu.split_evenly((1, sizes.len()));
@@ -99,14 +70,13 @@ fn draw(
             |p| p.cpu_ms,
         )?;
     }
-    root.present()?;
     Ok(())
 }
 
 /// One chart: `value` of each series against the number of maps, on a log2 axis (the counts
 /// double), labelled 1, 2, 4, ...
 fn panel(
-    area: &DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>,
+    area: &Area<'_>,
     (points, series): (&[&PlotPoint], &[&PlotPoint]),
     (caption, y_label): (String, &str),
     value: fn(&PlotPoint) -> Option<f64>,

@@ -7,6 +7,8 @@ mod maps;
 mod maps_plot;
 mod table;
 
+pub(crate) use table::{COLUMNS, format_csv, row_cells};
+
 use anyhow::Context as _;
 use render_core::cascades::{MAX_CASCADES, SplitScheme};
 use render_core::frame::{
@@ -18,58 +20,58 @@ use render_core::volumes::VolumeClamp;
 
 use crate::cli::{BenchArgs, Sweep, parse_methods};
 use crate::headless::Session;
-use table::{format_csv, format_passes, format_table};
+use table::{format_passes, format_table};
 
 /// Medians of one method's measured frames under one setting.
-#[derive(Clone, Debug)]
-struct BenchRow {
+#[derive(Clone, Debug, serde::Serialize)]
+pub(crate) struct BenchRow {
     /// The swept setting, e.g. `res 2048` or `sun 30°`; empty without a sweep.
-    setting: String,
-    method: String,
-    frames: usize,
-    frame_ms: f64,
-    gpu_frame_ms: Option<f64>,
-    shadow_pass_ms: Option<f64>,
+    pub(crate) setting: String,
+    pub(crate) method: String,
+    pub(crate) frames: usize,
+    pub(crate) frame_ms: f64,
+    pub(crate) gpu_frame_ms: Option<f64>,
+    pub(crate) shadow_pass_ms: Option<f64>,
     /// The GPU methods' receiver mask, pyramids and caster tests.
-    culling_ms: Option<f64>,
+    pub(crate) culling_ms: Option<f64>,
     /// CPU time of culling, and of shadow volumes' clamping where the CPU does it (exact,
     /// boxes).
-    cpu_culling_ms: Option<f64>,
-    casters_drawn: f64,
-    shadow_triangles: f64,
-    casters_total: u32,
-    casters_oracle: f64,
-    tightness: Option<f64>,
+    pub(crate) cpu_culling_ms: Option<f64>,
+    pub(crate) casters_drawn: f64,
+    pub(crate) shadow_triangles: f64,
+    pub(crate) casters_total: u32,
+    pub(crate) casters_oracle: f64,
+    pub(crate) tightness: Option<f64>,
     /// Worst frame's missing + extra shadow pixels.
-    error_px_max: u32,
+    pub(crate) error_px_max: u32,
     /// Against the exact shadow: the median over frames of missing + extra pixels, and of
     /// their share of the counted pixels in percent.
-    exact_error: (Option<f64>, Option<f64>),
+    pub(crate) exact_error: (Option<f64>, Option<f64>),
     /// Worst frame's differing pixels off the exact picture's edges.
-    exact_off_edge_px_max: Option<u32>,
+    pub(crate) exact_off_edge_px_max: Option<u32>,
     /// Worst frame's flicker (pixels whose shadow changed) after a 1 cm move and a 0.1 degree
     /// turn, with `--flicker`.
-    flicker: Option<(u32, u32)>,
+    pub(crate) flicker: Option<(u32, u32)>,
     /// Undersampling in octaves: the median over frames of each frame's median and 95th
     /// percentile.
-    undersampling: (Option<f64>, Option<f64>),
+    pub(crate) undersampling: (Option<f64>, Option<f64>),
     /// Shadow volumes' fill, millions of fragments: the median frame's and the worst.
-    fill_m: (Option<f64>, Option<f64>),
+    pub(crate) fill_m: (Option<f64>, Option<f64>),
     /// Each measured frame's fill, fragments (shadow volumes).
-    fill_frames: Vec<u64>,
+    pub(crate) fill_frames: Vec<u64>,
     /// The first setting's baseline fill over this row's, frame by frame: the mean and the
     /// largest ratio (Lloyd's average and peak savings).
-    fill_saved: Option<(f64, f64)>,
+    pub(crate) fill_saved: Option<(f64, f64)>,
     /// Each measured frame's GPU time of the shadow volumes' stencil pass, ms (Lloyd's
     /// "shadow volume rendering time": the culling's and clamping's compute is apart).
-    volume_pass_frames: Vec<f64>,
+    pub(crate) volume_pass_frames: Vec<f64>,
     /// The first setting's baseline stencil-pass time over this row's, frame by frame: the
     /// mean and the largest ratio (Lloyd's average and peak speed-up).
-    volume_pass_saved: Option<(f64, f64)>,
+    pub(crate) volume_pass_saved: Option<(f64, f64)>,
     /// Baseline GPU frame time / this method's, under the same setting.
-    speed_up: Option<f64>,
+    pub(crate) speed_up: Option<f64>,
     /// Median GPU ms per pass label (and depth: steps inside a pass are 1), in frame order.
-    passes: Vec<(String, u32, f64)>,
+    pub(crate) passes: Vec<(String, u32, f64)>,
 }
 
 pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
@@ -243,10 +245,10 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
         for &method in &methods {
             let reports = run_path(
                 &mut session,
-                &path,
-                &template,
+                (&path, &template),
                 FrameSettings { method, ..settings },
-                args,
+                &RunOptions::from(args),
+                &mut |_| {},
             )?;
             rows.push(summarise(&setting, method.name(), &reports));
         }
@@ -276,7 +278,7 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
 /// Per row, the fill the first setting's baseline row draws over the row's own, and the
 /// same for the stencil pass's time, frame by frame (the same path, so frame k is the same
 /// view): their means and their peaks.
-fn set_fill_saved(rows: &mut [BenchRow], baseline: &str) {
+pub(crate) fn set_fill_saved(rows: &mut [BenchRow], baseline: &str) {
     let Some(first) = rows.first().map(|r| r.setting.clone()) else {
         return;
     };
@@ -318,23 +320,51 @@ fn baseline(name: &str, methods: &[Method]) -> anyhow::Result<Method> {
         .context("no method to run")
 }
 
+/// How a run flies its path: `bench`'s options, which `report` shares.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct RunOptions {
+    /// Measured frames along the path, after `warmup` frames at its start.
+    pub frames: u32,
+    pub warmup: u32,
+    /// Cars drive from `time` seconds on, 1/30 s a frame (`--animate`).
+    pub animate: bool,
+    pub time: f64,
+    /// Skip the exact shadow; measure flicker.
+    pub no_truth: bool,
+    pub flicker: bool,
+}
+
+impl From<&BenchArgs> for RunOptions {
+    fn from(args: &BenchArgs) -> Self {
+        Self {
+            frames: args.frames,
+            warmup: args.warmup,
+            animate: args.animate,
+            time: args.view.time.unwrap_or(0.0),
+            no_truth: args.no_truth,
+            flicker: args.flicker,
+        }
+    }
+}
+
 /// The path with one method: warm-up frames, then measured ones. Each view is rendered twice,
 /// timed without measurement passes and then measured for error and oracle (and, after the
-/// warm-up, against the exact shadow), so measuring never shows in the times. A fresh renderer per run: no method inherits another's state.
-fn run_path(
+/// warm-up, against the exact shadow), so measuring never shows in the times. A fresh renderer
+/// per run: no method inherits another's state. `done` hears of each frame as it ends.
+pub(crate) fn run_path(
     session: &mut Session,
-    path: &CameraPath,
-    template: &Camera,
+    (path, template): (&CameraPath, &Camera),
     settings: FrameSettings,
-    args: &BenchArgs,
+    options: &RunOptions,
+    done: &mut dyn FnMut(u32),
 ) -> anyhow::Result<Vec<(f64, FrameReport)>> {
-    let frames = args.frames.max(1);
+    let frames = options.frames.max(1);
     session.renderer = FrameRenderer::new(&session.ctx);
     let mut reports = Vec::new();
-    for frame in 0..args.warmup + frames {
-        let camera = camera_at(path, template, (frame, args));
-        if args.animate {
-            session.animate(args.view.time.unwrap_or(0.0) + f64::from(frame) / 30.0);
+    for frame in 0..options.warmup + frames {
+        let camera = camera_at(path, template, (frame, options));
+        if options.animate {
+            session.animate(options.time + f64::from(frame) / 30.0);
         } else {
             session.settle(&camera, &settings)?;
         }
@@ -347,26 +377,29 @@ fn run_path(
             },
         )?;
         report.counts.casters_oracle = measured.counts.casters_oracle;
+        // Shadow volumes count their fill when measuring (or with the fill overlay on).
+        report.volume_fill = report.volume_fill.or(measured.volume_fill);
         report.error = measured.error;
         report.undersampling = measured.undersampling;
-        if frame >= args.warmup && !args.no_truth && settings.exact_truth_applies() {
+        if frame >= options.warmup && !options.no_truth && settings.exact_truth_applies() {
             report.exact_error = Some(session.exact_error(&camera, &settings)?);
         }
-        if frame >= args.warmup && args.flicker {
+        if frame >= options.warmup && options.flicker {
             report.flicker = Some(session.flicker(&camera, &settings)?);
         }
-        if frame >= args.warmup {
+        if frame >= options.warmup {
             reports.push((wall_ms, report));
         }
+        done(frame);
     }
     Ok(reports)
 }
 
 /// Frame `frame` of a run along `path` (the warm-up frames at its start), with `template`'s
 /// lens and up.
-fn camera_at(path: &CameraPath, template: &Camera, (frame, args): (u32, &BenchArgs)) -> Camera {
-    let frames = args.frames.max(1);
-    let u = frame.saturating_sub(args.warmup) as f32 / (frames.max(2) - 1) as f32;
+fn camera_at(path: &CameraPath, template: &Camera, (frame, options): (u32, &RunOptions)) -> Camera {
+    let frames = options.frames.max(1);
+    let u = frame.saturating_sub(options.warmup) as f32 / (frames.max(2) - 1) as f32;
     let key = path.sample(u);
     Camera::look_at(
         key.eye,
@@ -391,7 +424,7 @@ fn median(mut values: Vec<f64>) -> Option<f64> {
     })
 }
 
-fn summarise(setting: &str, method: &str, reports: &[(f64, FrameReport)]) -> BenchRow {
+pub(crate) fn summarise(setting: &str, method: &str, reports: &[(f64, FrameReport)]) -> BenchRow {
     let collect = |f: &dyn Fn(&(f64, FrameReport)) -> Option<f64>| {
         median(reports.iter().filter_map(f).collect())
     };

@@ -35,7 +35,7 @@ pub(super) fn format_passes(rows: &[BenchRow]) -> String {
     aligned(&lines, 1)
 }
 
-const COLUMNS: [&str; 22] = [
+pub(crate) const COLUMNS: [&str; 22] = [
     "setting",
     "method",
     "frames",
@@ -60,7 +60,7 @@ const COLUMNS: [&str; 22] = [
     "speed-up",
 ];
 
-fn row_cells(r: &BenchRow) -> [String; 22] {
+pub(crate) fn row_cells(r: &BenchRow) -> [String; 22] {
     let opt =
         |v: Option<f64>, digits: usize| v.map_or_else(|| "n/a".into(), |v| format!("{v:.digits$}"));
     [
@@ -149,7 +149,7 @@ pub(super) fn aligned(lines: &[Vec<String>], left: usize) -> String {
     out
 }
 
-pub(super) fn format_csv(rows: &[BenchRow]) -> String {
+pub(crate) fn format_csv(rows: &[BenchRow]) -> String {
     let mut out = String::from(
         "setting,method,frames,frame_ms,gpu_frame_ms,shadow_pass_ms,casters_drawn,casters_oracle,tightness,shadow_triangles,error_px_max,casters_total,speed_up,culling_ms,undersampling_p50,undersampling_p95,exact_error_px,exact_error_percent,exact_error_off_edge_px_max,flicker_moved_px,flicker_turned_px,fill_mfragments,fill_mfragments_max,fill_saved_mean,fill_saved_peak,volume_pass_saved_mean,volume_pass_saved_peak,cpu_culling_ms\n",
     );

@@ -1,4 +1,4 @@
-//! The headless commands' own flags: `shot` and `bench`.
+//! The headless commands' own flags: `shot`, `bench` and `report`.
 
 use std::path::PathBuf;
 
@@ -183,4 +183,32 @@ pub enum Sweep {
     /// Many lights (Rákos's figures): every path (traditional, multiview, atlas) for each of
     /// `--light-counts` and `--map-sizes`, a row each with its passes, draws and CPU time.
     Maps,
+}
+
+/// `shadowlab report`.
+#[derive(Args, Debug)]
+pub struct ReportArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    #[command(flatten)]
+    pub view: ViewArgs,
+    /// Folder to write: index.html, report.md, rows.csv, rows.json and the plots.
+    #[arg(long, default_value = "report", value_name = "DIR")]
+    pub out: PathBuf,
+    /// Technique families: a comma list of culling, setups, volumes, lights, or `all` (the
+    /// many-lights family only where the scene has lights).
+    #[arg(long, default_value = "all", value_name = "f1,f2")]
+    pub families: String,
+    /// Measured frames along the path for every row.
+    #[arg(long, default_value_t = 12, value_name = "N")]
+    pub frames: u32,
+    /// Frames rendered before measuring each row.
+    #[arg(long, default_value_t = 3, value_name = "N")]
+    pub warmup: u32,
+    /// Camera path CSV, as `bench --path`; default: the scene's street path or an orbit.
+    #[arg(long, value_name = "P")]
+    pub path: Option<PathBuf>,
+    /// Skip the exact shadow: error is then counted against the reference maps only.
+    #[arg(long)]
+    pub no_truth: bool,
 }

@@ -19,7 +19,7 @@ mod layered;
 mod light;
 mod volumes;
 
-pub use commands::{BenchArgs, ShotArgs, Sweep};
+pub use commands::{BenchArgs, ReportArgs, ShotArgs, Sweep};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -41,6 +41,9 @@ pub enum Command {
     Shot(Box<ShotArgs>),
     /// Fly a camera path and print a table of methods (median over frames, after warm-up).
     Bench(Box<BenchArgs>),
+    /// Run every technique family along a camera path and write a report folder (HTML,
+    /// Markdown, CSV, JSON, plots).
+    Report(Box<ReportArgs>),
     /// List the built-in scenes.
     Scenes,
 }

@@ -1,0 +1,349 @@
+//! `shadowlab report`: every technique family along one camera path, as a folder a paper or a
+//! review can use: `index.html` and `report.md` (the same blocks, `document.rs`), the rows as
+//! CSV and JSON, and the plots (`plots.rs`): each row's GPU frame time along the path, and
+//! per family speed against error and against undersampling with the Pareto front.
+//!
+//! The rows are `bench`'s: the same runs (`bench::run_path`, warm-up and settling), the same
+//! summaries and the same cells, so a number here is the one `bench` prints for that row.
+
+mod document;
+mod families;
+mod plots;
+
+use std::path::Path;
+
+use anyhow::Context as _;
+use indicatif::{ProgressBar, ProgressStyle};
+use render_core::frame::FrameReport;
+use render_core::scene::{CameraPath, SceneFacts};
+
+use crate::bench::{BenchRow, COLUMNS, RunOptions, format_csv, row_cells, run_path, summarise};
+use crate::cli::ReportArgs;
+use crate::headless::Session;
+use document::Block;
+use families::Family;
+use plots::{Point, Series};
+
+/// One row of the report: the family it belongs to, `bench`'s summary, and its frames along
+/// the path.
+#[derive(serde::Serialize)]
+struct ReportRow {
+    family: &'static str,
+    #[serde(flatten)]
+    row: BenchRow,
+    /// GPU frame time per measured frame, ms.
+    gpu_frame_ms_along_path: Vec<Option<f64>>,
+    /// On the family's Pareto front of shadow GPU time against error.
+    pareto: bool,
+}
+
+pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
+    let mut session = Session::open(&args.scene, &args.view)?;
+    let base = args.view.settings(&session.scene)?;
+    let path = match &args.path {
+        Some(p) => CameraPath::load(p)?,
+        None => CameraPath::default_for(&session.scene),
+    };
+    let template = args.view.camera(&session.scene, session.aspect())?;
+    let facts = SceneFacts::from(&session.scene);
+    let (families, mut notes) = families::parse(&args.families, !session.scene.lights.is_empty())?;
+    let plan: Vec<(Family, Vec<families::Setting>)> = families
+        .into_iter()
+        .map(|f| (f, f.settings(base)))
+        .collect();
+    let options = RunOptions {
+        frames: args.frames.max(1),
+        warmup: args.warmup,
+        animate: false,
+        time: 0.0,
+        no_truth: args.no_truth,
+        flicker: false,
+    };
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("creating {}", args.out.display()))?;
+    let adapter = session.ctx.adapter_description();
+    eprintln!(
+        "report {}: {} rows along '{}', {} frames after {} warm-up each, on {adapter}",
+        facts.name,
+        plan.iter().map(|(_, s)| s.len()).sum::<usize>(),
+        path.name,
+        options.frames,
+        options.warmup,
+    );
+    let frames_per_row = u64::from(options.warmup + options.frames);
+    let bar = progress(plan.iter().map(|(_, s)| s.len() as u64).sum::<u64>() * frames_per_row);
+    let mut rows: Vec<ReportRow> = Vec::new();
+    for (family, settings) in &plan {
+        let first = rows.len();
+        for setting in settings {
+            bar.set_message(format!("{}: {}", family.name(), setting.label));
+            let reports = run_path(
+                &mut session,
+                (&path, &template),
+                setting.settings,
+                &options,
+                &mut |_| bar.inc(1),
+            )?;
+            if bar.is_hidden() {
+                eprintln!("  {}: {} done", family.name(), setting.label);
+            }
+            rows.push(row(
+                *family,
+                &setting.label,
+                setting.settings.method.name(),
+                &reports,
+            ));
+        }
+        compare_within(&mut rows[first..]);
+    }
+    bar.finish_and_clear();
+    notes.extend(rows.iter().filter_map(row_notes));
+    write(
+        &args.out,
+        &rows,
+        (&facts, &adapter, &path.name, &options),
+        &notes,
+    )?;
+    eprintln!("wrote {}", args.out.join("index.html").display());
+    Ok(())
+}
+
+fn progress(frames: u64) -> ProgressBar {
+    let bar = ProgressBar::new(frames);
+    if let Ok(style) = ProgressStyle::with_template(
+        "{msg:32} [{bar:30}] {pos}/{len} frames, {elapsed} so far, about {eta} left",
+    ) {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar
+}
+
+fn row(family: Family, label: &str, method: &str, reports: &[(f64, FrameReport)]) -> ReportRow {
+    ReportRow {
+        family: family.name(),
+        row: summarise(label, method, reports),
+        gpu_frame_ms_along_path: reports.iter().map(|(_, r)| r.gpu_total_ms()).collect(),
+        pareto: false,
+    }
+}
+
+/// Speed-ups against the family's first row, the fill saved against it (shadow volumes), and
+/// the Pareto front.
+fn compare_within(rows: &mut [ReportRow]) {
+    let Some(first) = rows.first().map(|r| r.row.clone()) else {
+        return;
+    };
+    let mut summaries: Vec<BenchRow> = rows.iter().map(|r| r.row.clone()).collect();
+    crate::bench::set_fill_saved(&mut summaries, &first.method);
+    for (r, summary) in rows.iter_mut().zip(summaries) {
+        r.row = summary;
+        r.row.speed_up = first
+            .gpu_frame_ms
+            .zip(r.row.gpu_frame_ms)
+            .map(|(b, m)| b / m.max(1e-9));
+    }
+    let summaries: Vec<&BenchRow> = rows.iter().map(|r| &r.row).collect();
+    let (indices, points) = error_points(&summaries);
+    for i in plots::pareto_front(&points) {
+        rows[indices[i]].pareto = true;
+    }
+}
+
+/// Each row's shadow GPU time (its shadow passes and its culling) and its error: against the
+/// exact shadow where it was measured, else against the reference maps. The rows that have
+/// both, by index.
+fn error_points(rows: &[&BenchRow]) -> (Vec<usize>, Vec<Point>) {
+    let exact = against_truth(rows);
+    rows.iter()
+        .enumerate()
+        .filter_map(|(i, r)| {
+            let y = if exact {
+                r.exact_error.0?
+            } else {
+                f64::from(r.error_px_max)
+            };
+            Some((i, point(r, shadow_gpu_ms(r)?, y)))
+        })
+        .unzip()
+}
+
+/// Whether every row was measured against the exact shadow.
+fn against_truth(rows: &[&BenchRow]) -> bool {
+    rows.iter().all(|r| r.exact_error.0.is_some())
+}
+
+/// The shadow passes' and the culling's GPU time.
+fn shadow_gpu_ms(row: &BenchRow) -> Option<f64> {
+    Some(row.shadow_pass_ms? + row.culling_ms.unwrap_or(0.0))
+}
+
+fn point(row: &BenchRow, x: f64, y: f64) -> Point {
+    Point {
+        label: if row.setting == row.method {
+            row.method.clone()
+        } else {
+            row.setting.clone()
+        },
+        x,
+        y,
+    }
+}
+
+/// What a reader needs to know of a row that the table does not say.
+fn row_notes(r: &ReportRow) -> Option<String> {
+    (r.row.shadow_pass_ms.is_none()).then(|| {
+        format!(
+            "{} / {}: this adapter gave no GPU time for the shadow passes, so the row is not \
+             in the speed plots",
+            r.family, r.row.setting
+        )
+    })
+}
+
+/// The columns of `bench`'s table the report shows, by index into [`COLUMNS`].
+const SHOWN: [usize; 13] = [0, 1, 4, 5, 6, 8, 9, 12, 13, 14, 17, 18, 21];
+
+/// Writes the folder: rows as CSV and JSON, the plots, `report.md` and `index.html`.
+fn write(
+    out: &Path,
+    rows: &[ReportRow],
+    (facts, adapter, path_name, options): (&SceneFacts, &str, &str, &RunOptions),
+    notes: &[String],
+) -> anyhow::Result<()> {
+    let write_file = |name: &str, text: &str| {
+        let file = out.join(name);
+        std::fs::write(&file, text).with_context(|| format!("writing {}", file.display()))
+    };
+    let summaries: Vec<BenchRow> = rows
+        .iter()
+        .map(|r| BenchRow {
+            setting: format!("{}: {}", r.family, r.row.setting),
+            ..r.row.clone()
+        })
+        .collect();
+    write_file("rows.csv", &format_csv(&summaries))?;
+    write_file("rows.json", &serde_json::to_string_pretty(rows)?)?;
+    let command: Vec<String> = std::env::args().skip(1).collect();
+    let mut blocks = vec![
+        Block::Heading(1, format!("shadowlab report: {}", facts.name)),
+        Block::Paragraph(format!(
+            "Adapter: {adapter}. Absolute times are this adapter's own: compare rows by their \
+             ratios within this run, not with another machine's."
+        )),
+        Block::Paragraph(format!(
+            "Scene: {} objects ({} casters), {} triangles. Path '{path_name}', {} measured \
+             frames after {} warm-up for every row; each frame is rendered once timed and once \
+             measured (error, oracle, undersampling, and the exact shadow where it applies).",
+            facts.objects, facts.casters, facts.triangles, options.frames, options.warmup,
+        )),
+        Block::Paragraph(format!("Command: `shadowlab {}`", command.join(" "))),
+    ];
+    for note in notes {
+        blocks.push(Block::Paragraph(format!("Note: {note}")));
+    }
+    let mut families: Vec<&'static str> = rows.iter().map(|r| r.family).collect();
+    families.dedup();
+    for family in families {
+        let of_family: Vec<&ReportRow> = rows.iter().filter(|r| r.family == family).collect();
+        family_blocks(out, family, &of_family, &mut blocks)?;
+    }
+    blocks.push(Block::Heading(2, "Files".into()));
+    blocks.push(Block::Paragraph(
+        "`rows.csv` holds every row as `bench --csv` writes it (the setting is `family: \
+         setting`); `rows.json` the same with each row's GPU frame time along the path."
+            .into(),
+    ));
+    write_file("report.md", &document::markdown(&blocks))?;
+    write_file(
+        "index.html",
+        &document::html(&format!("shadowlab report: {}", facts.name), &blocks),
+    )
+}
+
+/// A family's section: its table and plots.
+fn family_blocks(
+    out: &Path,
+    family: &str,
+    rows: &[&ReportRow],
+    blocks: &mut Vec<Block>,
+) -> anyhow::Result<()> {
+    let described = Family::named(family).map_or("", Family::description);
+    blocks.push(Block::Heading(
+        2,
+        described.split(':').next().unwrap_or(family).into(),
+    ));
+    blocks.push(Block::Paragraph(described.into()));
+    let mut header: Vec<String> = SHOWN.iter().map(|&c| COLUMNS[c].to_owned()).collect();
+    header[SHOWN.len() - 1] = format!("speed-up vs {}", rows[0].row.setting);
+    header.push("Pareto".into());
+    let table = rows
+        .iter()
+        .map(|r| {
+            let cells = row_cells(&r.row);
+            let mut shown: Vec<String> = SHOWN.iter().map(|&c| cells[c].clone()).collect();
+            shown.push(if r.pareto {
+                "yes".into()
+            } else {
+                String::new()
+            });
+            shown
+        })
+        .collect();
+    blocks.push(Block::Table(header, table));
+    let series: Vec<Series> = rows
+        .iter()
+        .map(|r| Series {
+            label: r.row.setting.clone(),
+            values: r.gpu_frame_ms_along_path.clone(),
+        })
+        .collect();
+    let along = format!("{family}-along-path.png");
+    plots::along_path(
+        &series,
+        (
+            &format!("{family}: GPU frame time along the path"),
+            "GPU frame ms",
+        ),
+        &out.join(&along),
+    )?;
+    blocks.push(Block::Image(
+        along,
+        format!("{family}: GPU frame time along the path"),
+    ));
+    let summaries: Vec<&BenchRow> = rows.iter().map(|r| &r.row).collect();
+    let (_, points) = error_points(&summaries);
+    if !points.is_empty() {
+        let y_label = if against_truth(&summaries) {
+            "error px against the exact shadow (median)"
+        } else {
+            "error px against the reference (worst frame)"
+        };
+        let file = format!("{family}-speed-error.png");
+        let title = format!("{family}: shadow GPU time against error");
+        plots::speed_against(
+            &points,
+            (&title, "shadow passes + culling, GPU ms", y_label),
+            &out.join(&file),
+        )?;
+        blocks.push(Block::Image(file, title));
+    }
+    let undersampled: Vec<Point> = summaries
+        .iter()
+        .filter_map(|r| Some(point(r, shadow_gpu_ms(r)?, r.undersampling.1?)))
+        .collect();
+    if !undersampled.is_empty() {
+        let file = format!("{family}-speed-undersampling.png");
+        let title = format!("{family}: shadow GPU time against undersampling");
+        plots::speed_against(
+            &undersampled,
+            (
+                &title,
+                "shadow passes + culling, GPU ms",
+                "undersampling p95, octaves",
+            ),
+            &out.join(&file),
+        )?;
+        blocks.push(Block::Image(file, title));
+    }
+    Ok(())
+}

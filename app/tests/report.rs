@@ -1,0 +1,145 @@
+//! `shadowlab report`: the folder a new user gets (pages, rows, plots that show something),
+//! rows that are `bench`'s, and a wrong family named.
+
+mod common;
+
+use common::{out_dir, run, shadowlab, text};
+
+/// The rows of a CSV `bench --csv` wrote, by column name.
+fn csv_rows(csv: &str) -> Vec<std::collections::HashMap<String, String>> {
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+    lines
+        .map(|l| {
+            header
+                .iter()
+                .zip(l.split(','))
+                .map(|(h, v)| ((*h).to_owned(), v.to_owned()))
+                .collect()
+        })
+        .collect()
+}
+
+const VIEW: [&str; 6] = ["--frames", "2", "--warmup", "1", "--size", "160x90"];
+
+#[test]
+fn report_writes_pages_rows_and_plots_whose_numbers_are_benchs() {
+    let dir = out_dir("report");
+    let folder = dir.join("city-small");
+    let _ = std::fs::remove_dir_all(&folder);
+    let output = run(shadowlab()
+        .args([
+            "report",
+            "builtin:city-small",
+            "--families",
+            "culling,volumes",
+        ])
+        .args(VIEW)
+        .arg("--out")
+        .arg(&folder));
+    assert!(output.status.success(), "{}", text(&output));
+    let page = std::fs::read_to_string(folder.join("index.html")).expect("index.html");
+    let markdown = std::fs::read_to_string(folder.join("report.md")).expect("report.md");
+    assert!(
+        page.contains("llvmpipe") || page.contains("Adapter: "),
+        "the adapter at the top"
+    );
+    assert!(markdown.contains("Absolute times are this adapter's own"));
+    // Every picture the page shows is beside it and has drawn something.
+    let images: Vec<&str> = page
+        .split("<img src=\"")
+        .skip(1)
+        .map(|rest| rest.split('"').next().expect("closing quote"))
+        .collect();
+    for name in [
+        "culling-along-path.png",
+        "culling-speed-error.png",
+        "culling-speed-undersampling.png",
+        "volumes-along-path.png",
+        "volumes-speed-error.png",
+    ] {
+        assert!(images.contains(&name), "{name} in {images:?}");
+    }
+    for name in &images {
+        assert!(
+            markdown.contains(&format!("]({name})")),
+            "{name} in report.md"
+        );
+        let image = image::open(folder.join(name)).expect("a PNG").to_rgb8();
+        let drawn = image.pixels().filter(|p| p.0 != [255, 255, 255]).count();
+        assert!(
+            drawn * 20 > image.pixels().len() / 10,
+            "{name}: {drawn} pixels drawn, an empty plot"
+        );
+    }
+    let rows = csv_rows(&std::fs::read_to_string(folder.join("rows.csv")).expect("rows.csv"));
+    let culling: Vec<_> = rows
+        .iter()
+        .filter(|r| r["setting"].starts_with("culling: "))
+        .collect();
+    let volumes: Vec<_> = rows
+        .iter()
+        .filter(|r| r["setting"].starts_with("volumes: "))
+        .collect();
+    assert_eq!(culling.len(), render_core::frame::Method::ALL.len());
+    assert_eq!(volumes[0]["setting"], "volumes: standard");
+    assert_eq!(volumes.len(), 7);
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(folder.join("rows.json")).expect("json"))
+            .expect("rows.json parses");
+    assert_eq!(json.as_array().expect("rows").len(), rows.len());
+    assert_eq!(
+        json[0]["gpu_frame_ms_along_path"].as_array().map(Vec::len),
+        Some(2)
+    );
+    // Standard volumes against the CC ones: the fill is counted, and clamping saves some.
+    let fill = |r: &std::collections::HashMap<String, String>| -> f64 {
+        r["fill_mfragments"].parse().expect("fill counted")
+    };
+    assert!(
+        fill(volumes[0]) > fill(volumes[3]),
+        "{:?} {:?}",
+        volumes[0],
+        volumes[3]
+    );
+
+    // The same rows by `bench`: the counts are the same numbers (times differ run to run).
+    let csv = dir.join("bench.csv");
+    let output = run(shadowlab()
+        .args(["bench", "builtin:city-small", "--methods", "vfc,frag"])
+        .args(VIEW)
+        .arg("--csv")
+        .arg(&csv));
+    assert!(output.status.success(), "{}", text(&output));
+    let bench = csv_rows(&std::fs::read_to_string(&csv).expect("bench CSV"));
+    for b in &bench {
+        let r = culling
+            .iter()
+            .find(|r| r["method"] == b["method"])
+            .expect("the method's report row");
+        for column in [
+            "casters_drawn",
+            "casters_oracle",
+            "shadow_triangles",
+            "error_px_max",
+            "exact_error_px",
+            "undersampling_p95",
+        ] {
+            assert_eq!(r[column], b[column], "{}: {column}", b["method"]);
+        }
+    }
+}
+
+#[test]
+fn a_wrong_family_is_named() {
+    let output = run(shadowlab().args(["report", "builtin:boxes", "--families", "culling,cull"]));
+    assert!(!output.status.success());
+    assert!(text(&output).contains("'cull'"), "{}", text(&output));
+    let output = run(shadowlab().args(["report", "builtin:boxes", "--families", "lights"]));
+    assert!(!output.status.success());
+    assert!(
+        text(&output).contains("point or spot lights"),
+        "{}",
+        text(&output)
+    );
+}
