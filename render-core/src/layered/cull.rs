@@ -13,6 +13,8 @@ use crate::gpu::{
 use crate::scene::Scene;
 use crate::scene_gpu::SceneGpu;
 use crate::shaders::compose;
+use crate::shadow_map::cpu_casters::CpuCasters;
+use crate::shadow_view::{LayeredPath, ShadowView};
 
 /// Bits of `Params::counts.z` (`cull.wgsl`).
 pub const CULL_FRUSTUM: u32 = 1;
@@ -370,4 +372,41 @@ fn grow(device: &wgpu::Device, buffer: &mut wgpu::Buffer, bytes: u64) -> bool {
         mapped_at_creation: false,
     });
     true
+}
+
+/// The slots of `path`: a view each, or a multiview group each with the union of its views'
+/// casters.
+pub(super) fn slots_of(
+    path: LayeredPath,
+    cpu: &CpuCasters,
+    views: &[ShadowView],
+    group: u32,
+) -> Vec<Slot> {
+    let group = match path {
+        LayeredPath::Multiview => (group as usize).max(1),
+        _ => 1,
+    };
+    (0..views.len().div_ceil(group))
+        .map(|g| {
+            let first = g * group;
+            let range = first..first + (views.len() - first).min(group);
+            let mut casters: Vec<u32> = range
+                .clone()
+                .flat_map(|v| cpu.chosen(v).iter().copied())
+                .collect();
+            if range.len() > 1 {
+                casters.sort_unstable();
+                casters.dedup();
+            }
+            Slot {
+                first_view: first as u32,
+                views: range.len() as u32,
+                casters,
+                lights: views[range]
+                    .iter()
+                    .filter_map(|v| v.light.perspective.map(|p| p.position))
+                    .collect(),
+            }
+        })
+        .collect()
 }

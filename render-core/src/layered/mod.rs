@@ -22,13 +22,13 @@ use std::time::Instant;
 
 #[cfg(test)]
 pub(crate) use cull::cull_source;
-use cull::{Slot, TriangleCull};
+use cull::{Slot, TriangleCull, slots_of};
 use culled::CulledDraws;
 #[cfg(test)]
 pub(crate) use culled::culled_sources;
 use gpu_culled::GpuCulledMaps;
 pub use lights::{LightRecord, LightViews, light_views};
-use paths::{PathInput, Paths};
+use paths::{PathInput, Paths, draw_direct};
 #[cfg(test)]
 pub(crate) use paths::{atlas_source, multiview_source, traditional_source};
 pub use probe::multiview_reaches_every_layer;
@@ -552,69 +552,4 @@ fn gpu_culling_notes(method: Method, settings: &LayeredSettings) -> Vec<String> 
         ));
     }
     notes
-}
-
-/// The unculled paths: each view's casters drawn whole. Passes, draws and triangles.
-fn draw_direct(
-    (paths, maps, cpu): (&mut Paths, &LayeredMaps, &CpuCasters),
-    (ctx, encoder): (&GpuContext, &mut wgpu::CommandEncoder),
-    (path, input, slots): (LayeredPath, &PathInput<'_>, &[Slot]),
-) -> (u32, u32, u64) {
-    let (passes, lists): (u32, Vec<&crate::scene_gpu::DrawList>) = match path {
-        LayeredPath::Traditional => {
-            let passes = paths.draw_traditional(encoder, maps, input);
-            let lists = (0..input.views.len()).filter_map(|v| cpu.draws(v));
-            (passes, lists.collect())
-        }
-        LayeredPath::Multiview => {
-            let groups = paths
-                .draw_multiview(ctx, encoder, maps, (input, slots))
-                .unwrap_or(0);
-            (
-                groups,
-                paths.multiview_lists().take(groups as usize).collect(),
-            )
-        }
-        LayeredPath::Atlas => {
-            let pages = paths.draw_atlas(ctx, encoder, maps, input).unwrap_or(0);
-            (pages, paths.atlas_lists().take(pages as usize).collect())
-        }
-    };
-    (
-        passes,
-        lists.iter().map(|l| l.len()).sum(),
-        lists.iter().map(|l| l.triangles).sum(),
-    )
-}
-
-/// The slots of `path`: a view each, or a multiview group each with the union of its views'
-/// casters.
-fn slots_of(path: LayeredPath, cpu: &CpuCasters, views: &[ShadowView], group: u32) -> Vec<Slot> {
-    let group = match path {
-        LayeredPath::Multiview => (group as usize).max(1),
-        _ => 1,
-    };
-    (0..views.len().div_ceil(group))
-        .map(|g| {
-            let first = g * group;
-            let range = first..first + (views.len() - first).min(group);
-            let mut casters: Vec<u32> = range
-                .clone()
-                .flat_map(|v| cpu.chosen(v).iter().copied())
-                .collect();
-            if range.len() > 1 {
-                casters.sort_unstable();
-                casters.dedup();
-            }
-            Slot {
-                first_view: first as u32,
-                views: range.len() as u32,
-                casters,
-                lights: views[range]
-                    .iter()
-                    .filter_map(|v| v.light.perspective.map(|p| p.position))
-                    .collect(),
-            }
-        })
-        .collect()
 }

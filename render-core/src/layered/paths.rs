@@ -8,6 +8,7 @@ use std::num::NonZeroU32;
 
 use wgpu::util::DrawIndexedIndirectArgs;
 
+use super::cull::Slot;
 use super::targets::LayeredMaps;
 use crate::gpu::{
     FrameTimer, GpuContext, bind_group_layout, buffer_entry, depth_attachment, pass_label,
@@ -16,7 +17,7 @@ use crate::gpu::{
 use crate::scene_gpu::{DrawList, SceneGpu, VERTEX_LAYOUT};
 use crate::shaders::compose;
 use crate::shadow_map::cpu_casters::CpuCasters;
-use crate::shadow_view::{SHADOW_FORMAT, ShadowView, ViewBuffer};
+use crate::shadow_view::{LayeredPath, SHADOW_FORMAT, ShadowView, ViewBuffer};
 
 /// The traditional path's shader, as the renderer and the validation test compose it.
 pub(crate) fn traditional_source() -> String {
@@ -432,4 +433,37 @@ pub(super) fn depth_pipeline(
         multiview_mask,
         cache: None,
     })
+}
+
+/// The unculled paths: each view's casters drawn whole. Passes, draws and triangles.
+pub(super) fn draw_direct(
+    (paths, maps, cpu): (&mut Paths, &LayeredMaps, &CpuCasters),
+    (ctx, encoder): (&GpuContext, &mut wgpu::CommandEncoder),
+    (path, input, slots): (LayeredPath, &PathInput<'_>, &[Slot]),
+) -> (u32, u32, u64) {
+    let (passes, lists): (u32, Vec<&crate::scene_gpu::DrawList>) = match path {
+        LayeredPath::Traditional => {
+            let passes = paths.draw_traditional(encoder, maps, input);
+            let lists = (0..input.views.len()).filter_map(|v| cpu.draws(v));
+            (passes, lists.collect())
+        }
+        LayeredPath::Multiview => {
+            let groups = paths
+                .draw_multiview(ctx, encoder, maps, (input, slots))
+                .unwrap_or(0);
+            (
+                groups,
+                paths.multiview_lists().take(groups as usize).collect(),
+            )
+        }
+        LayeredPath::Atlas => {
+            let pages = paths.draw_atlas(ctx, encoder, maps, input).unwrap_or(0);
+            (pages, paths.atlas_lists().take(pages as usize).collect())
+        }
+    };
+    (
+        passes,
+        lists.iter().map(|l| l.len()).sum(),
+        lists.iter().map(|l| l.triangles).sum(),
+    )
 }
