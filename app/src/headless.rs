@@ -137,6 +137,23 @@ impl Session {
         )?)
     }
 
+    /// The view as the window shows it, after settling: the picture with the legend of the
+    /// overlays `settings` turns on (`report`'s screenshots).
+    pub fn picture(
+        &mut self,
+        camera: &Camera,
+        settings: &FrameSettings,
+    ) -> anyhow::Result<image::RgbaImage> {
+        self.settle(camera, settings)?;
+        self.frame(camera, settings)?;
+        let targets = self
+            .renderer
+            .targets()
+            .context("no targets after a frame")?;
+        let capture = FrameCapture::read(&self.ctx, targets)?;
+        crate::legend_image::with_legend(&self.ctx, &capture.color, settings)
+    }
+
     /// Renders the view until a method that relies on last frame's visibility in the light's
     /// view has settled: until the drawn count repeats (six frames at most). Reports then
     /// describe the steady state. Other methods need no settling.

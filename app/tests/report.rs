@@ -57,6 +57,9 @@ fn report_writes_pages_rows_and_plots_whose_numbers_are_benchs() {
         "culling-speed-undersampling.png",
         "volumes-along-path.png",
         "volumes-speed-error.png",
+        "culling-view-1.png",
+        "volumes-view-1.png",
+        "volumes-view-2.png",
     ] {
         assert!(images.contains(&name), "{name} in {images:?}");
     }

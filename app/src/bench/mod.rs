@@ -397,7 +397,11 @@ pub(crate) fn run_path(
 
 /// Frame `frame` of a run along `path` (the warm-up frames at its start), with `template`'s
 /// lens and up.
-fn camera_at(path: &CameraPath, template: &Camera, (frame, options): (u32, &RunOptions)) -> Camera {
+pub(crate) fn camera_at(
+    path: &CameraPath,
+    template: &Camera,
+    (frame, options): (u32, &RunOptions),
+) -> Camera {
     let frames = options.frames.max(1);
     let u = frame.saturating_sub(options.warmup) as f32 / (frames.max(2) - 1) as f32;
     let key = path.sample(u);

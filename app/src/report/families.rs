@@ -124,6 +124,72 @@ impl Family {
     }
 }
 
+impl Family {
+    /// The views the section shows, each with the overlays that explain the family.
+    pub fn pictures(self, base: FrameSettings) -> Vec<Setting> {
+        let mut settings = FrameSettings {
+            measure: true,
+            ..base
+        };
+        let with = |label: &str, settings: FrameSettings| Setting {
+            label: label.to_owned(),
+            settings,
+        };
+        match self {
+            Self::Culling => {
+                settings.setup = ShadowSetup::Single;
+                settings.method = Method::Frag;
+                settings.overlays.light_view = true;
+                settings.overlays.casters = true;
+                vec![with(
+                    "frag: objects tinted by what culling did to them, and the light's view with \
+                     the receiver mask and the culled casters striped",
+                    settings,
+                )]
+            }
+            Self::Setups => {
+                settings.setup = ShadowSetup::Cascades;
+                settings.overlays.cascades = true;
+                vec![with(
+                    "cascades: each point tinted by the cascade that shades it",
+                    settings,
+                )]
+            }
+            Self::Volumes => {
+                settings.setup = ShadowSetup::Volumes;
+                settings.overlays.fill = true;
+                let standard = FrameSettings {
+                    method: Method::None,
+                    ..settings
+                };
+                settings.method = Method::Vfc;
+                settings.volumes.clamp = VolumeClamp::Conservative;
+                vec![
+                    with(
+                        "standard volumes: the fill heat map (fragments per pixel)",
+                        standard,
+                    ),
+                    with(
+                        "CC volumes, conservative clamping: the fill heat map",
+                        settings,
+                    ),
+                ]
+            }
+            Self::Lights => {
+                settings.setup = ShadowSetup::Lights;
+                settings.method = Method::Vfc;
+                settings.layered.path = LayeredPath::Atlas;
+                settings.overlays.casters = true;
+                vec![with(
+                    "the scene's lights through their maps (atlas), objects tinted by whether a \
+                     light's map drew them",
+                    settings,
+                )]
+            }
+        }
+    }
+}
+
 /// `--families`: a comma list or `all`; many lights only where the scene has lights (`all`
 /// leaves them out with a note, naming them is an error).
 pub fn parse(list: &str, has_lights: bool) -> anyhow::Result<(Vec<Family>, Vec<String>)> {

@@ -17,7 +17,9 @@ use indicatif::{ProgressBar, ProgressStyle};
 use render_core::frame::FrameReport;
 use render_core::scene::{CameraPath, SceneFacts};
 
-use crate::bench::{BenchRow, COLUMNS, RunOptions, format_csv, row_cells, run_path, summarise};
+use crate::bench::{
+    BenchRow, COLUMNS, RunOptions, camera_at, format_csv, row_cells, run_path, summarise,
+};
 use crate::cli::ReportArgs;
 use crate::headless::Session;
 use document::Block;
@@ -51,6 +53,8 @@ pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
         .into_iter()
         .map(|f| (f, f.settings(base)))
         .collect();
+    let pictures_per_family: Vec<Vec<families::Setting>> =
+        plan.iter().map(|(f, _)| f.pictures(base)).collect();
     let options = RunOptions {
         frames: args.frames.max(1),
         warmup: args.warmup,
@@ -73,7 +77,18 @@ pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
     let frames_per_row = u64::from(options.warmup + options.frames);
     let bar = progress(plan.iter().map(|(_, s)| s.len() as u64).sum::<u64>() * frames_per_row);
     let mut rows: Vec<ReportRow> = Vec::new();
-    for (family, settings) in &plan {
+    let mut pictures: Vec<(&'static str, String, String)> = Vec::new();
+    // The screenshots show the view the command names (`--eye`), else the path's middle.
+    let shown_view = if args.view.eye.is_some() {
+        template
+    } else {
+        camera_at(
+            &path,
+            &template,
+            (options.warmup + options.frames / 2, &options),
+        )
+    };
+    for ((family, settings), shown) in plan.iter().zip(&pictures_per_family) {
         let first = rows.len();
         for setting in settings {
             bar.set_message(format!("{}: {}", family.name(), setting.label));
@@ -95,12 +110,19 @@ pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
             ));
         }
         compare_within(&mut rows[first..]);
+        for (k, picture) in shown.iter().enumerate() {
+            bar.set_message(format!("{}: screenshot {}", family.name(), k + 1));
+            let file = format!("{}-view-{}.png", family.name(), k + 1);
+            let image = session.picture(&shown_view, &picture.settings)?;
+            crate::headless::write_png(&image, &args.out.join(&file))?;
+            pictures.push((family.name(), file, picture.label.clone()));
+        }
     }
     bar.finish_and_clear();
     notes.extend(rows.iter().filter_map(row_notes));
     write(
         &args.out,
-        &rows,
+        (&rows, &pictures),
         (&facts, &adapter, &path.name, &options),
         &notes,
     )?;
@@ -206,7 +228,7 @@ const SHOWN: [usize; 13] = [0, 1, 4, 5, 6, 8, 9, 12, 13, 14, 17, 18, 21];
 /// Writes the folder: rows as CSV and JSON, the plots, `report.md` and `index.html`.
 fn write(
     out: &Path,
-    rows: &[ReportRow],
+    (rows, pictures): (&[ReportRow], &[(&'static str, String, String)]),
     (facts, adapter, path_name, options): (&SceneFacts, &str, &str, &RunOptions),
     notes: &[String],
 ) -> anyhow::Result<()> {
@@ -246,6 +268,12 @@ fn write(
     for family in families {
         let of_family: Vec<&ReportRow> = rows.iter().filter(|r| r.family == family).collect();
         family_blocks(out, family, &of_family, &mut blocks)?;
+        for (_, file, label) in pictures.iter().filter(|(f, _, _)| *f == family) {
+            blocks.push(Block::Paragraph(format!(
+                "The middle of the path, {label}:"
+            )));
+            blocks.push(Block::Image(file.clone(), label.clone()));
+        }
     }
     blocks.push(Block::Heading(2, "Files".into()));
     blocks.push(Block::Paragraph(
