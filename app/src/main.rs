@@ -1,6 +1,7 @@
 //! `shadowlab`: the window (winit + egui) and the headless command line, over one frame code.
 
 mod bench;
+mod check;
 mod cli;
 mod headless;
 mod legend_image;
@@ -23,6 +24,7 @@ fn main() -> ExitCode {
         Some(cli::Command::Shot(args)) => headless::shot(args),
         Some(cli::Command::Bench(args)) => bench::bench(args),
         Some(cli::Command::Report(args)) => report::report(args),
+        Some(cli::Command::Check(args)) => check::check(args),
         Some(cli::Command::Scenes) => {
             headless::list_scenes();
             Ok(())

@@ -1,4 +1,4 @@
-//! The headless commands' own flags: `shot`, `bench` and `report`.
+//! The headless commands' own flags: `shot`, `bench`, `report` and `check`.
 
 use std::path::PathBuf;
 
@@ -209,6 +209,19 @@ pub struct ReportArgs {
     #[arg(long, value_name = "P")]
     pub path: Option<PathBuf>,
     /// Skip the exact shadow: error is then counted against the reference maps only.
+    #[arg(long)]
+    pub no_truth: bool,
+}
+
+/// `shadowlab check`.
+#[derive(Args, Debug)]
+pub struct CheckArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    #[command(flatten)]
+    pub view: ViewArgs,
+    /// Skip the exact shadow (shadow volumes are then checked against nothing but their
+    /// frame rendering).
     #[arg(long)]
     pub no_truth: bool,
 }

@@ -19,7 +19,7 @@ mod layered;
 mod light;
 mod volumes;
 
-pub use commands::{BenchArgs, ReportArgs, ShotArgs, Sweep};
+pub use commands::{BenchArgs, CheckArgs, ReportArgs, ShotArgs, Sweep};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -44,6 +44,10 @@ pub enum Command {
     /// Run every technique family along a camera path and write a report folder (HTML,
     /// Markdown, CSV, JSON, plots).
     Report(Box<ReportArgs>),
+    /// The hard cases (grazing sun, zenith sun, camera inside geometry, looking into the sun,
+    /// an empty view, 100 km out) with every technique on this scene: pass or fail with the
+    /// figures; the exit status fails with any.
+    Check(Box<CheckArgs>),
     /// List the built-in scenes.
     Scenes,
 }

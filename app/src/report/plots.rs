@@ -150,8 +150,8 @@ fn draw_speed_against(
         .legend(move |(x, y)| {
             PathElement::new(vec![(x, y), (x + 18, y)], front_colour.stroke_width(2))
         });
-    // Labels beside their points, above and below in turn among points of a height, so
-    // rows with the same error stay readable.
+    // Labels beside their points, in turn above, below, and left of them among points of a
+    // height, so rows with the same error stay readable.
     let mut order: Vec<usize> = (0..points.len()).collect();
     order.sort_by(|&a, &b| {
         points[a]
@@ -168,7 +168,9 @@ fn draw_speed_against(
         } else {
             colour.stroke_width(2)
         };
-        let label_at = if k % 2 == 0 { (7, -16) } else { (7, 4) };
+        // Right of the point, above then below; then left of it, above then below.
+        let left = -7 - (p.label.chars().count() as f64 * 6.5) as i32;
+        let label_at = [(7, -16), (7, 4), (left, -16), (left, 4)][k % 4];
         chart.draw_series(std::iter::once(
             EmptyElement::at((p.x, p.y))
                 + Circle::new((0, 0), 5, style)

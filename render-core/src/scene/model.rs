@@ -275,6 +275,32 @@ impl Scene {
         }
     }
 
+    /// The scene moved by `offset` (a hard case: far from the origin), its lights too; what
+    /// moved stands still there.
+    #[must_use]
+    pub fn moved_by(self, offset: Vec3) -> Self {
+        let to = Mat4::from_translation(offset);
+        let instances = self
+            .instances
+            .iter()
+            .map(|i| Instance {
+                world_from_local: to * i.world_from_local,
+                aabb_in_world: self.meshes[i.mesh as usize]
+                    .aabb_in_local
+                    .transformed(&(to * i.world_from_local)),
+                ..i.clone()
+            })
+            .collect();
+        let mut lights = self.lights;
+        for light in &mut lights {
+            light.position += offset;
+        }
+        Self {
+            lights,
+            ..Self::new(self.name, self.meshes, instances, self.sun)
+        }
+    }
+
     /// The scene with every instance `copies` times in its place (Rákos's Figure 19.7: the
     /// scene instanced four times): the same shadows from `copies` times the geometry. The
     /// copies are named `NAME#copy K` and stand still; the lights and the originals' motion

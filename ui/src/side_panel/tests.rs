@@ -963,4 +963,22 @@ fn compare_all_switches_on_and_lists_every_row() {
             "'{label}' is not shown"
         );
     }
+    // Beside the table, each row as a point of speed against error.
+    assert!(
+        harness
+            .query_by_label("speed against error: shadow + cull ms (x), error px (y)")
+            .is_some()
+    );
+    let rows = &harness.state().compare;
+    let points: Vec<_> = rows
+        .iter()
+        .filter_map(super::compare::speed_and_error)
+        .collect();
+    assert_eq!(points.len(), 3);
+    for (point, error) in points.iter().zip([0.0, 0.0, 37.0]) {
+        assert!(
+            (point[0] - 2.9).abs() < 1e-9 && (point[1] - error).abs() < 1e-9,
+            "{point:?}"
+        );
+    }
 }
