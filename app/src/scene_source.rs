@@ -6,7 +6,8 @@ use anyhow::Context as _;
 use glam::Vec3;
 use render_core::geom::{Aabb, Camera};
 use render_core::scene::{
-    BUILTIN_SCENES, ChunkSettings, Scene, Units, import_gltf, in_metres, load_builtin, unit_note,
+    BUILTIN_SCENES, CITY_BLOCKS, ChunkSettings, Scene, Units, import_gltf, in_metres, load_builtin,
+    unit_note,
 };
 
 /// How a scene is opened: the built-ins' seed, the chunking of huge objects, a file's unit.
@@ -54,8 +55,11 @@ fn load_scene_in_file_units(spec: &str, options: &LoadOptions) -> anyhow::Result
                 .map(|s| format!("builtin:{}", s.name))
                 .collect();
             format!(
-                "unknown built-in scene '{spec}' (available: {})",
-                names.join(", ")
+                "unknown built-in scene '{spec}' (available: {}, and builtin:city:N for N x N \
+                 blocks, N from {} to {})",
+                names.join(", "),
+                CITY_BLOCKS.start(),
+                CITY_BLOCKS.end()
             )
         });
     }

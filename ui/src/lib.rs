@@ -79,6 +79,10 @@ pub enum UiAction {
     RemoveLight(usize),
     /// Move the scene's light of this index to this position.
     MoveLight(usize, Position),
+    /// Start recording the camera's path, or stop and save it.
+    RecordPath,
+    /// Play the last recorded path (else the scene's own), or stop playing.
+    PlayPath,
 }
 
 /// A position in metres, kept as the floats' bits so that actions compare exactly.
@@ -121,4 +125,17 @@ pub struct PanelInput<'a> {
     pub compare: Option<&'a [render_core::frame::compare::CompareRow]>,
     /// The file the window remembers its scene, camera and settings in.
     pub settings_file: Option<&'a str>,
+    /// Recording or playing a camera path.
+    pub path: PathState<'a>,
+}
+
+/// Camera paths in the window: recording, playing, the last file saved.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PathState<'a> {
+    /// Keys recorded so far, while recording.
+    pub recording_keys: Option<usize>,
+    /// The path playing, by name.
+    pub playing: Option<&'a str>,
+    /// The CSV the last recording was saved to.
+    pub last_saved: Option<&'a str>,
 }

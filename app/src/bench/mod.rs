@@ -5,6 +5,7 @@
 
 mod maps;
 mod maps_plot;
+mod objects;
 mod table;
 
 pub(crate) use table::{COLUMNS, format_csv, row_cells};
@@ -76,6 +77,10 @@ pub(crate) struct BenchRow {
 
 pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
     let methods = parse_methods(&args.methods)?;
+    // Each size of the city is a scene of its own (`objects.rs`).
+    if args.sweep == Some(Sweep::Objects) {
+        return objects::sweep_objects(args, &methods);
+    }
     let mut session = Session::open(&args.scene, &args.view)?;
     let base = args.view.settings(&session.scene)?;
     let path = match &args.path {
@@ -104,6 +109,7 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
     if args.sweep == Some(Sweep::Maps) {
         return maps::sweep_maps(args, &mut session, (base, &path, &template));
     }
+
     let limits = render_core::frame::ShadowSettings::MIN_RESOLUTION
         ..=render_core::frame::ShadowSettings::MAX_RESOLUTION;
     if let Some(res) = args.resolutions.iter().find(|r| !limits.contains(r)) {
@@ -123,8 +129,8 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
         );
     }
     let settings_list: Vec<(String, FrameSettings)> = match args.sweep {
-        // Many lights' sweep has its own rows (`maps.rs`), run above.
-        None | Some(Sweep::Maps) => vec![(String::new(), base)],
+        // Many lights' and the object counts' sweeps have their own rows, run above.
+        None | Some(Sweep::Maps | Sweep::Objects) => vec![(String::new(), base)],
         Some(Sweep::Resolution) => args
             .resolutions
             .iter()
@@ -252,23 +258,34 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
             )?;
             rows.push(summarise(&setting, method.name(), &reports));
         }
-        let baseline_ms = rows[first..]
-            .iter()
-            .find(|r| r.method == baseline.name())
-            .and_then(|r| r.gpu_frame_ms);
-        for row in &mut rows[first..] {
-            row.speed_up = baseline_ms
-                .zip(row.gpu_frame_ms)
-                .map(|(b, m)| b / m.max(1e-9));
-        }
+        set_speed_ups(&mut rows[first..], baseline.name());
     }
     set_fill_saved(&mut rows, baseline.name());
-    print!("{}", format_table(&rows, baseline.name()));
+    print_rows(&rows, baseline.name(), args)
+}
+
+/// Each row's speed-up: the baseline method's GPU frame time over the row's, among `rows` (one
+/// setting's).
+fn set_speed_ups(rows: &mut [BenchRow], baseline: &str) {
+    let baseline_ms = rows
+        .iter()
+        .find(|r| r.method == baseline)
+        .and_then(|r| r.gpu_frame_ms);
+    for row in rows {
+        row.speed_up = baseline_ms
+            .zip(row.gpu_frame_ms)
+            .map(|(b, m)| b / m.max(1e-9));
+    }
+}
+
+/// The table, the passes with `--passes`, the CSV with `--csv`.
+fn print_rows(rows: &[BenchRow], baseline: &str, args: &BenchArgs) -> anyhow::Result<()> {
+    print!("{}", format_table(rows, baseline));
     if args.passes {
-        print!("\nGPU ms per pass (median)\n{}", format_passes(&rows));
+        print!("\nGPU ms per pass (median)\n{}", format_passes(rows));
     }
     if let Some(csv) = &args.csv {
-        std::fs::write(csv, format_csv(&rows))
+        std::fs::write(csv, format_csv(rows))
             .with_context(|| format!("writing {}", csv.display()))?;
         eprintln!("wrote {}", csv.display());
     }

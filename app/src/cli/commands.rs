@@ -130,6 +130,15 @@ pub struct BenchArgs {
         value_name = "L,L"
     )]
     pub lambdas: Vec<f32>,
+    /// Blocks per side of `--sweep objects`: the city on N x N blocks (`builtin:city:N`, about
+    /// 40 objects a block), 2 to 64.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "5,10,20,35,50",
+        value_name = "N,N"
+    )]
+    pub city_blocks: Vec<u32>,
     /// Numbers of lights of `--sweep maps` (the scene's first N; a point light has six maps).
     #[arg(
         long,
@@ -183,6 +192,9 @@ pub enum Sweep {
     /// Many lights (Rákos's figures): every path (traditional, multiview, atlas) for each of
     /// `--light-counts` and `--map-sizes`, a row each with its passes, draws and CPU time.
     Maps,
+    /// The city on each of `--city-blocks` N x N blocks (`builtin:city:N`): the methods'
+    /// culling time, CPU and GPU, and shadow pass against the number of objects.
+    Objects,
 }
 
 /// `shadowlab report`.

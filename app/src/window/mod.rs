@@ -11,6 +11,7 @@ mod exact;
 mod input;
 mod lights;
 mod loading;
+mod path;
 mod remembered;
 mod screenshot;
 mod surface;
@@ -128,6 +129,12 @@ struct Running {
     exact: exact::ExactInWindow,
     /// Observing: the view whose shadows stay frozen while the camera flies outside it.
     frozen_view: Option<render_core::geom::Camera>,
+    /// Recording the camera's path, playing one, the last recorded and where it was saved.
+    recorder: Option<path::PathRecorder>,
+    player: Option<path::PathPlayer>,
+    /// The last recorded path, with the scene it was recorded in.
+    recorded: Option<(String, render_core::scene::CameraPath)>,
+    last_path_file: Option<String>,
     /// The "compare all" table's renderer while it is on.
     compare: Option<CompareAll>,
     last_frame_ms: f64,
@@ -270,6 +277,10 @@ impl Running {
             last_report: None,
             exact: exact::ExactInWindow::new(),
             frozen_view: None,
+            recorder: None,
+            player: None,
+            recorded: None,
+            last_path_file: None,
             compare: None,
             last_frame_ms: 0.0,
             message: (!messages.is_empty()).then(|| messages.join(". ")),
@@ -426,6 +437,7 @@ impl Running {
         self.poll_file_dialog();
         self.poll_loading();
         self.controller.update(dt, self.keys);
+        self.follow_path(dt);
         if self.settings.animate && !self.scene.motions.is_empty() {
             self.scene_time_s += f64::from(dt.min(0.25));
             let moved = self.scene.animate(self.scene_time_s);

@@ -34,6 +34,11 @@ impl Running {
             selection: selection.as_ref(),
             compare: self.compare.as_ref().map(CompareAll::rows),
             settings_file: settings_file.as_deref(),
+            path: ui::PathState {
+                recording_keys: self.recorder.as_ref().map(super::path::PathRecorder::len),
+                playing: self.player.as_ref().map(super::path::PathPlayer::name),
+                last_saved: self.last_path_file.as_deref(),
+            },
         };
         let view_texture = self.view_texture;
         let full_output = self.egui_ctx.run_ui(raw_input, |ui| {
@@ -76,6 +81,8 @@ impl Running {
                 ui::UiAction::MoveLight(i, position) => {
                     self.move_light(i, position.metres().into());
                 }
+                ui::UiAction::RecordPath => self.toggle_recording(),
+                ui::UiAction::PlayPath => self.toggle_playing(),
             }
         }
         EguiFrame {

@@ -53,9 +53,27 @@ pub const BUILTIN_SCENES: &[BuiltinScene] = &[
     },
 ];
 
+/// Blocks per side `builtin:city:N` may have: from a few hundred objects to over 100,000.
+pub const CITY_BLOCKS: std::ops::RangeInclusive<u32> = 2..=64;
+
+/// The city of `builtin:city:N`: N x N blocks, else none (not that name, or N outside
+/// [`CITY_BLOCKS`]).
+pub fn sized_city(name: &str, seed: u64) -> Option<CityParams> {
+    let blocks: u32 = name.strip_prefix("city:")?.parse().ok()?;
+    CITY_BLOCKS.contains(&blocks).then(|| CityParams {
+        blocks_x: blocks,
+        blocks_z: blocks,
+        ..CityParams::full(seed)
+    })
+}
+
 /// The built-in scene `name`, generated from `seed`; `None` for an unknown name.
+/// `city:N` is the city on N x N blocks (the object-count sweeps).
 pub fn load_builtin(name: &str, seed: u64) -> Option<Scene> {
     let scene_name = format!("builtin:{name}");
+    if let Some(params) = sized_city(name, seed) {
+        return Some(build_city(scene_name, &params));
+    }
     match name {
         "city" => Some(build_city(scene_name, &CityParams::full(seed))),
         "city-small" => Some(build_city(scene_name, &CityParams::small(seed))),

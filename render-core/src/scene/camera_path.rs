@@ -80,7 +80,13 @@ impl CameraPath {
             "builtin:robots" => super::robots::robots_walk(),
             "builtin:corridor" => super::corridor::corridor_walk(),
             "builtin:hall" => super::hall::hall_walk(),
-            _ => Self::orbit(&scene.bounds()),
+            name => match name
+                .strip_prefix("builtin:")
+                .and_then(|n| super::sized_city(n, 0))
+            {
+                Some(params) => Self::city_streets(&params),
+                None => Self::orbit(&scene.bounds()),
+            },
         }
     }
 

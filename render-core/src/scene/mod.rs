@@ -13,7 +13,7 @@ mod motion;
 mod robots;
 mod units;
 
-pub use builtin::{BUILTIN_SCENES, BuiltinScene, load_builtin};
+pub use builtin::{BUILTIN_SCENES, BuiltinScene, CITY_BLOCKS, load_builtin, sized_city};
 pub use bvh::Bvh;
 pub use camera_path::{CameraPath, PathError, PathKey};
 pub use chunking::{ChunkSettings, split_large_instances};

@@ -223,6 +223,7 @@ impl Panes<'_, '_> {
                     &mut self.settings.animate,
                     self.actions,
                 );
+                scene::path_ui(ui, &input.path, self.actions);
                 if let Some(selected) = input.selection {
                     heading(ui, "Selected object");
                     selection::ui(ui, selected);

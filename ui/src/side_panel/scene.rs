@@ -3,8 +3,8 @@
 use render_core::scene::{SceneFacts, Units};
 
 use super::grid;
-use crate::UiAction;
 use crate::format::{length, point, thousands};
+use crate::{PathState, UiAction};
 
 pub fn ui(
     ui: &mut egui::Ui,
@@ -72,6 +72,43 @@ pub fn ui(
             .clicked()
         {
             actions.push(UiAction::ReloadScene);
+        }
+    });
+}
+
+/// Recording the camera's path while flying, and playing one back.
+pub fn path_ui(ui: &mut egui::Ui, path: &PathState<'_>, actions: &mut Vec<UiAction>) {
+    ui.horizontal_wrapped(|ui| {
+        let record = match path.recording_keys {
+            Some(keys) => format!("Stop recording ({keys} keys)"),
+            None => "Record path".to_owned(),
+        };
+        if ui
+            .button(record)
+            .on_hover_text(
+                "Record the camera while you fly (a key every 0.1 s); stopping saves it as CSV \
+                 beside the screenshots, for `shadowlab bench --path` and `report --path`",
+            )
+            .clicked()
+        {
+            actions.push(UiAction::RecordPath);
+        }
+        let play = if path.playing.is_some() {
+            "Stop playing"
+        } else {
+            "Play path"
+        };
+        let hover = match path.last_saved {
+            Some(file) => {
+                format!("Fly the last recorded path (saved as {file}), else the scene's own")
+            }
+            None => "Fly the last recorded path, else the scene's own".to_owned(),
+        };
+        if ui.button(play).on_hover_text(hover).clicked() {
+            actions.push(UiAction::PlayPath);
+        }
+        if let Some(name) = path.playing {
+            ui.label(egui::RichText::new(format!("the {name} path")).small());
         }
     });
 }

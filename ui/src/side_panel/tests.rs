@@ -38,6 +38,8 @@ struct Lab {
     /// Draw through [`SidePanel::show`] (panel + scrolling) instead of [`SidePanel::ui`].
     in_own_panel: bool,
     lights: Vec<render_core::scene::PunctualLight>,
+    /// Keys recorded so far while recording a camera path.
+    recording_keys: Option<usize>,
     actions: Vec<UiAction>,
 }
 
@@ -136,6 +138,7 @@ impl Lab {
             compare: Vec::new(),
             in_own_panel: false,
             lights: Vec::new(),
+            recording_keys: None,
             actions: Vec::new(),
         }
     }
@@ -162,6 +165,11 @@ impl Lab {
             selection: self.selection.as_ref(),
             compare: Some(&self.compare),
             settings_file: Some("/home/user/.config/shadowlab/settings.json"),
+            path: crate::PathState {
+                recording_keys: self.recording_keys,
+                playing: None,
+                last_saved: Some("shadowlab-path-1.csv"),
+            },
         };
         let actions = if self.in_own_panel {
             let actions = self
@@ -303,6 +311,8 @@ fn buttons_return_actions() {
         ("Open glTF…", UiAction::OpenFile),
         ("Frame scene (F)", UiAction::FrameScene),
         ("Reload", UiAction::ReloadScene),
+        ("Record path", UiAction::RecordPath),
+        ("Play path", UiAction::PlayPath),
     ] {
         harness.state_mut().actions.clear();
         harness.get_by_role_and_label(Role::Button, button).click();
@@ -313,6 +323,19 @@ fn buttons_return_actions() {
             "after clicking {button:?}"
         );
     }
+}
+
+#[test]
+fn recording_a_path_shows_its_keys_and_stops_with_the_same_button() {
+    let mut lab = Lab::new();
+    lab.recording_keys = Some(12);
+    let mut harness = harness(lab);
+    assert!(harness.query_by_label("Record path").is_none());
+    harness
+        .get_by_role_and_label(Role::Button, "Stop recording (12 keys)")
+        .click();
+    harness.run();
+    assert_eq!(harness.state().actions, [UiAction::RecordPath]);
 }
 
 #[test]
