@@ -229,9 +229,27 @@ impl ShadowTechnique for LayeredTechnique {
 
     fn prepare(&mut self, ctx: &GpuContext, input: &TechniqueInput<'_>) -> Vec<ShadowView> {
         self.method = self.effective_method(input.method);
-        let gpu = self.method.gpu_driven();
+        let mut notes = Vec::new();
+        if self.method != input.method {
+            let message = format!(
+                "this adapter has no INDIRECT_FIRST_INSTANCE: '{}' runs as 'vfc'",
+                input.method.name()
+            );
+            self.fallbacks.warn(&message);
+            notes.push(message);
+        }
         let limits = ctx.device.limits();
         let max = LayeredSettings::MAX_RESOLUTION.min(limits.max_texture_dimension_2d);
+        if let Err(unfit) = self.gpu_culling_fits(input, &limits, max) {
+            let message = format!(
+                "'{}' cannot cull these maps: {unfit}; they are culled by 'vfc'",
+                self.method.name()
+            );
+            self.fallbacks.warn(&message);
+            notes.push(message);
+            self.method = Method::Vfc;
+        }
+        let gpu = self.method.gpu_driven();
         let resolution = if gpu {
             GpuCulledMaps::resolution(input.shadow.resolution, max)
         } else {
@@ -240,7 +258,6 @@ impl ShadowTechnique for LayeredTechnique {
                 .resolution
                 .clamp(LayeredSettings::MIN_RESOLUTION, max)
         };
-        let mut notes = Vec::new();
         let path = if gpu {
             notes.extend(gpu_culling_notes(self.method, input.layered));
             LayeredPath::Traditional
@@ -252,14 +269,6 @@ impl ShadowTechnique for LayeredTechnique {
             }
             path
         };
-        if self.method != input.method {
-            let message = format!(
-                "this adapter has no INDIRECT_FIRST_INSTANCE: '{}' runs as 'vfc'",
-                input.method.name()
-            );
-            self.fallbacks.warn(&message);
-            notes.push(message);
-        }
         let lights = light_views(input.scene, input.layered.lights, resolution);
         if lights.records.is_empty() {
             notes.push(format!(
@@ -487,6 +496,27 @@ impl ShadowTechnique for LayeredTechnique {
 }
 
 impl LayeredTechnique {
+    /// Whether this frame's GPU method can cull every view at its map size on this adapter
+    /// (a CPU method always can).
+    fn gpu_culling_fits(
+        &self,
+        input: &TechniqueInput<'_>,
+        limits: &wgpu::Limits,
+        max_resolution: u32,
+    ) -> Result<(), crate::culling::CullError> {
+        if !self.method.gpu_driven() {
+            return Ok(());
+        }
+        let lights = light_views(
+            input.scene,
+            input.layered.lights,
+            LayeredSettings::MIN_RESOLUTION,
+        );
+        let views = lights.frusta.len() as u32 + self.sun.as_ref().map_or(0, ViewLayout::layers);
+        let resolution = GpuCulledMaps::resolution(input.shadow.resolution, max_resolution);
+        crate::culling::GpuCulling::fits(limits, resolution, views, input.scene_gpu.instance_count)
+    }
+
     /// The map technique that culled and rendered the last frame's maps, if a GPU method did.
     fn gpu_culled(&self) -> Option<&MapTechnique> {
         self.gpu.technique().filter(|_| self.last.gpu_culled)

@@ -17,6 +17,19 @@ pub enum CullError {
     CpuMethod { method: &'static str },
     #[error("{views} shadow views, but culling was prepared for {capacity}")]
     TooManyViews { views: u32, capacity: u32 },
+    #[error(
+        "its {what} for {views} views of {resolution}² texels would take {} MiB, past this \
+         adapter's limit of {} MiB for one binding (smaller maps or fewer views fit)",
+        .bytes.div_ceil(1 << 20),
+        .limit >> 20
+    )]
+    TooLarge {
+        what: &'static str,
+        views: u32,
+        resolution: u32,
+        bytes: u64,
+        limit: u64,
+    },
 }
 
 /// What the long-lived resources follow: the technique's depth array and the camera.

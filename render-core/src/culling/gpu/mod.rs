@@ -38,7 +38,7 @@ use gpu_data::{CullFrameGpu, CullViewGpu};
 pub(crate) use pipelines::shader_sources;
 use pipelines::{CullPipelines, SharedLayouts};
 pub use resources::MAX_MASK_SIZE;
-use resources::{CameraPyramid, SceneResources, SizedKey, SizedResources};
+use resources::{CameraPyramid, SceneResources, SizedKey, SizedResources, largest_binding};
 use results::CullResults;
 pub use results::{CullResult, ViewCull};
 
@@ -63,6 +63,8 @@ pub struct GpuCulling {
     exclusions_changed: bool,
     results: CullResults,
     fragment_mask_source: FragmentMaskSource,
+    /// Why this frame's views cannot be culled here (buffers past the adapter's limits).
+    unfit: Option<CullError>,
 }
 
 impl GpuCulling {
@@ -109,6 +111,7 @@ impl GpuCulling {
             exclusions_changed: false,
             results: CullResults::default(),
             fragment_mask_source: FragmentMaskSource::default(),
+            unfit: None,
         }
     }
 
@@ -136,10 +139,45 @@ impl GpuCulling {
         self.exclusions_changed = true;
     }
 
+    /// Whether culling `views` views of maps `resolution` texels square over `instances`
+    /// instances fits the buffers this adapter binds.
+    pub fn fits(
+        limits: &wgpu::Limits,
+        resolution: u32,
+        views: u32,
+        instances: u32,
+    ) -> Result<(), CullError> {
+        let limit = u64::from(limits.max_storage_buffer_binding_size).min(limits.max_buffer_size);
+        let (bytes, what) = largest_binding(resolution, views, instances);
+        if bytes > limit {
+            return Err(CullError::TooLarge {
+                what,
+                views,
+                resolution,
+                bytes,
+                limit,
+            });
+        }
+        Ok(())
+    }
+
     /// Follows the scene, the technique's maps and the camera.
     pub fn prepare(&mut self, ctx: &GpuContext, scene_gpu: &SceneGpu, targets: &CullTargets<'_>) {
         let device = &ctx.device;
         let capacity = targets.capacity.max(1);
+        // Buffers past what the adapter binds cannot be made: the frame culls nothing then,
+        // and says why (`resources`).
+        self.unfit = Self::fits(
+            &device.limits(),
+            targets.resolution,
+            capacity,
+            scene_gpu.instance_count,
+        )
+        .err();
+        if self.unfit.is_some() {
+            self.sized = None;
+            return;
+        }
         // Before the sized resources: the mask pyramid's groups hold the views' parameters.
         if capacity > self.view_params_capacity {
             self.view_params = create_view_params(device, capacity);
@@ -263,6 +301,9 @@ impl GpuCulling {
     }
 
     fn resources(&self) -> Result<(&SizedResources, &SceneResources, &CameraPyramid), CullError> {
+        if let Some(unfit) = &self.unfit {
+            return Err(unfit.clone());
+        }
         let missing = |what| CullError::NotPrepared { what };
         Ok((
             self.sized.as_ref().ok_or(missing("masks and pyramids"))?,
@@ -421,6 +462,41 @@ fn create_view_params(device: &wgpu::Device, capacity: u32) -> wgpu::Buffer {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn culling_that_would_bind_more_than_the_adapter_allows_says_what_and_how_much() {
+        // lavapipe's limit: 128 MiB for one storage binding.
+        let limits = wgpu::Limits {
+            max_storage_buffer_binding_size: 128 << 20,
+            ..wgpu::Limits::default()
+        };
+        // The hall's 72 views at 2048 texels: a 2048² mask of words per view, 1,152 MiB.
+        let Err(CullError::TooLarge {
+            what, bytes, limit, ..
+        }) = GpuCulling::fits(&limits, 2048, 72, 15)
+        else {
+            panic!("72 masks of 2048² do not fit 128 MiB");
+        };
+        assert_eq!(
+            (what, bytes, limit),
+            ("receiver masks", 72 * 2048 * 2048 * 4, 128 << 20)
+        );
+        // At 512 texels they fit (72 MiB of masks, 24 of pyramids).
+        assert_eq!(GpuCulling::fits(&limits, 512, 72, 15), Ok(()));
+        // A city of 100,000 instances over 100 views: its indirect draws are the largest.
+        let Err(CullError::TooLarge { what, .. }) = GpuCulling::fits(&limits, 512, 100, 100_000)
+        else {
+            panic!("100 views of 100,000 draws do not fit");
+        };
+        assert_eq!(what, "indirect draws");
+        let message = GpuCulling::fits(&limits, 2048, 72, 15)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            message.contains("1152 MiB") && message.contains("128 MiB"),
+            "{message}"
+        );
+    }
 
     #[test]
     fn gpu_methods_are_the_gpu_driven_ones() {

@@ -35,6 +35,46 @@ pub(super) struct ReducePipelines {
     pub level: wgpu::ComputePipeline,
 }
 
+/// Words per view of a max pyramid over a base `size` texels square (every level from half the
+/// base down to one texel).
+fn pyramid_words(size: u32) -> u32 {
+    let (mut width, mut words) = ((size / 2).max(1), 0u32);
+    loop {
+        words += width * width;
+        if width == 1 {
+            return words;
+        }
+        width = (width / 2).max(1);
+    }
+}
+
+/// The largest buffer culling binds for `capacity` views of maps `resolution` texels square
+/// over `instances` instances: its size in bytes and what it is.
+pub(super) fn largest_binding(
+    resolution: u32,
+    capacity: u32,
+    instances: u32,
+) -> (u64, &'static str) {
+    let views = u64::from(capacity.max(1));
+    [
+        (
+            u64::from(pyramid_words(resolution)) * views * 4,
+            "occlusion pyramids",
+        ),
+        (
+            u64::from(mask_size(resolution).pow(2)) * views * 4,
+            "receiver masks",
+        ),
+        (
+            u64::from(instances) * views * DRAW_ARGS_BYTES,
+            "indirect draws",
+        ),
+    ]
+    .into_iter()
+    .max_by_key(|(bytes, _)| *bytes)
+    .unwrap_or((0, "nothing"))
+}
+
 /// A max pyramid in one buffer (culling/pyramid.wgsl), one block of `words` per view: level m
 /// is max((base / 2) >> m, 1) texels square and holds blocks of 2^(m+1) base texels.
 pub(super) struct Pyramid {
