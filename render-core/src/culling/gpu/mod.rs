@@ -147,7 +147,9 @@ impl GpuCulling {
         views: u32,
         instances: u32,
     ) -> Result<(), CullError> {
-        let limit = u64::from(limits.max_storage_buffer_binding_size).min(limits.max_buffer_size);
+        let limit = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
         let (bytes, what) = largest_binding(resolution, views, instances);
         if bytes > limit {
             return Err(CullError::TooLarge {
