@@ -4,6 +4,7 @@
 use std::path::Path;
 
 use anyhow::Context as _;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 /// The font every label uses.
@@ -25,6 +26,26 @@ pub type DrawResult = Result<(), Box<dyn std::error::Error>>;
 
 /// A drawing area of the bitmap backend.
 pub type Area<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
+
+/// The chart's series labels in a box at `position`, in `size` point text.
+pub fn legend<'a, DB>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    position: SeriesLabelPosition,
+    size: u32,
+) -> DrawResult
+where
+    DB: DrawingBackend + 'a,
+    DB::ErrorType: 'static,
+{
+    chart
+        .configure_series_labels()
+        .position(position)
+        .label_font((FONT, size))
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK.mix(0.4))
+        .draw()?;
+    Ok(())
+}
 
 /// Draws a `size` picture on white with `draw` and writes it to the PNG `out`.
 pub fn write_png(

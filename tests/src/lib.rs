@@ -42,6 +42,22 @@ pub fn scene_of(name: &str, sun: Sun, parts: Vec<(Mesh, Vec3)>) -> Scene {
     Scene::new(name, meshes, instances, sun)
 }
 
+/// A point or spot light of the tests' scenes: white, 2,000,000 cd, 40 m of range.
+pub fn punctual_light(
+    name: &str,
+    position: Vec3,
+    kind: render_core::scene::LightKind,
+) -> render_core::scene::PunctualLight {
+    render_core::scene::PunctualLight {
+        name: name.into(),
+        position,
+        kind,
+        color: [1.0, 1.0, 1.0],
+        intensity: 2.0e6,
+        range: Some(40.0),
+    }
+}
+
 /// An axis-aligned box mesh with outward faces, counter-clockwise seen from outside.
 pub fn box_mesh(name: &str, half_extent: Vec3) -> Mesh {
     let h = half_extent;

@@ -13,24 +13,13 @@ use render_core::layered::multiview_reaches_every_layer;
 use render_core::scene::{LightKind, PunctualLight, Scene, Sun};
 use render_core::scene_gpu::SceneGpu;
 use render_core::shadow_view::{LayerCulling, LayeredPath, ShadowView};
-use shadowlab_tests::{box_on_plane, gpu, pixels_of, render};
+use shadowlab_tests::{box_on_plane, gpu, pixels_of, punctual_light as light, render};
 
 const SIZE: (u32, u32) = (256, 192);
 const MAP: u32 = 256;
 /// The lifted box: 2 x 3 x 1.5 m, its bottom 1 m above the ground, centred on the origin.
 const BOX_MIN: Vec3 = Vec3::new(-1.0, 1.0, -0.75);
 const BOX_MAX: Vec3 = Vec3::new(1.0, 4.0, 0.75);
-
-fn light(name: &str, position: Vec3, kind: LightKind) -> PunctualLight {
-    PunctualLight {
-        name: name.into(),
-        position,
-        kind,
-        color: [1.0, 1.0, 1.0],
-        intensity: 2.0e6,
-        range: Some(40.0),
-    }
-}
 
 fn spot(direction: Vec3, outer_deg: f32) -> LightKind {
     LightKind::Spot {

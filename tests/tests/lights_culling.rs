@@ -10,25 +10,14 @@ use render_core::frame::{
     FrameInput, FrameRenderer, FrameReport, FrameSettings, Method, ShadowSetup,
 };
 use render_core::geom::Camera;
-use render_core::scene::{LightKind, PunctualLight, Scene, Sun};
+use render_core::scene::{LightKind, Scene, Sun};
 use render_core::scene_gpu::SceneGpu;
-use shadowlab_tests::{box_mesh, gpu, scene_of};
+use shadowlab_tests::{box_mesh, gpu, punctual_light as light, scene_of};
 
 const SIZE: (u32, u32) = (256, 192);
 /// Instances: the ground, the box in view, the box behind the camera.
 const SEEN: usize = 1;
 const HIDDEN: usize = 2;
-
-fn light(name: &str, position: Vec3, kind: LightKind) -> PunctualLight {
-    PunctualLight {
-        name: name.into(),
-        position,
-        kind,
-        color: [1.0, 1.0, 1.0],
-        intensity: 2.0e6,
-        range: Some(40.0),
-    }
-}
 
 /// A 40 m ground, a 2 x 3 x 1.5 m box 1 m above it at the origin, and a 2 m cube on the
 /// ground behind the camera; a spot straight above the first, a point light beside the second.

@@ -8,7 +8,7 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
-use crate::plot_png::{Area, COLOURS, DrawResult, FONT, write_png};
+use crate::plot_png::{Area, COLOURS, DrawResult, FONT, legend, write_png};
 
 /// One measured row of the sweep, as the plot reads it.
 pub(super) struct PlotPoint {
@@ -133,14 +133,7 @@ fn panel(
         };
         chart.draw_series(line.iter().map(marker))?;
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperLeft)
-        .label_font((FONT, 12))
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK.mix(0.4))
-        .draw()?;
-    Ok(())
+    legend(&mut chart, SeriesLabelPosition::UpperLeft, 12)
 }
 
 #[cfg(test)]

@@ -83,11 +83,7 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
     }
     let mut session = Session::open(&args.scene, &args.view)?;
     let base = args.view.settings(&session.scene)?;
-    let path = match &args.path {
-        Some(p) => CameraPath::load(p)?,
-        None => CameraPath::default_for(&session.scene),
-    };
-    let template = args.view.camera(&session.scene, session.aspect())?;
+    let (path, template) = path_and_lens(&session, args.path.as_deref(), &args.view)?;
     let facts = SceneFacts::from(&session.scene);
     let baseline = baseline(&args.baseline, &methods)?;
     eprintln!(
@@ -335,6 +331,20 @@ fn baseline(name: &str, methods: &[Method]) -> anyhow::Result<Method> {
         .filter(|m| methods.contains(m))
         .or_else(|| methods.first().copied())
         .context("no method to run")
+}
+
+/// The camera path a run flies (`--path`, else the scene's own) and the camera whose lens
+/// and up it flies with.
+pub(crate) fn path_and_lens(
+    session: &Session,
+    path: Option<&std::path::Path>,
+    view: &crate::cli::ViewArgs,
+) -> anyhow::Result<(CameraPath, Camera)> {
+    let path = match path {
+        Some(p) => CameraPath::load(p)?,
+        None => CameraPath::default_for(&session.scene),
+    };
+    Ok((path, view.camera(&session.scene, session.aspect())?))
 }
 
 /// How a run flies its path: `bench`'s options, which `report` shares.

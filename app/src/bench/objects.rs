@@ -4,9 +4,9 @@
 //! names the objects.
 
 use render_core::frame::{FrameSettings, Method};
-use render_core::scene::{CITY_BLOCKS, CameraPath, SceneFacts};
+use render_core::scene::{CITY_BLOCKS, SceneFacts};
 
-use super::{RunOptions, baseline, print_rows, run_path, set_speed_ups, summarise};
+use super::{RunOptions, baseline, path_and_lens, print_rows, run_path, set_speed_ups, summarise};
 use crate::cli::{BenchArgs, SceneArgs};
 use crate::headless::Session;
 
@@ -32,11 +32,7 @@ pub(super) fn sweep_objects(args: &BenchArgs, methods: &[Method]) -> anyhow::Res
         };
         let mut session = Session::open(&scene, &args.view)?;
         let base: FrameSettings = args.view.settings(&session.scene)?;
-        let path = match &args.path {
-            Some(p) => CameraPath::load(p)?,
-            None => CameraPath::default_for(&session.scene),
-        };
-        let template = args.view.camera(&session.scene, session.aspect())?;
+        let (path, template) = path_and_lens(&session, args.path.as_deref(), &args.view)?;
         let facts = SceneFacts::from(&session.scene);
         let setting = format!("{} objects", facts.objects);
         eprintln!(

@@ -15,10 +15,11 @@ use std::path::Path;
 use anyhow::Context as _;
 use indicatif::{ProgressBar, ProgressStyle};
 use render_core::frame::FrameReport;
-use render_core::scene::{CameraPath, SceneFacts};
+use render_core::scene::SceneFacts;
 
 use crate::bench::{
-    BenchRow, COLUMNS, RunOptions, camera_at, format_csv, row_cells, run_path, summarise,
+    BenchRow, COLUMNS, RunOptions, camera_at, format_csv, path_and_lens, row_cells, run_path,
+    summarise,
 };
 use crate::cli::ReportArgs;
 use crate::headless::Session;
@@ -42,11 +43,7 @@ struct ReportRow {
 pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
     let mut session = Session::open(&args.scene, &args.view)?;
     let base = args.view.settings(&session.scene)?;
-    let path = match &args.path {
-        Some(p) => CameraPath::load(p)?,
-        None => CameraPath::default_for(&session.scene),
-    };
-    let template = args.view.camera(&session.scene, session.aspect())?;
+    let (path, template) = path_and_lens(&session, args.path.as_deref(), &args.view)?;
     let facts = SceneFacts::from(&session.scene);
     let (families, mut notes) = families::parse(&args.families, !session.scene.lights.is_empty())?;
     let plan: Vec<(Family, Vec<families::Setting>)> = families

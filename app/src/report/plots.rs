@@ -5,7 +5,7 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
-use crate::plot_png::{Area, COLOURS, DrawResult, FONT, write_png};
+use crate::plot_png::{Area, COLOURS, DrawResult, FONT, legend, write_png};
 
 /// One line along the path: a value per measured frame (none where it was not measured).
 pub struct Series {
@@ -81,14 +81,7 @@ fn draw_along_path(
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], stroke));
         chart.draw_series(line.iter().map(|&p| Circle::new(p, 3, colour.filled())))?;
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .label_font((FONT, 13))
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK.mix(0.4))
-        .draw()?;
-    Ok(())
+    legend(&mut chart, SeriesLabelPosition::UpperRight, 13)
 }
 
 /// The points no other point beats in both cost and error (lower is better in both), by
@@ -181,14 +174,7 @@ fn draw_speed_against(
                 ),
         ))?;
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .label_font((FONT, 13))
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK.mix(0.4))
-        .draw()?;
-    Ok(())
+    legend(&mut chart, SeriesLabelPosition::UpperRight, 13)
 }
 
 #[cfg(test)]
