@@ -40,6 +40,13 @@ struct ReportRow {
     pareto: bool,
 }
 
+/// A screenshot of the view: its family, its file beside the report, what it shows.
+struct Picture {
+    family: &'static str,
+    file: String,
+    label: String,
+}
+
 pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
     let mut session = Session::open(&args.scene, &args.view)?;
     let base = args.view.settings(&session.scene)?;
@@ -74,7 +81,7 @@ pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
     let frames_per_row = u64::from(options.warmup + options.frames);
     let bar = progress(plan.iter().map(|(_, s)| s.len() as u64).sum::<u64>() * frames_per_row);
     let mut rows: Vec<ReportRow> = Vec::new();
-    let mut pictures: Vec<(&'static str, String, String)> = Vec::new();
+    let mut pictures: Vec<Picture> = Vec::new();
     // The screenshots show the view the command names (`--eye`), else the path's middle.
     let shown_view = if args.view.eye.is_some() {
         template
@@ -112,7 +119,11 @@ pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
             let file = format!("{}-view-{}.png", family.name(), k + 1);
             let image = session.picture(&shown_view, &picture.settings)?;
             crate::headless::write_png(&image, &args.out.join(&file))?;
-            pictures.push((family.name(), file, picture.label.clone()));
+            pictures.push(Picture {
+                family: family.name(),
+                file,
+                label: picture.label.clone(),
+            });
         }
     }
     bar.finish_and_clear();
@@ -225,7 +236,7 @@ const SHOWN: [usize; 13] = [0, 1, 4, 5, 6, 8, 9, 12, 13, 14, 17, 18, 21];
 /// Writes the folder: rows as CSV and JSON, the plots, `report.md` and `index.html`.
 fn write(
     out: &Path,
-    (rows, pictures): (&[ReportRow], &[(&'static str, String, String)]),
+    (rows, pictures): (&[ReportRow], &[Picture]),
     (facts, adapter, path_name, options): (&SceneFacts, &str, &str, &RunOptions),
     notes: &[String],
 ) -> anyhow::Result<()> {
@@ -265,11 +276,9 @@ fn write(
     for family in families {
         let of_family: Vec<&ReportRow> = rows.iter().filter(|r| r.family == family).collect();
         family_blocks(out, family, &of_family, &mut blocks)?;
-        for (_, file, label) in pictures.iter().filter(|(f, _, _)| *f == family) {
-            blocks.push(Block::Paragraph(format!(
-                "The middle of the path, {label}:"
-            )));
-            blocks.push(Block::Image(file.clone(), label.clone()));
+        for picture in pictures.iter().filter(|p| p.family == family) {
+            blocks.push(Block::Paragraph(format!("The view, {}:", picture.label)));
+            blocks.push(Block::Image(picture.file.clone(), picture.label.clone()));
         }
     }
     blocks.push(Block::Heading(2, "Files".into()));
