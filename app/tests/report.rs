@@ -146,3 +146,45 @@ fn a_wrong_family_is_named() {
         text(&output)
     );
 }
+
+#[test]
+fn the_lights_family_runs_each_path_and_notes_the_adapters_fallbacks() {
+    let folder = out_dir("report").join("hall");
+    let _ = std::fs::remove_dir_all(&folder);
+    let output = run(shadowlab()
+        .args([
+            "report",
+            "builtin:hall",
+            "--families",
+            "lights",
+            "--frames",
+            "1",
+        ])
+        .args([
+            "--warmup",
+            "0",
+            "--size",
+            "96x64",
+            "--shadow-res",
+            "512",
+            "--out",
+        ])
+        .arg(&folder));
+    assert!(output.status.success(), "{}", text(&output));
+    let rows = csv_rows(&std::fs::read_to_string(folder.join("rows.csv")).expect("rows.csv"));
+    let settings: Vec<&str> = rows.iter().map(|r| r["setting"].as_str()).collect();
+    assert_eq!(
+        settings,
+        ["lights: traditional", "lights: multiview", "lights: atlas"]
+    );
+    let markdown = std::fs::read_to_string(folder.join("report.md")).expect("report.md");
+    // lavapipe's multiview draws only a pass's first view: the row says it ran a pass per map.
+    if markdown.contains("llvmpipe") {
+        assert!(
+            markdown.contains("Note: lights / multiview:")
+                && markdown.contains("'multiview' runs as 'traditional'"),
+            "{markdown}"
+        );
+    }
+    assert!(folder.join("lights-view-1.png").exists());
+}

@@ -38,6 +38,9 @@ struct ReportRow {
     gpu_frame_ms_along_path: Vec<Option<f64>>,
     /// On the family's Pareto front of shadow GPU time against error.
     pareto: bool,
+    /// What the last frame's report noted (fallbacks), and each pass that failed.
+    #[serde(skip)]
+    notes: Vec<String>,
 }
 
 /// A screenshot of the view: its family, its file beside the report, what it shows.
@@ -127,7 +130,7 @@ pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
         }
     }
     bar.finish_and_clear();
-    notes.extend(rows.iter().filter_map(row_notes));
+    notes.extend(rows.iter().flat_map(row_notes));
     write(
         &args.out,
         (&rows, &pictures),
@@ -149,7 +152,22 @@ fn progress(frames: u64) -> ProgressBar {
 }
 
 fn row(family: Family, label: &str, method: &str, reports: &[(f64, FrameReport)]) -> ReportRow {
+    // The last frame's notes (a fallback holds every frame; figures in notes change from
+    // frame to frame), and every failed pass once.
+    let mut notes: Vec<String> = reports
+        .last()
+        .map(|(_, r)| r.notes.clone())
+        .unwrap_or_default();
+    for failure in reports
+        .iter()
+        .filter_map(|(_, r)| r.shadow_failure.as_ref())
+    {
+        if !notes.contains(failure) {
+            notes.push(failure.clone());
+        }
+    }
     ReportRow {
+        notes,
         family: family.name(),
         row: summarise(label, method, reports),
         gpu_frame_ms_along_path: reports.iter().map(|(_, r)| r.gpu_total_ms()).collect(),
@@ -219,15 +237,22 @@ fn point(row: &BenchRow, x: f64, y: f64) -> Point {
     }
 }
 
-/// What a reader needs to know of a row that the table does not say.
-fn row_notes(r: &ReportRow) -> Option<String> {
-    (r.row.shadow_pass_ms.is_none()).then(|| {
-        format!(
+/// What a reader needs to know of a row that the table does not say: its frames' notes
+/// (fallbacks, failed passes) and a missing GPU time.
+fn row_notes(r: &ReportRow) -> Vec<String> {
+    let mut notes: Vec<String> = r
+        .notes
+        .iter()
+        .map(|note| format!("{} / {}: {note}", r.family, r.row.setting))
+        .collect();
+    if r.row.shadow_pass_ms.is_none() {
+        notes.push(format!(
             "{} / {}: this adapter gave no GPU time for the shadow passes, so the row is not \
              in the speed plots",
             r.family, r.row.setting
-        )
-    })
+        ));
+    }
+    notes
 }
 
 /// The columns of `bench`'s table the report shows, by index into [`COLUMNS`].
