@@ -14,11 +14,13 @@ use render_core::shadow_view::{LayeredPath, VolumeClamp};
 use crate::cli::CheckArgs;
 use crate::headless::Session;
 
-/// A camera and a sun to check.
+/// A camera and a sun to check, and how far the scene is moved for it first (the cases with
+/// a move come last: the scene stays moved).
 struct Case {
     name: &'static str,
     camera: Camera,
     sun: Sun,
+    scene_moved_by: Option<Vec3>,
 }
 
 /// One technique's settings.
@@ -82,16 +84,9 @@ pub fn check(args: &CheckArgs) -> anyhow::Result<()> {
     println!(
         "case                   technique                      result  culling error px  exact error px (off edges)"
     );
-    let far = Vec3::new(100_000.0, 0.0, 100_000.0);
-    let mut cases = cases(&session.scene, &view);
-    cases.push(Case {
-        name: "100 km out",
-        camera: moved(&view, far),
-        sun: session.scene.sun,
-    });
-    for case in &cases {
-        if case.name == "100 km out" {
-            session.move_scene(far);
+    for case in &cases(&session.scene, &view) {
+        if let Some(offset) = case.scene_moved_by {
+            session.move_scene(offset);
         }
         for technique in &techniques {
             total += 1;
@@ -230,36 +225,45 @@ fn cases(scene: &Scene, view: &Camera) -> Vec<Case> {
     let inside = largest.map_or(bounds.center(), |i| i.aabb_in_world.center());
     let extent = (bounds.max - bounds.min).length().max(1.0);
     let away = bounds.max + Vec3::new(0.1, 0.05, 0.1) * extent;
+    let far = Vec3::new(100_000.0, 0.0, 100_000.0);
+    let case = |name, camera, sun| Case {
+        name,
+        camera,
+        sun,
+        scene_moved_by: None,
+    };
     vec![
-        Case {
-            name: "the scene's view",
-            camera: *view,
+        case("the scene's view", *view, sun),
+        case(
+            "grazing sun (1°)",
+            *view,
+            Sun::from_azimuth_elevation_deg(azimuth, 1.0),
+        ),
+        case(
+            "sun at the zenith",
+            *view,
+            Sun::from_azimuth_elevation_deg(azimuth, 90.0),
+        ),
+        case(
+            "inside the largest",
+            look(inside, inside + view.forward * 10.0),
             sun,
-        },
-        Case {
-            name: "grazing sun (1°)",
-            camera: *view,
-            sun: Sun::from_azimuth_elevation_deg(azimuth, 1.0),
-        },
-        Case {
-            name: "sun at the zenith",
-            camera: *view,
-            sun: Sun::from_azimuth_elevation_deg(azimuth, 90.0),
-        },
-        Case {
-            name: "inside the largest",
-            camera: look(inside, inside + view.forward * 10.0),
+        ),
+        case(
+            "looking into the sun",
+            look(view.eye, view.eye + sun.direction_to_sun * 10.0),
             sun,
-        },
-        Case {
-            name: "looking into the sun",
-            camera: look(view.eye, view.eye + sun.direction_to_sun * 10.0),
+        ),
+        case(
+            "a view of nothing",
+            look(away, away + Vec3::new(1.0, 0.2, 1.0)),
             sun,
-        },
+        ),
         Case {
-            name: "a view of nothing",
-            camera: look(away, away + Vec3::new(1.0, 0.2, 1.0)),
+            name: "100 km out",
+            camera: moved(view, far),
             sun,
+            scene_moved_by: Some(far),
         },
     ]
 }

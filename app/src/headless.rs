@@ -140,16 +140,7 @@ impl Session {
     /// Moves the scene by `offset` (`check`'s case far from the origin): a new scene on the
     /// GPU, a new renderer and no truth cached.
     pub fn move_scene(&mut self, offset: glam::Vec3) {
-        let scene = std::mem::replace(
-            &mut self.scene,
-            Scene::new(
-                "",
-                Vec::new(),
-                Vec::new(),
-                render_core::scene::Sun::default(),
-            ),
-        );
-        self.scene = scene.moved_by(offset);
+        self.scene = self.scene.moved_by(offset);
         self.scene_gpu = SceneGpu::new(&self.ctx, &self.scene);
         self.renderer = FrameRenderer::new(&self.ctx);
         self.truth = TruthCache::default();

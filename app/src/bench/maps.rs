@@ -205,13 +205,14 @@ fn run_interleaved(
     args: &BenchArgs,
 ) -> anyhow::Result<Vec<Vec<(FrameReport, FrameCounts)>>> {
     let frames = args.frames.max(1);
+    let options = super::RunOptions::from(args);
     let mut renderers: Vec<_> = configs
         .iter()
         .map(|_| render_core::frame::FrameRenderer::new(&session.ctx))
         .collect();
     let mut measured: Vec<Vec<_>> = configs.iter().map(|_| Vec::new()).collect();
     for frame in 0..args.warmup + frames {
-        let camera = super::camera_at(path, template, (frame, &super::RunOptions::from(args)));
+        let camera = super::camera_at(path, template, (frame, &options));
         for ((settings, renderer), out) in configs.iter().zip(&mut renderers).zip(&mut measured) {
             std::mem::swap(&mut session.renderer, renderer);
             let result = measure_frame(session, &camera, settings);

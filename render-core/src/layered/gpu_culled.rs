@@ -63,7 +63,7 @@ impl GpuCulledMaps {
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
         (input, draw): (&TechniqueInput<'_>, &DrawInput<'_>),
-        lights: &LayeredMaps,
+        lights: &mut LayeredMaps,
     ) -> ShadowPasses {
         let maps = self.maps.as_mut().expect("prepared before drawn");
         let passes = maps.draw(encoder, &at_size(input, &self.shadow), draw);

@@ -240,18 +240,30 @@ impl ShadowTechnique for LayeredTechnique {
         }
         let limits = ctx.device.limits();
         let max = LayeredSettings::MAX_RESOLUTION.min(limits.max_texture_dimension_2d);
-        if let Err(unfit) = self.gpu_culling_fits(input, &limits, max) {
-            let message = format!(
-                "'{}' cannot cull these maps: {unfit}; they are culled by 'vfc'",
-                self.method.name()
-            );
-            self.fallbacks.warn(&message);
-            notes.push(message);
-            self.method = Method::Vfc;
+        // A GPU method culls every view at its own map size, where this adapter binds that.
+        let gpu_resolution = GpuCulledMaps::resolution(input.shadow.resolution, max);
+        let mut gpu_lights = None;
+        if self.method.gpu_driven() {
+            let lights = light_views(input.scene, input.layered.lights, gpu_resolution);
+            let views =
+                lights.frusta.len() as u32 + self.sun.as_ref().map_or(0, ViewLayout::layers);
+            let instances = input.scene_gpu.instance_count;
+            match crate::culling::GpuCulling::fits(&limits, gpu_resolution, views, instances) {
+                Ok(()) => gpu_lights = Some(lights),
+                Err(unfit) => {
+                    let message = format!(
+                        "'{}' cannot cull these maps: {unfit}; they are culled by 'vfc'",
+                        self.method.name()
+                    );
+                    self.fallbacks.warn(&message);
+                    notes.push(message);
+                    self.method = Method::Vfc;
+                }
+            }
         }
         let gpu = self.method.gpu_driven();
         let resolution = if gpu {
-            GpuCulledMaps::resolution(input.shadow.resolution, max)
+            gpu_resolution
         } else {
             input
                 .shadow
@@ -269,7 +281,8 @@ impl ShadowTechnique for LayeredTechnique {
             }
             path
         };
-        let lights = light_views(input.scene, input.layered.lights, resolution);
+        let lights = gpu_lights
+            .unwrap_or_else(|| light_views(input.scene, input.layered.lights, resolution));
         if lights.records.is_empty() {
             notes.push(format!(
                 "this scene has no point or spot lights (glTF KHR_lights_punctual; \
@@ -496,27 +509,6 @@ impl ShadowTechnique for LayeredTechnique {
 }
 
 impl LayeredTechnique {
-    /// Whether this frame's GPU method can cull every view at its map size on this adapter
-    /// (a CPU method always can).
-    fn gpu_culling_fits(
-        &self,
-        input: &TechniqueInput<'_>,
-        limits: &wgpu::Limits,
-        max_resolution: u32,
-    ) -> Result<(), crate::culling::CullError> {
-        if !self.method.gpu_driven() {
-            return Ok(());
-        }
-        let lights = light_views(
-            input.scene,
-            input.layered.lights,
-            LayeredSettings::MIN_RESOLUTION,
-        );
-        let views = lights.frusta.len() as u32 + self.sun.as_ref().map_or(0, ViewLayout::layers);
-        let resolution = GpuCulledMaps::resolution(input.shadow.resolution, max_resolution);
-        crate::culling::GpuCulling::fits(limits, resolution, views, input.scene_gpu.instance_count)
-    }
-
     /// The map technique that culled and rendered the last frame's maps, if a GPU method did.
     fn gpu_culled(&self) -> Option<&MapTechnique> {
         self.gpu.technique().filter(|_| self.last.gpu_culled)
@@ -534,7 +526,7 @@ impl LayeredTechnique {
         draw: &DrawInput<'_>,
     ) -> ShadowPasses {
         let recording = Instant::now();
-        let passes = self.gpu.draw(encoder, (input, draw), &self.maps);
+        let passes = self.gpu.draw(encoder, (input, draw), &mut self.maps);
         self.last.cpu_culling_ms = 0.0;
         self.last.cpu_submit_ms = recording.elapsed().as_secs_f64() * 1000.0;
         self.last.passes = draw.views.len() as u32;

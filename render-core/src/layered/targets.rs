@@ -68,6 +68,8 @@ pub struct LayeredMaps {
     /// Stands in for the reference's caster ids where there is no reference (never read).
     no_ids: wgpu::TextureView,
     pub light_group: wgpu::BindGroup,
+    /// The group over maps rendered elsewhere, with their generation ([`Self::group_over`]).
+    over: Option<(u64, wgpu::BindGroup)>,
     /// x: a layer's side in texels, as the atlas paths' vertex stages read it (uniform).
     pub page: wgpu::Buffer,
     /// Multiview: the layers in consecutive groups of `group`, a view each (a pass's target).
@@ -110,6 +112,7 @@ impl LayeredMaps {
             records,
             no_ids,
             light_group,
+            over: None,
             page: page_buffer(device, 64),
             groups: Vec::new(),
             group: 0,
@@ -155,6 +158,7 @@ impl LayeredMaps {
             changed = true;
         }
         if changed {
+            self.over = None;
             self.light_group = light_group(
                 device,
                 &self.light_layout,
@@ -247,13 +251,21 @@ fn records_buffer(device: &wgpu::Device, count: usize) -> wgpu::Buffer {
 
 impl LayeredMaps {
     /// The light term's group over maps rendered elsewhere: the method's maps, the reference
-    /// maps and the reference's caster ids (`MapTechnique::map_arrays`), with these records.
+    /// maps and the reference's caster ids (`MapTechnique::map_arrays`), with these records;
+    /// made again only when those maps (their `generation`) or the records change.
     pub fn group_over(
-        &self,
+        &mut self,
         device: &wgpu::Device,
-        arrays: [&wgpu::TextureView; 3],
+        (generation, arrays): (u64, [&wgpu::TextureView; 3]),
     ) -> wgpu::BindGroup {
-        light_group(device, &self.light_layout, arrays, &self.records)
+        match &self.over {
+            Some((made_for, group)) if *made_for == generation => group.clone(),
+            _ => {
+                let group = light_group(device, &self.light_layout, arrays, &self.records);
+                self.over = Some((generation, group.clone()));
+                group
+            }
+        }
     }
 }
 

@@ -278,7 +278,7 @@ impl Scene {
     /// The scene moved by `offset` (a hard case: far from the origin), its lights too; what
     /// moved stands still there.
     #[must_use]
-    pub fn moved_by(self, offset: Vec3) -> Self {
+    pub fn moved_by(&self, offset: Vec3) -> Self {
         let to = Mat4::from_translation(offset);
         let instances = self
             .instances
@@ -291,13 +291,13 @@ impl Scene {
                 ..i.clone()
             })
             .collect();
-        let mut lights = self.lights;
+        let mut lights = self.lights.clone();
         for light in &mut lights {
             light.position += offset;
         }
         Self {
             lights,
-            ..Self::new(self.name, self.meshes, instances, self.sun)
+            ..Self::new(self.name.clone(), self.meshes.clone(), instances, self.sun)
         }
     }
 

@@ -110,10 +110,14 @@ impl MapTechnique {
     }
 
     /// The method's maps, the reference maps and the reference's caster ids, every layer
-    /// (another technique's light term reads them: many lights culled on the GPU).
-    pub(crate) fn map_arrays(&self) -> [&wgpu::TextureView; 3] {
+    /// (another technique's light term reads them: many lights culled on the GPU), with the
+    /// generation that changes whenever they are replaced.
+    pub(crate) fn map_arrays(&self) -> (u64, [&wgpu::TextureView; 3]) {
         let (reference, ids) = self.maps.reference_arrays();
-        [self.maps.depth_array(), reference, ids]
+        (
+            self.maps.generation(),
+            [self.maps.depth_array(), reference, ids],
+        )
     }
 
     /// Whether an incremental update needs last frame's maps under the same light, scene and
