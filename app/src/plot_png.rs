@@ -4,7 +4,6 @@
 use std::path::Path;
 
 use anyhow::Context as _;
-use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 /// The font every label uses.
@@ -28,14 +27,15 @@ pub type DrawResult = Result<(), Box<dyn std::error::Error>>;
 pub type Area<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
 
 /// The chart's series labels in a box at `position`, in `size` point text.
-pub fn legend<'a, DB>(
-    chart: &mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+pub fn legend<'a, DB, CT>(
+    chart: &mut ChartContext<'a, DB, CT>,
     position: SeriesLabelPosition,
     size: u32,
 ) -> DrawResult
 where
     DB: DrawingBackend + 'a,
     DB::ErrorType: 'static,
+    CT: CoordTranslate,
 {
     chart
         .configure_series_labels()

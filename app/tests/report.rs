@@ -33,6 +33,10 @@ fn report_writes_pages_rows_and_plots_whose_numbers_are_benchs() {
             "builtin:city-small",
             "--families",
             "culling,volumes",
+            "--sweeps",
+            "slices",
+            "--sweep-frames",
+            "2",
         ])
         .args(VIEW)
         .arg("--out")
@@ -60,6 +64,8 @@ fn report_writes_pages_rows_and_plots_whose_numbers_are_benchs() {
         "culling-view-1.png",
         "volumes-view-1.png",
         "volumes-view-2.png",
+        "sweep-slices-fill.png",
+        "sweep-slices-stencil-gpu.png",
     ] {
         assert!(images.contains(&name), "{name} in {images:?}");
     }
@@ -84,6 +90,15 @@ fn report_writes_pages_rows_and_plots_whose_numbers_are_benchs() {
         .iter()
         .filter(|r| r["setting"].starts_with("volumes: "))
         .collect();
+    let slices: Vec<_> = rows
+        .iter()
+        .filter(|r| r["setting"].starts_with("slices sweep: "))
+        .collect();
+    assert_eq!(slices.len(), 6);
+    assert_eq!(
+        slices[5]["setting"],
+        "slices sweep: 32 slices / clamp conservative"
+    );
     assert_eq!(culling.len(), render_core::frame::Method::ALL.len());
     assert_eq!(volumes[0]["setting"], "volumes: standard");
     assert_eq!(volumes.len(), 7);
@@ -105,6 +120,34 @@ fn report_writes_pages_rows_and_plots_whose_numbers_are_benchs() {
         volumes[0],
         volumes[3]
     );
+
+    // More slices clamp tighter: less fill than one slice (Lloyd's Figure 9).
+    assert!(
+        fill(slices[5]) < fill(slices[0]),
+        "{:?} {:?}",
+        slices[0],
+        slices[5]
+    );
+    // The sweep's rows are `bench --sweep slices`'s: the same fill, frame for frame.
+    let csv = dir.join("bench-slices.csv");
+    let output = run(shadowlab()
+        .args(["bench", "builtin:city-small", "--methods", "vfc"])
+        .args(["--sweep", "slices"])
+        .args(VIEW)
+        .arg("--csv")
+        .arg(&csv));
+    assert!(output.status.success(), "{}", text(&output));
+    let bench = csv_rows(&std::fs::read_to_string(&csv).expect("bench CSV"));
+    assert_eq!(bench.len(), slices.len());
+    for (b, r) in bench.iter().zip(&slices) {
+        assert_eq!(
+            r["setting"],
+            format!("slices sweep: {} / clamp conservative", b["setting"])
+        );
+        for column in ["fill_mfragments", "casters_drawn", "exact_error_px"] {
+            assert_eq!(r[column], b[column], "{}: {column}", b["setting"]);
+        }
+    }
 
     // The same rows by `bench`: the counts are the same numbers (times differ run to run).
     let csv = dir.join("bench.csv");
@@ -157,6 +200,8 @@ fn the_lights_family_runs_each_path_and_notes_the_adapters_fallbacks() {
             "builtin:hall",
             "--families",
             "lights",
+            "--sweeps",
+            "none",
             "--frames",
             "1",
         ])

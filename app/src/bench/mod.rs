@@ -6,18 +6,17 @@
 mod maps;
 mod maps_plot;
 mod objects;
+mod sweeps;
 mod table;
+
+pub(crate) use sweeps::{SweepValues, settings as sweep_settings};
 
 pub(crate) use table::{COLUMNS, format_csv, row_cells};
 
 use anyhow::Context as _;
-use render_core::cascades::{MAX_CASCADES, SplitScheme};
-use render_core::frame::{
-    FrameRenderer, FrameReport, FrameSettings, Method, ShadowSetup, pass_label,
-};
+use render_core::frame::{FrameRenderer, FrameReport, FrameSettings, Method, pass_label};
 use render_core::geom::Camera;
-use render_core::scene::{CameraPath, SceneFacts, Sun};
-use render_core::volumes::VolumeClamp;
+use render_core::scene::{CameraPath, SceneFacts};
 
 use crate::cli::{BenchArgs, Sweep, parse_methods};
 use crate::headless::Session;
@@ -106,140 +105,9 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
         return maps::sweep_maps(args, &mut session, (base, &path, &template));
     }
 
-    let limits = render_core::frame::ShadowSettings::MIN_RESOLUTION
-        ..=render_core::frame::ShadowSettings::MAX_RESOLUTION;
-    if let Some(res) = args.resolutions.iter().find(|r| !limits.contains(r)) {
-        anyhow::bail!(
-            "--resolutions: {res} is outside {} to {}",
-            limits.start(),
-            limits.end()
-        );
-    }
-    if let Some(el) = args
-        .elevations
-        .iter()
-        .find(|e| !(e.is_finite() && **e > 0.0 && **e <= 90.0))
-    {
-        anyhow::bail!(
-            "--elevations: {el} is not an elevation above the horizon (0 < degrees <= 90)"
-        );
-    }
-    let settings_list: Vec<(String, FrameSettings)> = match args.sweep {
-        // Many lights' and the object counts' sweeps have their own rows, run above.
-        None | Some(Sweep::Maps | Sweep::Objects) => vec![(String::new(), base)],
-        Some(Sweep::Resolution) => args
-            .resolutions
-            .iter()
-            .map(|&res| {
-                let mut s = base;
-                s.shadow.resolution = res;
-                (format!("res {res}"), s)
-            })
-            .collect(),
-        Some(Sweep::Elevation) => {
-            let (azimuth, _) = base.sun.azimuth_elevation_deg();
-            args.elevations
-                .iter()
-                .map(|&elevation| {
-                    (
-                        format!("sun {elevation}°"),
-                        FrameSettings {
-                            sun: Sun::from_azimuth_elevation_deg(azimuth, elevation),
-                            ..base
-                        },
-                    )
-                })
-                .collect()
-        }
-        Some(Sweep::Cascades) => {
-            if let Some(n) = args
-                .cascade_counts
-                .iter()
-                .find(|n| !(1..=MAX_CASCADES).contains(n))
-            {
-                anyhow::bail!("--cascade-counts: {n} is outside 1 to {MAX_CASCADES}");
-            }
-            let single = FrameSettings {
-                setup: ShadowSetup::Single,
-                ..base
-            };
-            let lispsm = FrameSettings {
-                setup: ShadowSetup::Lispsm,
-                ..base
-            };
-            [("single".to_owned(), single), ("lispsm".to_owned(), lispsm)]
-                .into_iter()
-                .chain(args.cascade_counts.iter().map(|&count| {
-                    let mut s = FrameSettings {
-                        setup: ShadowSetup::Cascades,
-                        ..base
-                    };
-                    s.cascades.count = count;
-                    (
-                        format!("{count} cascade{}", if count == 1 { "" } else { "s" }),
-                        s,
-                    )
-                }))
-                .collect()
-        }
-        Some(Sweep::Clamp) => VolumeClamp::ALL
-            .into_iter()
-            .map(|clamp| {
-                let mut s = FrameSettings {
-                    setup: ShadowSetup::Volumes,
-                    ..base
-                };
-                s.volumes.clamp = clamp;
-                (format!("clamp {}", clamp.name()), s)
-            })
-            .collect(),
-        Some(Sweep::Slices) => [1, 2, 4, 8, 16, 32]
-            .into_iter()
-            .map(|slices| {
-                let mut s = FrameSettings {
-                    setup: ShadowSetup::Volumes,
-                    ..base
-                };
-                if !matches!(s.volumes.clamp, VolumeClamp::Discrete) {
-                    s.volumes.clamp = VolumeClamp::Conservative;
-                }
-                s.volumes.slices = slices;
-                (format!("{slices} slices"), s)
-            })
-            .collect(),
-        Some(Sweep::Setups) => ShadowSetup::ALL
-            .into_iter()
-            .map(|setup| (setup.name().to_owned(), FrameSettings { setup, ..base }))
-            .collect(),
-        Some(Sweep::Splits) => SplitScheme::ALL
-            .into_iter()
-            .filter(|s| *s != SplitScheme::Manual)
-            .map(|scheme| {
-                let mut s = FrameSettings {
-                    setup: ShadowSetup::Cascades,
-                    ..base
-                };
-                s.cascades.splits.scheme = scheme;
-                (scheme.name().to_owned(), s)
-            })
-            .collect(),
-        Some(Sweep::Lambda) => {
-            if let Some(l) = args.lambdas.iter().find(|l| !(0.0..=1.0).contains(*l)) {
-                anyhow::bail!("--lambdas: {l} is outside 0 to 1");
-            }
-            args.lambdas
-                .iter()
-                .map(|&lambda| {
-                    let mut s = FrameSettings {
-                        setup: ShadowSetup::Cascades,
-                        ..base
-                    };
-                    s.cascades.splits.scheme = SplitScheme::Practical;
-                    s.cascades.splits.lambda = lambda;
-                    (format!("lambda {lambda}"), s)
-                })
-                .collect()
-        }
+    let settings_list = match args.sweep {
+        Some(sweep) => sweep_settings(sweep, base, &SweepValues::from(args))?,
+        None => vec![(String::new(), base)],
     };
     let mut rows = Vec::new();
     for (setting, settings) in settings_list {

@@ -223,6 +223,14 @@ pub struct ReportArgs {
     /// Skip the exact shadow: error is then counted against the reference maps only.
     #[arg(long)]
     pub no_truth: bool,
+    /// The sweeps of the papers' figures, each in its family's section: a comma list of
+    /// resolution, elevation (culling), cascades, splits (setups), slices (volumes), maps
+    /// (lights), or `all` or `none`.
+    #[arg(long, default_value = "all", value_name = "s1,s2")]
+    pub sweeps: String,
+    /// Measured frames along the path for each row of a sweep (a sweep has many rows).
+    #[arg(long, default_value_t = 4, value_name = "N")]
+    pub sweep_frames: u32,
 }
 
 /// `shadowlab check`.

@@ -9,6 +9,8 @@
 mod document;
 mod families;
 mod plots;
+mod sweeps;
+mod swept;
 
 use std::path::Path;
 
@@ -26,6 +28,8 @@ use crate::headless::Session;
 use document::Block;
 use families::Family;
 use plots::{Point, Series};
+use sweeps::ReportSweep;
+use swept::SweptAt;
 
 /// One row of the report: the family it belongs to, `bench`'s summary, and its frames along
 /// the path.
@@ -38,6 +42,9 @@ struct ReportRow {
     gpu_frame_ms_along_path: Vec<Option<f64>>,
     /// On the family's Pareto front of shadow GPU time against error.
     pareto: bool,
+    /// Where it sits in a sweep, for a sweep's rows.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    swept: Option<SweptAt>,
     /// What the last frame's report noted (fallbacks), and each pass that failed.
     #[serde(skip)]
     notes: Vec<String>,
@@ -62,6 +69,11 @@ pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
         .collect();
     let pictures_per_family: Vec<Vec<families::Setting>> =
         plan.iter().map(|(f, _)| f.pictures(base)).collect();
+    let lights: Vec<_> = session.scene.lights.iter().map(|l| l.kind).collect();
+    let sweeps = sweeps::parse(&args.sweeps, &families_of(&plan))?
+        .into_iter()
+        .map(|sweep| Ok((sweep, sweep.rows(base, &lights)?)))
+        .collect::<anyhow::Result<Vec<_>>>()?;
     let options = RunOptions {
         frames: args.frames.max(1),
         warmup: args.warmup,
@@ -70,19 +82,24 @@ pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
         no_truth: args.no_truth,
         flicker: false,
     };
+    let sweep_options = RunOptions {
+        frames: args.sweep_frames.max(1),
+        ..options
+    };
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
     let adapter = session.ctx.adapter_description();
+    let family_rows = plan.iter().map(|(_, s)| s.len()).sum::<usize>();
+    let sweep_rows = sweeps.iter().map(|(_, r)| r.len()).sum::<usize>();
     eprintln!(
-        "report {}: {} rows along '{}', {} frames after {} warm-up each, on {adapter}",
-        facts.name,
-        plan.iter().map(|(_, s)| s.len()).sum::<usize>(),
-        path.name,
-        options.frames,
-        options.warmup,
+        "report {}: {family_rows} rows along '{}', {} frames after {} warm-up each, and {sweep_rows} \
+         rows of sweeps with {} frames each, on {adapter}",
+        facts.name, path.name, options.frames, options.warmup, sweep_options.frames,
     );
-    let frames_per_row = u64::from(options.warmup + options.frames);
-    let bar = progress(plan.iter().map(|(_, s)| s.len() as u64).sum::<u64>() * frames_per_row);
+    let bar = progress(
+        family_rows as u64 * u64::from(options.warmup + options.frames)
+            + sweep_rows as u64 * u64::from(sweep_options.warmup + sweep_options.frames),
+    );
     let mut rows: Vec<ReportRow> = Vec::new();
     let mut pictures: Vec<Picture> = Vec::new();
     // The screenshots show the view the command names (`--eye`), else the path's middle.
@@ -128,6 +145,15 @@ pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
                 label: picture.label.clone(),
             });
         }
+        for (sweep, sweep_rows) in sweeps.iter().filter(|(s, _)| s.family() == *family) {
+            rows.extend(swept::run(
+                &mut session,
+                (&path, &template),
+                (*sweep, sweep_rows),
+                &sweep_options,
+                &bar,
+            )?);
+        }
     }
     bar.finish_and_clear();
     notes.extend(rows.iter().flat_map(row_notes));
@@ -172,12 +198,27 @@ fn row(family: Family, label: &str, method: &str, reports: &[(f64, FrameReport)]
         row: summarise(label, method, reports),
         gpu_frame_ms_along_path: reports.iter().map(|(_, r)| r.gpu_total_ms()).collect(),
         pareto: false,
+        swept: None,
     }
+}
+
+fn families_of(plan: &[(Family, Vec<families::Setting>)]) -> Vec<Family> {
+    plan.iter().map(|(f, _)| *f).collect()
 }
 
 /// Speed-ups against the family's first row, the fill saved against it (shadow volumes), and
 /// the Pareto front.
 fn compare_within(rows: &mut [ReportRow]) {
+    speed_ups_against_first(rows);
+    let summaries: Vec<&BenchRow> = rows.iter().map(|r| &r.row).collect();
+    let (indices, points) = error_points(&summaries);
+    for i in plots::pareto_front(&points) {
+        rows[indices[i]].pareto = true;
+    }
+}
+
+/// Speed-ups against the first row, and the fill and stencil time saved against it.
+fn speed_ups_against_first(rows: &mut [ReportRow]) {
     let Some(first) = rows.first().map(|r| r.row.clone()) else {
         return;
     };
@@ -189,11 +230,6 @@ fn compare_within(rows: &mut [ReportRow]) {
             .gpu_frame_ms
             .zip(r.row.gpu_frame_ms)
             .map(|(b, m)| b / m.max(1e-9));
-    }
-    let summaries: Vec<&BenchRow> = rows.iter().map(|r| &r.row).collect();
-    let (indices, points) = error_points(&summaries);
-    for i in plots::pareto_front(&points) {
-        rows[indices[i]].pareto = true;
     }
 }
 
@@ -272,7 +308,10 @@ fn write(
     let summaries: Vec<BenchRow> = rows
         .iter()
         .map(|r| BenchRow {
-            setting: format!("{}: {}", r.family, r.row.setting),
+            setting: match &r.swept {
+                Some(at) => format!("{} sweep: {}", at.sweep, r.row.setting),
+                None => format!("{}: {}", r.family, r.row.setting),
+            },
             ..r.row.clone()
         })
         .collect();
@@ -299,11 +338,23 @@ fn write(
     let mut families: Vec<&'static str> = rows.iter().map(|r| r.family).collect();
     families.dedup();
     for family in families {
-        let of_family: Vec<&ReportRow> = rows.iter().filter(|r| r.family == family).collect();
+        let of_family: Vec<&ReportRow> = rows
+            .iter()
+            .filter(|r| r.family == family && r.swept.is_none())
+            .collect();
         family_blocks(out, family, &of_family, &mut blocks)?;
         for picture in pictures.iter().filter(|p| p.family == family) {
             blocks.push(Block::Paragraph(format!("The view, {}:", picture.label)));
             blocks.push(Block::Image(picture.file.clone(), picture.label.clone()));
+        }
+        for sweep in ReportSweep::ALL {
+            let of_sweep: Vec<&ReportRow> = rows
+                .iter()
+                .filter(|r| r.swept.as_ref().is_some_and(|at| at.sweep == sweep.name()))
+                .collect();
+            if sweep.family().name() == family && !of_sweep.is_empty() {
+                swept::blocks(out, sweep, &of_sweep, &mut blocks);
+            }
         }
     }
     blocks.push(Block::Heading(2, "Files".into()));
@@ -319,6 +370,28 @@ fn write(
     )
 }
 
+/// The rows' table: `bench`'s columns the report shows, and with `pareto` whether each row
+/// is on the Pareto front.
+fn table(rows: &[&ReportRow], pareto: bool) -> Block {
+    let mut header: Vec<String> = SHOWN.iter().map(|&c| COLUMNS[c].to_owned()).collect();
+    header[SHOWN.len() - 1] = format!("speed-up vs {}", rows[0].row.setting);
+    if pareto {
+        header.push("Pareto".into());
+    }
+    let table = rows
+        .iter()
+        .map(|r| {
+            let cells = row_cells(&r.row);
+            let mut shown: Vec<String> = SHOWN.iter().map(|&c| cells[c].clone()).collect();
+            if pareto {
+                shown.push(if r.pareto { "yes" } else { "" }.to_owned());
+            }
+            shown
+        })
+        .collect();
+    Block::Table(header, table)
+}
+
 /// A family's section: its table and plots.
 fn family_blocks(
     out: &Path,
@@ -332,23 +405,7 @@ fn family_blocks(
         described.split(':').next().unwrap_or(family).into(),
     ));
     blocks.push(Block::Paragraph(described.into()));
-    let mut header: Vec<String> = SHOWN.iter().map(|&c| COLUMNS[c].to_owned()).collect();
-    header[SHOWN.len() - 1] = format!("speed-up vs {}", rows[0].row.setting);
-    header.push("Pareto".into());
-    let table = rows
-        .iter()
-        .map(|r| {
-            let cells = row_cells(&r.row);
-            let mut shown: Vec<String> = SHOWN.iter().map(|&c| cells[c].clone()).collect();
-            shown.push(if r.pareto {
-                "yes".into()
-            } else {
-                String::new()
-            });
-            shown
-        })
-        .collect();
-    blocks.push(Block::Table(header, table));
+    blocks.push(table(rows, true));
     let series: Vec<Series> = rows
         .iter()
         .map(|r| Series {

@@ -30,19 +30,36 @@ pub fn along_path(
     out: &Path,
 ) -> anyhow::Result<()> {
     let frames = series.iter().map(|s| s.values.len()).max().unwrap_or(0);
-    if frames == 0 {
-        anyhow::bail!("{title}: no frame was measured");
+    let ticks: Vec<String> = (0..frames).map(|k| k.to_string()).collect();
+    across(
+        series,
+        &ticks,
+        (title, "frame along the path", y_label),
+        out,
+    )
+}
+
+/// `series` across the values `ticks` names (a sweep's settings, the frames of a path), a
+/// line each, into the PNG `out`.
+pub fn across(
+    series: &[Series],
+    ticks: &[String],
+    (title, x_label, y_label): (&str, &str, &str),
+    out: &Path,
+) -> anyhow::Result<()> {
+    if ticks.is_empty() || series.iter().all(|s| s.values.iter().all(Option::is_none)) {
+        anyhow::bail!("{title}: nothing was measured");
     }
     write_png(SIZE, out, |root| {
-        draw_along_path(root, series, (title, y_label), frames)
+        draw_lines(root, series, ticks, (title, x_label, y_label))
     })
 }
 
-fn draw_along_path(
+fn draw_lines(
     root: &Area<'_>,
     series: &[Series],
-    (title, y_label): (&str, &str),
-    frames: usize,
+    ticks: &[String],
+    (title, x_label, y_label): (&str, &str, &str),
 ) -> DrawResult {
     let top = series
         .iter()
@@ -50,36 +67,45 @@ fn draw_along_path(
         .fold(0.0f64, |a, &b| a.max(b))
         .max(1e-3)
         * 1.1;
+    let count = ticks.len() as i32;
     let mut chart = ChartBuilder::on(root)
         .caption(title, (FONT, 20))
         .margin(12)
         .x_label_area_size(36)
         .y_label_area_size(60)
-        .build_cartesian_2d(0f64..(frames.max(2) - 1) as f64, 0f64..top)?;
+        .build_cartesian_2d((0..count - 1).into_segmented(), 0f64..top)?;
+    // Every tick named while they fit; past 16, every k-th.
+    let every = ticks.len().div_ceil(16).max(1);
+    let tick_name = |value: &SegmentValue<i32>| match value {
+        SegmentValue::CenterOf(k) if (*k as usize).is_multiple_of(every) => {
+            ticks.get(*k as usize).cloned().unwrap_or_default()
+        }
+        _ => String::new(),
+    };
     chart
         .configure_mesh()
-        .x_desc("frame along the path")
+        .x_desc(x_label)
         .y_desc(y_label)
         .label_style((FONT, 14))
-        .x_labels(frames.min(16))
-        .x_label_formatter(&|x| format!("{x:.0}"))
+        .x_labels(ticks.len() + 1)
+        .x_label_formatter(&tick_name)
         .light_line_style(WHITE)
         .draw()?;
     for (i, s) in series.iter().enumerate() {
         let colour = COLOURS[i % COLOURS.len()];
         // Past the palette, lines repeat its colours thicker.
         let stroke = colour.stroke_width(1 + (i / COLOURS.len()) as u32 * 2);
-        let line: Vec<(f64, f64)> = s
+        let line: Vec<(SegmentValue<i32>, f64)> = s
             .values
             .iter()
             .enumerate()
-            .filter_map(|(k, v)| v.map(|v| (k as f64, v)))
+            .filter_map(|(k, v)| v.map(|v| (SegmentValue::CenterOf(k as i32), v)))
             .collect();
         chart
             .draw_series(LineSeries::new(line.clone(), stroke))?
             .label(s.label.as_str())
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], stroke));
-        chart.draw_series(line.iter().map(|&p| Circle::new(p, 3, colour.filled())))?;
+        chart.draw_series(line.into_iter().map(|p| Circle::new(p, 3, colour.filled())))?;
     }
     legend(&mut chart, SeriesLabelPosition::UpperRight, 13)
 }

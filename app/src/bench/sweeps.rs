@@ -1,0 +1,206 @@
+//! The settings `bench --sweep` runs (and `report`'s sweeps): a label and the frame settings
+//! for each value of the swept parameter, the other settings the view's.
+
+use render_core::cascades::{MAX_CASCADES, SplitScheme};
+use render_core::frame::{FrameSettings, ShadowSettings, ShadowSetup};
+use render_core::scene::Sun;
+use render_core::volumes::VolumeClamp;
+
+use crate::cli::{BenchArgs, Sweep};
+
+/// The values the sweeps run over.
+#[derive(Clone, Debug)]
+pub(crate) struct SweepValues {
+    pub resolutions: Vec<u32>,
+    /// Sun elevations, degrees (the azimuth stays the view's).
+    pub elevations: Vec<f32>,
+    pub cascade_counts: Vec<u32>,
+    pub lambdas: Vec<f32>,
+}
+
+impl From<&BenchArgs> for SweepValues {
+    fn from(args: &BenchArgs) -> Self {
+        Self {
+            resolutions: args.resolutions.clone(),
+            elevations: args.elevations.clone(),
+            cascade_counts: args.cascade_counts.clone(),
+            lambdas: args.lambdas.clone(),
+        }
+    }
+}
+
+/// The shadow volumes' slice counts of `--sweep slices` (Lloyd's Figure 9).
+pub(crate) const SLICES: [u32; 6] = [1, 2, 4, 8, 16, 32];
+
+/// The settings of `sweep` over `values`, each with its label (`res 2048`, `sun 30°`...).
+/// Many lights' and the object counts' sweeps have rows of their own: they give the view's
+/// settings alone.
+pub(crate) fn settings(
+    sweep: Sweep,
+    base: FrameSettings,
+    values: &SweepValues,
+) -> anyhow::Result<Vec<(String, FrameSettings)>> {
+    values.check()?;
+    let with_setup = |setup| FrameSettings { setup, ..base };
+    Ok(match sweep {
+        Sweep::Maps | Sweep::Objects => vec![(String::new(), base)],
+        Sweep::Resolution => values
+            .resolutions
+            .iter()
+            .map(|&res| {
+                let mut s = base;
+                s.shadow.resolution = res;
+                (format!("res {res}"), s)
+            })
+            .collect(),
+        Sweep::Elevation => {
+            let (azimuth, _) = base.sun.azimuth_elevation_deg();
+            values
+                .elevations
+                .iter()
+                .map(|&elevation| {
+                    let sun = Sun::from_azimuth_elevation_deg(azimuth, elevation);
+                    (format!("sun {elevation}°"), FrameSettings { sun, ..base })
+                })
+                .collect()
+        }
+        Sweep::Cascades => [
+            ("single".to_owned(), with_setup(ShadowSetup::Single)),
+            ("lispsm".to_owned(), with_setup(ShadowSetup::Lispsm)),
+        ]
+        .into_iter()
+        .chain(values.cascade_counts.iter().map(|&count| {
+            let mut s = with_setup(ShadowSetup::Cascades);
+            s.cascades.count = count;
+            let plural = if count == 1 { "" } else { "s" };
+            (format!("{count} cascade{plural}"), s)
+        }))
+        .collect(),
+        Sweep::Clamp => VolumeClamp::ALL
+            .into_iter()
+            .map(|clamp| {
+                let mut s = with_setup(ShadowSetup::Volumes);
+                s.volumes.clamp = clamp;
+                (format!("clamp {}", clamp.name()), s)
+            })
+            .collect(),
+        Sweep::Slices => SLICES
+            .into_iter()
+            .map(|slices| {
+                let mut s = with_setup(ShadowSetup::Volumes);
+                if !matches!(s.volumes.clamp, VolumeClamp::Discrete) {
+                    s.volumes.clamp = VolumeClamp::Conservative;
+                }
+                s.volumes.slices = slices;
+                let plural = if slices == 1 { "" } else { "s" };
+                (format!("{slices} slice{plural}"), s)
+            })
+            .collect(),
+        Sweep::Setups => ShadowSetup::ALL
+            .into_iter()
+            .map(|setup| (setup.name().to_owned(), with_setup(setup)))
+            .collect(),
+        Sweep::Splits => SplitScheme::ALL
+            .into_iter()
+            .filter(|s| *s != SplitScheme::Manual)
+            .map(|scheme| {
+                let mut s = with_setup(ShadowSetup::Cascades);
+                s.cascades.splits.scheme = scheme;
+                (scheme.name().to_owned(), s)
+            })
+            .collect(),
+        Sweep::Lambda => values
+            .lambdas
+            .iter()
+            .map(|&lambda| {
+                let mut s = with_setup(ShadowSetup::Cascades);
+                s.cascades.splits.scheme = SplitScheme::Practical;
+                s.cascades.splits.lambda = lambda;
+                (format!("lambda {lambda}"), s)
+            })
+            .collect(),
+    })
+}
+
+impl SweepValues {
+    /// Each value within its setting's range, or an error naming the flag and the value.
+    fn check(&self) -> anyhow::Result<()> {
+        let limits = ShadowSettings::MIN_RESOLUTION..=ShadowSettings::MAX_RESOLUTION;
+        if let Some(res) = self.resolutions.iter().find(|r| !limits.contains(r)) {
+            anyhow::bail!(
+                "--resolutions: {res} is outside {} to {}",
+                limits.start(),
+                limits.end()
+            );
+        }
+        if let Some(el) = self
+            .elevations
+            .iter()
+            .find(|e| !(e.is_finite() && **e > 0.0 && **e <= 90.0))
+        {
+            anyhow::bail!(
+                "--elevations: {el} is not an elevation above the horizon (0 < degrees <= 90)"
+            );
+        }
+        if let Some(n) = self
+            .cascade_counts
+            .iter()
+            .find(|n| !(1..=MAX_CASCADES).contains(n))
+        {
+            anyhow::bail!("--cascade-counts: {n} is outside 1 to {MAX_CASCADES}");
+        }
+        if let Some(l) = self.lambdas.iter().find(|l| !(0.0..=1.0).contains(*l)) {
+            anyhow::bail!("--lambdas: {l} is outside 0 to 1");
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn values() -> SweepValues {
+        SweepValues {
+            resolutions: vec![512, 1024],
+            elevations: vec![10.0, 45.0],
+            cascade_counts: vec![2, 4],
+            lambdas: vec![0.5],
+        }
+    }
+
+    #[test]
+    fn each_sweep_sets_what_it_varies() {
+        let base = FrameSettings::default();
+        let res = settings(Sweep::Resolution, base, &values()).unwrap();
+        assert_eq!(res[1].0, "res 1024");
+        assert_eq!(res[1].1.shadow.resolution, 1024);
+        let sun = settings(Sweep::Elevation, base, &values()).unwrap();
+        let (_, elevation) = sun[1].1.sun.azimuth_elevation_deg();
+        assert!((elevation - 45.0).abs() < 1e-3, "{elevation}");
+        let cascades = settings(Sweep::Cascades, base, &values()).unwrap();
+        let labels: Vec<&str> = cascades.iter().map(|(l, _)| l.as_str()).collect();
+        assert_eq!(labels, ["single", "lispsm", "2 cascades", "4 cascades"]);
+        assert_eq!(cascades[3].1.cascades.count, 4);
+        let slices = settings(Sweep::Slices, base, &values()).unwrap();
+        assert_eq!(slices.len(), SLICES.len());
+        assert_eq!(slices[5].1.volumes.slices, 32);
+        assert_eq!(slices[5].1.volumes.clamp, VolumeClamp::Conservative);
+    }
+
+    #[test]
+    fn a_value_out_of_range_is_named() {
+        let base = FrameSettings::default();
+        let wrong = SweepValues {
+            cascade_counts: vec![99],
+            ..values()
+        };
+        let err = settings(Sweep::Cascades, base, &wrong).unwrap_err();
+        assert!(err.to_string().contains("--cascade-counts: 99"), "{err}");
+        let wrong = SweepValues {
+            elevations: vec![0.0],
+            ..values()
+        };
+        assert!(settings(Sweep::Elevation, base, &wrong).is_err());
+    }
+}
