@@ -652,13 +652,17 @@ fn window_opens_renders_and_saves_a_screenshot() {
         let _ = std::fs::remove_file(entry.path());
     }
     let _window = window_lock();
+    let frames_csv = out_dir("window-frames").join("frames.csv");
     let mut child = shadowlab()
         .args([
             "builtin:city-small",
+            "--play-path",
             "--exit-after-frames",
-            "4",
-            "--screenshot-dir",
+            "6",
+            "--frame-log",
         ])
+        .arg(&frames_csv)
+        .arg("--screenshot-dir")
         .arg(&dir)
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::piped())
@@ -711,6 +715,42 @@ fn window_opens_renders_and_saves_a_screenshot() {
     };
     assert!(colours(0, w / 5) > 5, "the side panel looks empty");
     assert!(colours(w / 2, w) > 50, "the 3D view looks empty");
+
+    // `--play-path`: the camera is on the scene's own path (a street), not framing the city.
+    let city = render_core::scene::load_builtin("city-small", 0).expect("city-small");
+    let path = render_core::scene::CameraPath::default_for(&city);
+    let eye = &stats["view"]["eye"];
+    let eye = glam::Vec3::new(
+        eye[0].as_f64().expect("eye") as f32,
+        eye[1].as_f64().expect("eye") as f32,
+        eye[2].as_f64().expect("eye") as f32,
+    );
+    let off_path = (0..=200)
+        .map(|k| path.sample(k as f32 / 200.0).eye.distance(eye))
+        .fold(f32::MAX, f32::min);
+    assert!(off_path < 2.0, "the eye {eye} is {off_path} m off the path");
+
+    // `--frame-log`: a line per frame; none waited for the GPU but the screenshot's, whose
+    // wait shows the count counts; the GPU's times came back all the same.
+    let log = std::fs::read_to_string(&frames_csv).expect("frame log");
+    let mut lines = log.lines();
+    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+    let column = |name: &str| header.iter().position(|h| *h == name).expect(name);
+    let frames: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(frames.len(), 6, "{log}");
+    for frame in &frames {
+        let screenshot = frame[column("screenshot")] == "1";
+        let waits: u32 = frame[column("gpu_waits")].parse().expect("waits");
+        assert_eq!(screenshot, waits > 0, "{log}");
+        assert_eq!(frame[column("objects")], city.instances.len().to_string());
+    }
+    assert_eq!(frames[5][column("screenshot")], "1", "{log}");
+    assert!(
+        frames
+            .iter()
+            .any(|f| f[column("gpu_waits")] == "0" && !f[column("gpu_frame_ms")].is_empty()),
+        "{log}"
+    );
 }
 
 #[test]

@@ -78,6 +78,14 @@ pub struct OpenArgs {
     /// are still saved when the window closes).
     #[arg(long)]
     pub fresh: bool,
+    /// Fly the scene's camera path from the first frame, as the Scene tab's "Play path" does.
+    #[arg(long)]
+    pub play_path: bool,
+    /// Write a CSV line per presented frame: its CPU times (update, waiting for the surface,
+    /// painting), how often it waited for the GPU (never, but for a screenshot), how many
+    /// frames behind the GPU times it shows are, and the scene's objects.
+    #[arg(long, value_name = "FILE.csv")]
+    pub frame_log: Option<PathBuf>,
 }
 
 #[derive(Args, Debug, Clone)]

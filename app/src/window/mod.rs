@@ -8,6 +8,7 @@
 
 mod camera_control;
 mod exact;
+mod frame_log;
 mod input;
 mod lights;
 mod loading;
@@ -162,6 +163,8 @@ struct Running {
     scene_time_s: f64,
     last_frame: Instant,
     fps: Option<f32>,
+    /// `--frame-log`: a line per presented frame.
+    frame_log: Option<frame_log::FrameLog>,
 }
 
 impl Running {
@@ -241,8 +244,13 @@ impl Running {
                 controller.fly_speed_m_per_s = speed;
             }
         }
+        let frame_log = args
+            .frame_log
+            .as_deref()
+            .map(frame_log::FrameLog::create)
+            .transpose()?;
         let now = Instant::now();
-        Ok(Self {
+        let mut running = Self {
             window,
             ctx,
             surface,
@@ -299,7 +307,12 @@ impl Running {
             scene_time_s: 0.0,
             last_frame: now,
             fps: None,
-        })
+            frame_log,
+        };
+        if args.play_path {
+            running.toggle_playing();
+        }
+        Ok(running)
     }
 
     fn frame_scene(&mut self) {
@@ -429,6 +442,7 @@ impl Running {
             self.surface.resize(&self.ctx, size.width, size.height);
         }
         let now = Instant::now();
+        let waits_before = self.ctx.waits();
         let dt = now.duration_since(self.last_frame).as_secs_f32();
         self.last_frame = now;
         if dt > 0.0 {
@@ -447,6 +461,7 @@ impl Running {
 
         let egui_frame = self.run_egui();
         self.draw_view();
+        let update_ms = now.elapsed().as_secs_f64() * 1000.0;
         // The smoke test waits for a scene it is loading.
         let settled = self.loading.is_none() && self.then_open.is_none();
         let last_frame = settled
@@ -458,11 +473,14 @@ impl Running {
         }
         let capture = (self.screenshot_requested && self.screenshot_settings.include_panel)
             .then(|| self.surface.capture_texture(&self.ctx));
+        let painting = Instant::now();
         if !self.surface.paint(&self.ctx, egui_frame, capture.as_ref()) {
             // Nothing reached the screen (minimised, occluded): keep any request for next frame.
             return;
         }
+        let paint_ms = painting.elapsed().as_secs_f64() * 1000.0;
         self.frames_presented += 1;
+        let screenshot = self.screenshot_requested;
         if let Some(spec) = self.then_open.take() {
             self.open_scene(&spec);
         }
@@ -474,6 +492,7 @@ impl Running {
                 self.message = Some(format!("Screenshot failed: {e:#}"));
             }
         }
+        self.log_frame((dt, update_ms, paint_ms), waits_before, screenshot);
         if let Some(n) = self.exit_after_frames
             && self.frames_presented >= n
             && settled
@@ -484,5 +503,38 @@ impl Running {
             }
             event_loop.exit();
         }
+    }
+}
+
+impl Running {
+    /// The frame's line of `--frame-log`: its times, and how often it waited for the GPU since
+    /// `waits_before`.
+    fn log_frame(
+        &mut self,
+        (dt_s, update_ms, paint_ms): (f32, f64, f64),
+        waits_before: u64,
+        screenshot: bool,
+    ) {
+        let Some(log) = &mut self.frame_log else {
+            return;
+        };
+        let report = self.last_report.as_ref();
+        log.record(&frame_log::FrameLine {
+            frame: self.frames_presented,
+            since_last_ms: f64::from(dt_s) * 1000.0,
+            update_ms,
+            acquire_ms: self.surface.last_acquire_ms,
+            paint_ms,
+            submit_ms: self.surface.last_submit_ms,
+            present_ms: self.surface.last_present_ms,
+            gpu_waits: self.ctx.waits() - waits_before,
+            gpu_times_behind: report.and_then(|r| {
+                r.gpu_frame_index
+                    .map(|gpu| r.frame_index.saturating_sub(gpu))
+            }),
+            gpu_frame_ms: report.and_then(FrameReport::gpu_total_ms),
+            screenshot,
+            objects: self.facts.objects,
+        });
     }
 }

@@ -8,6 +8,11 @@ pub struct WindowSurface {
     pub surface: wgpu::Surface<'static>,
     pub config: wgpu::SurfaceConfiguration,
     pub egui_renderer: egui_wgpu::Renderer,
+    /// How long the last frame waited for its surface texture, submitting egui's pass and
+    /// presenting, ms.
+    pub last_acquire_ms: f64,
+    pub last_submit_ms: f64,
+    pub last_present_ms: f64,
 }
 
 /// What egui produced for one frame, ready to paint.
@@ -54,6 +59,9 @@ impl WindowSurface {
             surface,
             config,
             egui_renderer,
+            last_acquire_ms: 0.0,
+            last_submit_ms: 0.0,
+            last_present_ms: 0.0,
         })
     }
 
@@ -97,7 +105,10 @@ impl WindowSurface {
         frame: &EguiFrame,
         capture: Option<&wgpu::Texture>,
     ) -> bool {
-        let surface_texture = match self.surface.get_current_texture() {
+        let asked = std::time::Instant::now();
+        let acquired = self.surface.get_current_texture();
+        self.last_acquire_ms = asked.elapsed().as_secs_f64() * 1000.0;
+        let surface_texture = match acquired {
             wgpu::CurrentSurfaceTexture::Success(t)
             | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
             wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
@@ -150,9 +161,13 @@ impl WindowSurface {
             self.egui_renderer
                 .render(&mut pass.forget_lifetime(), &frame.paint_jobs, &screen);
         }
+        let submitting = std::time::Instant::now();
         ctx.queue
             .submit(user_buffers.into_iter().chain([encoder.finish()]));
+        let presenting = std::time::Instant::now();
+        self.last_submit_ms = presenting.duration_since(submitting).as_secs_f64() * 1000.0;
         ctx.queue.present(surface_texture);
+        self.last_present_ms = presenting.elapsed().as_secs_f64() * 1000.0;
         true
     }
 

@@ -1,6 +1,7 @@
 //! The one owner of the wgpu instance, adapter, device and queue; everything else borrows it.
 
 use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Why no GPU could be set up.
 #[derive(Debug, thiserror::Error)]
@@ -41,6 +42,9 @@ pub struct GpuContext {
     pub adapter: wgpu::Adapter,
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
+    /// How many times the CPU has waited for the GPU ([`Self::wait_idle`]): the window's
+    /// frame log shows that its frames never do. Shared by the context's clones.
+    waits: Arc<AtomicU64>,
 }
 
 impl GpuContext {
@@ -96,11 +100,17 @@ impl GpuContext {
             adapter,
             device,
             queue,
+            waits: Arc::new(AtomicU64::new(0)),
         })
     }
 
     pub fn features(&self) -> wgpu::Features {
         self.device.features()
+    }
+
+    /// How many times the CPU has waited for the GPU so far.
+    pub fn waits(&self) -> u64 {
+        self.waits.load(Ordering::Relaxed)
     }
 
     /// "name (backend, device type)", for logs and reports.
@@ -111,6 +121,7 @@ impl GpuContext {
 
     /// Blocks until the GPU has finished all submitted work.
     pub fn wait_idle(&self) -> Result<(), GpuError> {
+        self.waits.fetch_add(1, Ordering::Relaxed);
         self.device
             .poll(wgpu::PollType::wait_indefinitely())
             .map(|_| ())
