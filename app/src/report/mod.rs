@@ -332,6 +332,13 @@ fn write(
         )),
         Block::Paragraph(format!("Command: `shadowlab {}`", command.join(" "))),
     ];
+    if let Some(swept) = rows.iter().find(|r| r.swept.is_some()) {
+        blocks.push(Block::Paragraph(format!(
+            "The sweeps (each in its family's section) vary one setting of the papers' figures \
+             over the same path, {} measured frames after {} warm-up for each of their rows.",
+            swept.row.frames, options.warmup
+        )));
+    }
     for note in notes {
         blocks.push(Block::Paragraph(format!("Note: {note}")));
     }

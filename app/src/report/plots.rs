@@ -107,7 +107,19 @@ fn draw_lines(
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], stroke));
         chart.draw_series(line.into_iter().map(|p| Circle::new(p, 3, colour.filled())))?;
     }
-    legend(&mut chart, SeriesLabelPosition::UpperRight, 13)
+    // The legend on the side away from the highest point.
+    let highest = series
+        .iter()
+        .flat_map(|s| s.values.iter().enumerate())
+        .filter_map(|(k, v)| v.map(|v| (k, v)))
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .map_or(0, |(k, _)| k);
+    let position = if highest * 2 >= ticks.len() {
+        SeriesLabelPosition::UpperLeft
+    } else {
+        SeriesLabelPosition::UpperRight
+    };
+    legend(&mut chart, position, 13)
 }
 
 /// The points no other point beats in both cost and error (lower is better in both), by
