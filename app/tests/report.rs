@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{out_dir, run, shadowlab, text};
+use common::{has_display, out_dir, run, run_window, shadowlab, text};
 
 /// The rows of a CSV `bench --csv` wrote, by column name.
 fn csv_rows(csv: &str) -> Vec<std::collections::HashMap<String, String>> {
@@ -232,4 +232,92 @@ fn the_lights_family_runs_each_path_and_notes_the_adapters_fallbacks() {
         );
     }
     assert!(folder.join("lights-view-1.png").exists());
+}
+
+/// The window's compare table (`--compare`) and `bench` give the same numbers for the same
+/// view and settings: the window's screenshot carries the table, and `bench` flies a path of
+/// that one view at the window's view size.
+#[test]
+fn the_windows_compare_table_gives_benchs_numbers_for_the_same_view() {
+    if !has_display() {
+        return;
+    }
+    let dir = out_dir("compare-window");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("dir");
+    let city = render_core::scene::load_builtin("city-small", 0).expect("city-small");
+    let key = render_core::scene::CameraPath::default_for(&city).sample(0.3);
+    let xyz = |v: glam::Vec3| format!("{},{},{}", v.x, v.y, v.z);
+    let lens = ["--fov", "60", "--near", "0.1", "--far", "2000"];
+    let output = run_window(
+        shadowlab()
+            .args(["builtin:city-small", "--fresh", "--compare"])
+            .arg(format!("--eye={}", xyz(key.eye)))
+            .arg(format!("--target={}", xyz(key.target)))
+            .args(lens)
+            .args(["--exit-after-frames", "2", "--screenshot-dir"])
+            .arg(&dir),
+    );
+    assert!(output.status.success(), "{}", text(&output));
+    let json = std::fs::read_dir(&dir)
+        .expect("dir")
+        .flatten()
+        .map(|e| e.path())
+        .find(|p| p.extension().is_some_and(|e| e == "json"))
+        .expect("the screenshot's stats");
+    let stats: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(json).expect("stats")).expect("JSON");
+    let table = stats["compare"].as_array().expect("the compare table");
+    assert_eq!(
+        table.len(),
+        render_core::frame::Method::ALL.len(),
+        "{stats}"
+    );
+    let size = format!("{}x{}", stats["size"][0], stats["size"][1]);
+
+    let path = dir.join("one-view.csv");
+    let line = format!("{},{}\n", xyz(key.eye), xyz(key.target));
+    std::fs::write(&path, line.repeat(2)).expect("path");
+    let csv = dir.join("bench.csv");
+    let output = run(shadowlab()
+        .args(["bench", "builtin:city-small", "--methods"])
+        .arg("vfc,frag,dr-conservative,oracle")
+        .args([
+            "--frames",
+            "1",
+            "--warmup",
+            "0",
+            "--no-truth",
+            "--size",
+            &size,
+        ])
+        .args(lens)
+        .arg("--path")
+        .arg(&path)
+        .arg("--csv")
+        .arg(&csv));
+    assert!(output.status.success(), "{}", text(&output));
+    let bench = csv_rows(&std::fs::read_to_string(&csv).expect("bench CSV"));
+    assert_eq!(bench.len(), 4);
+    for b in &bench {
+        let row = table
+            .iter()
+            .find(|r| r["method"] == b["method"].as_str())
+            .expect("the method's row");
+        assert_eq!(row["stale"], false);
+        let number = |v: &str| v.parse::<f64>().expect("a number");
+        for (ours, theirs) in [
+            ("casters_drawn", "casters_drawn"),
+            ("casters_oracle", "casters_oracle"),
+            ("triangles", "shadow_triangles"),
+            ("error_px", "error_px_max"),
+        ] {
+            assert_eq!(
+                row[ours].as_f64(),
+                Some(number(&b[theirs])),
+                "{}: {ours} {row}",
+                b["method"]
+            );
+        }
+    }
 }

@@ -1,7 +1,9 @@
 //! `shadowlab report`: every technique family along one camera path, as a folder a paper or a
 //! review can use: `index.html` and `report.md` (the same blocks, `document.rs`), the rows as
 //! CSV and JSON, and the plots (`plots.rs`): each row's GPU frame time along the path, and
-//! per family speed against error and against undersampling with the Pareto front.
+//! per family speed against error and against undersampling with the Pareto front. Each
+//! family's section ends with the sweeps of the papers' figures (`sweeps.rs`, run and drawn by
+//! `swept.rs`): a plot per measure across the swept values.
 //!
 //! The rows are `bench`'s: the same runs (`bench::run_path`, warm-up and settling), the same
 //! summaries and the same cells, so a number here is the one `bench` prints for that row.
@@ -70,7 +72,8 @@ pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
     let pictures_per_family: Vec<Vec<families::Setting>> =
         plan.iter().map(|(f, _)| f.pictures(base)).collect();
     let lights: Vec<_> = session.scene.lights.iter().map(|l| l.kind).collect();
-    let sweeps = sweeps::parse(&args.sweeps, &families_of(&plan))?
+    let run_families: Vec<Family> = plan.iter().map(|(f, _)| *f).collect();
+    let sweeps = sweeps::parse(&args.sweeps, &run_families)?
         .into_iter()
         .map(|sweep| Ok((sweep, sweep.rows(base, &lights)?)))
         .collect::<anyhow::Result<Vec<_>>>()?;
@@ -200,10 +203,6 @@ fn row(family: Family, label: &str, method: &str, reports: &[(f64, FrameReport)]
         pareto: false,
         swept: None,
     }
-}
-
-fn families_of(plan: &[(Family, Vec<families::Setting>)]) -> Vec<Family> {
-    plan.iter().map(|(f, _)| *f).collect()
 }
 
 /// Speed-ups against the family's first row, the fill saved against it (shadow volumes), and

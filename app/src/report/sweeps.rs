@@ -109,8 +109,8 @@ impl ReportSweep {
                  view's method and split scheme"
             }
             Self::Splits => {
-                "Split schemes: the view's cascades split uniformly, logarithmically and by \
-                 the practical scheme"
+                "Split schemes: the view's cascades split uniformly, logarithmically, by Zhang's \
+                 practical blend and by Engel's geometric series"
             }
             Self::Slices => {
                 "Slicing planes (Lloyd et al.'s Figure 9): CC shadow volumes, conservative \

@@ -462,8 +462,11 @@ impl Running {
         let egui_frame = self.run_egui();
         self.draw_view();
         let update_ms = now.elapsed().as_secs_f64() * 1000.0;
-        // The smoke test waits for a scene it is loading.
-        let settled = self.loading.is_none() && self.then_open.is_none();
+        // The smoke test waits for a scene it is loading, and for the compare table's round.
+        let settled = self.loading.is_none()
+            && self.then_open.is_none()
+            && (!self.settings.compare_all
+                || self.compare.as_ref().is_some_and(CompareAll::complete));
         let last_frame = settled
             && self
                 .exit_after_frames

@@ -4,6 +4,7 @@
 use std::path::Path;
 
 use anyhow::Context as _;
+use render_core::frame::compare::CompareRow;
 use render_core::gpu::read_texture;
 
 use super::Running;
@@ -62,7 +63,7 @@ impl Running {
             report.frame_index
         ));
         write_png(&image, &png)?;
-        let stats = stats_json(
+        let mut stats = stats_json(
             &self.scene,
             &self.settings,
             &self.controller.camera,
@@ -70,6 +71,9 @@ impl Running {
             &self.ctx,
             self.last_frame_ms,
         );
+        if let Some(compare) = &self.compare {
+            stats["compare"] = compare_rows(compare.rows());
+        }
         let json_path = png.with_extension("json");
         std::fs::write(&json_path, serde_json::to_string_pretty(&stats)?)
             .with_context(|| format!("writing {}", json_path.display()))?;
@@ -81,4 +85,23 @@ impl Running {
         ));
         Ok(())
     }
+}
+
+/// The compare table's rows as the screenshot's stats carry them: each method's counts, error
+/// and GPU times, and whether it was computed for an earlier view.
+fn compare_rows(rows: &[CompareRow]) -> serde_json::Value {
+    rows.iter()
+        .map(|r| {
+            serde_json::json!({
+                "method": r.method.name(),
+                "casters_drawn": r.casters_rendered,
+                "triangles": r.triangles,
+                "casters_oracle": r.casters_oracle,
+                "error_px": r.error_px,
+                "shadow_ms": r.shadow_ms,
+                "culling_ms": r.culling_ms,
+                "stale": r.stale,
+            })
+        })
+        .collect()
 }

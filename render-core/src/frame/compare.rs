@@ -146,4 +146,9 @@ impl CompareAll {
     pub fn rows(&self) -> &[CompareRow] {
         &self.rows
     }
+
+    /// Every method has its row for the current view and settings.
+    pub fn complete(&self) -> bool {
+        self.rows.len() == Method::ALL.len() && self.rows.iter().all(|r| !r.stale)
+    }
 }
