@@ -59,8 +59,7 @@ pub struct OpenArgs {
     pub scene: SceneArgs,
     #[command(flatten)]
     pub view: ViewArgs,
-    /// Start with "compare all methods" on: the panel lists every method's counts, error and
-    /// GPU times for the current view.
+    /// Start with "compare all methods" on: every method's counts, error and GPU times.
     #[arg(long)]
     pub compare: bool,
     /// Smoke test: close the window after this many frames.
@@ -81,9 +80,8 @@ pub struct OpenArgs {
     /// Fly the scene's camera path from the first frame, as the Scene tab's "Play path" does.
     #[arg(long)]
     pub play_path: bool,
-    /// Write a CSV line per presented frame: its CPU times (update, waiting for the surface,
-    /// painting), how often it waited for the GPU (never, but for a screenshot), how many
-    /// frames behind the GPU times it shows are, and the scene's objects.
+    /// A CSV line per presented frame: its CPU times, how often it waited for the GPU (never,
+    /// but for a screenshot or "Compare all"), and how late its GPU times are.
     #[arg(long, value_name = "FILE.csv")]
     pub frame_log: Option<PathBuf>,
 }
