@@ -159,7 +159,7 @@ pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
         }
     }
     bar.finish_and_clear();
-    notes.extend(rows.iter().flat_map(row_notes));
+    notes.extend(grouped_notes(&rows));
     write(
         &args.out,
         (&rows, &pictures),
@@ -272,22 +272,28 @@ fn point(row: &BenchRow, x: f64, y: f64) -> Point {
     }
 }
 
-/// What a reader needs to know of a row that the table does not say: its frames' notes
-/// (fallbacks, failed passes) and a missing GPU time.
-fn row_notes(r: &ReportRow) -> Vec<String> {
-    let mut notes: Vec<String> = r
-        .notes
-        .iter()
-        .map(|note| format!("{} / {}: {note}", r.family, r.row.setting))
-        .collect();
-    if r.row.shadow_pass_ms.is_none() {
-        notes.push(format!(
-            "{} / {}: this adapter gave no GPU time for the shadow passes, so the row is not \
-             in the speed plots",
-            r.family, r.row.setting
-        ));
+/// What a reader needs to know of the rows that the tables do not say: their frames' notes
+/// (fallbacks, failed passes) and a missing GPU time, each note once with the rows it holds
+/// for.
+fn grouped_notes(rows: &[ReportRow]) -> Vec<String> {
+    let mut grouped: Vec<(&str, Vec<String>)> = Vec::new();
+    for r in rows {
+        let no_time = r.row.shadow_pass_ms.is_none().then_some(
+            "this adapter gave no GPU time for the shadow passes, so the row is not in the \
+             speed plots",
+        );
+        for note in r.notes.iter().map(String::as_str).chain(no_time) {
+            let name = format!("{} / {}", r.family, r.row.setting);
+            match grouped.iter_mut().find(|(n, _)| *n == note) {
+                Some((_, names)) => names.push(name),
+                None => grouped.push((note, vec![name])),
+            }
+        }
     }
-    notes
+    grouped
+        .into_iter()
+        .map(|(note, names)| format!("{}: {note}", names.join(", ")))
+        .collect()
 }
 
 /// The columns of `bench`'s table the report shows, by index into [`COLUMNS`].
