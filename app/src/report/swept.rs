@@ -62,16 +62,15 @@ pub fn blocks(out: &Path, sweep: ReportSweep, rows: &[&ReportRow], blocks: &mut 
     blocks.push(Block::Heading(3, format!("Sweep: {title}")));
     blocks.push(Block::Paragraph(format!("{described}.")));
     blocks.push(table(rows, false));
-    let at = |r: &ReportRow| r.swept.clone().expect("a sweep's rows say where they sit");
-    let mut points: Vec<String> = Vec::new();
-    let mut lines: Vec<String> = Vec::new();
+    let mut points: Vec<&str> = Vec::new();
+    let mut lines: Vec<&str> = Vec::new();
     for r in rows {
-        let SweptAt { point, series, .. } = at(r);
-        if !points.contains(&point) {
-            points.push(point);
+        let at = at(r);
+        if !points.contains(&at.point.as_str()) {
+            points.push(&at.point);
         }
-        if !lines.contains(&series) {
-            lines.push(series);
+        if !lines.contains(&at.series.as_str()) {
+            lines.push(&at.series);
         }
     }
     let summaries: Vec<&BenchRow> = rows.iter().map(|r| &r.row).collect();
@@ -79,16 +78,13 @@ pub fn blocks(out: &Path, sweep: ReportSweep, rows: &[&ReportRow], blocks: &mut 
     for measure in sweep.measures() {
         let series: Vec<Series> = lines
             .iter()
-            .map(|line| Series {
-                label: line.clone(),
+            .map(|&line| Series {
+                label: line.to_owned(),
                 values: points
                     .iter()
-                    .map(|point| {
+                    .map(|&point| {
                         rows.iter()
-                            .find(|r| {
-                                let at = at(r);
-                                at.point == *point && at.series == *line
-                            })
+                            .find(|r| at(r).point == point && at(r).series == line)
                             .and_then(|r| measure.value(&r.row, exact))
                     })
                     .collect(),
@@ -97,9 +93,10 @@ pub fn blocks(out: &Path, sweep: ReportSweep, rows: &[&ReportRow], blocks: &mut 
         let y_desc = measure.y_desc(exact);
         let file = format!("sweep-{}-{}.png", sweep.name(), measure.name());
         let caption = format!("{title}: {y_desc}");
+        let ticks: Vec<String> = points.iter().map(|&p| p.to_owned()).collect();
         match plots::across(
             &series,
-            &points,
+            &ticks,
             (&caption, sweep.x_desc(), y_desc),
             &out.join(&file),
         ) {
@@ -108,4 +105,11 @@ pub fn blocks(out: &Path, sweep: ReportSweep, rows: &[&ReportRow], blocks: &mut 
             Err(e) => blocks.push(Block::Paragraph(format!("Not drawn: {e}."))),
         }
     }
+}
+
+/// Where a sweep's row sits (a sweep's rows always say).
+fn at(row: &ReportRow) -> &SweptAt {
+    row.swept
+        .as_ref()
+        .expect("a sweep's rows say where they sit")
 }

@@ -7,6 +7,9 @@ use std::io::{BufWriter, Write as _};
 use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
+use render_core::frame::FrameReport;
+
+use super::Running;
 
 /// One presented frame.
 #[derive(Clone, Copy, Debug)]
@@ -89,6 +92,39 @@ impl FrameLog {
             );
             self.out = None;
         }
+    }
+}
+
+impl Running {
+    /// The frame's line of `--frame-log`: its times, and how often it waited for the GPU since
+    /// `waits_before`.
+    pub(super) fn log_frame(
+        &mut self,
+        (dt_s, update_ms, paint_ms): (f32, f64, f64),
+        waits_before: u64,
+        screenshot: bool,
+    ) {
+        let Some(log) = &mut self.frame_log else {
+            return;
+        };
+        let report = self.last_report.as_ref();
+        log.record(&FrameLine {
+            frame: self.frames_presented,
+            since_last_ms: f64::from(dt_s) * 1000.0,
+            update_ms,
+            acquire_ms: self.surface.last_acquire_ms,
+            paint_ms,
+            submit_ms: self.surface.last_submit_ms,
+            present_ms: self.surface.last_present_ms,
+            gpu_waits: self.ctx.waits() - waits_before,
+            gpu_times_behind: report.and_then(|r| {
+                r.gpu_frame_index
+                    .map(|gpu| r.frame_index.saturating_sub(gpu))
+            }),
+            gpu_frame_ms: report.and_then(FrameReport::gpu_total_ms),
+            screenshot,
+            objects: self.facts.objects,
+        });
     }
 }
 
