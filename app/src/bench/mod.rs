@@ -310,7 +310,7 @@ pub(crate) fn camera_at(
     .with_up(template.world_up)
 }
 
-fn median(mut values: Vec<f64>) -> Option<f64> {
+pub(crate) fn median(mut values: Vec<f64>) -> Option<f64> {
     if values.is_empty() {
         return None;
     }

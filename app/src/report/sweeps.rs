@@ -12,7 +12,7 @@ use render_core::scene::LightKind;
 use render_core::shadow_view::LayeredPath;
 
 use super::families::Family;
-use crate::bench::{BenchRow, SweepValues, sweep_settings};
+use crate::bench::{BenchRow, SweepValues, median, sweep_settings};
 use crate::cli::Sweep;
 
 /// A parameter a report sweeps.
@@ -219,7 +219,7 @@ fn maps_rows(base: FrameSettings, lights: &[LightKind]) -> Vec<SweepRow> {
             let maps: usize = lights[..n]
                 .iter()
                 .map(|kind| match kind {
-                    LightKind::Point => 6,
+                    LightKind::Point => render_core::geom::CUBE_FACES.len(),
                     LightKind::Spot { .. } => 1,
                 })
                 .sum();
@@ -252,11 +252,7 @@ impl Measure {
             Self::CastersDrawn => Some(row.casters_drawn),
             Self::UndersamplingP95 => row.undersampling.1,
             Self::FillM => row.fill_m.0,
-            Self::VolumePassMs => {
-                let mut frames = row.volume_pass_frames.clone();
-                frames.sort_by(f64::total_cmp);
-                frames.get(frames.len() / 2).copied()
-            }
+            Self::VolumePassMs => median(row.volume_pass_frames.clone()),
         }
     }
 
