@@ -73,7 +73,7 @@ pub fn check(args: &CheckArgs) -> anyhow::Result<()> {
     let mut session = Session::open(&args.scene, &args.view)?;
     let base = args.view.settings(&session.scene)?;
     let view = args.view.camera(&session.scene, session.aspect())?;
-    let techniques = techniques(base, !session.scene.lights.is_empty());
+    let techniques = techniques(&base, !session.scene.lights.is_empty());
     let mut failures = 0;
     let mut total = 0;
     println!(
@@ -169,7 +169,8 @@ fn not_finite(report: &FrameReport) -> Option<String> {
 
 /// The techniques to check: culling methods on one map, LiSPSM, cascades, CC shadow volumes,
 /// and the many-lights paths where the scene has lights.
-fn techniques(base: FrameSettings, lights: bool) -> Vec<Technique> {
+fn techniques(base: &FrameSettings, lights: bool) -> Vec<Technique> {
+    let base = *base;
     let with = |name, setup, method| Technique {
         name,
         settings: FrameSettings {

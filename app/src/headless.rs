@@ -396,6 +396,7 @@ pub fn stats_json(
         "volume_fill": report.volume_fill,
         "volume_passes": report.volume_passes,
         "layered": report.layered,
+        "virtual": report.virtual_pages,
         "timings_ms": {
             "frame_wall": wall_ms,
             "cpu_culling": report.cpu.culling_ms,

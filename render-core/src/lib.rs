@@ -3,7 +3,7 @@
 //!
 //! Modules, from the bottom up (each imports only those before it): `geom`, `scene`, `gpu`,
 //! `shaders`, `palette`, `scene_gpu`, `shadow_view`, `view`, `culling`, `technique`,
-//! `shadow_map`, `cascades`, `volumes`, `layered`, `metrics`, `truth`, `overlays`, `frame`.
+//! `shadow_map`, `cascades`, `volumes`, `layered`, `virtual_maps`, `metrics`, `truth`, `overlays`, `frame`.
 
 pub mod cascades;
 pub mod culling;
@@ -21,6 +21,7 @@ pub mod shadow_view;
 pub mod technique;
 pub mod truth;
 pub mod view;
+pub mod virtual_maps;
 pub mod volumes;
 
 mod shaders;

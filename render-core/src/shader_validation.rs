@@ -93,6 +93,20 @@ fn composed_shaders() -> Vec<(String, String)> {
             crate::truth::shader_source(layered),
         ),
     ]);
+    // Virtual maps: the page table, marking, the cull and the page draws, and the passes
+    // with their light term.
+    let virtual_maps = crate::virtual_maps::LIGHT_WGSL;
+    shaders.extend(crate::virtual_maps::shader_sources());
+    shaders.extend([
+        (
+            "Frame::camera_shader (virtual)".to_owned(),
+            crate::frame::camera_shader_source(virtual_maps, true),
+        ),
+        (
+            "Truth::light_at_points (virtual)".to_owned(),
+            crate::truth::shader_source(virtual_maps),
+        ),
+    ]);
     shaders
 }
 

@@ -104,6 +104,34 @@ const FILES: &[(&str, &str)] = &[
         include_str!("layered/multiview.wgsl"),
     ),
     ("layered/atlas.wgsl", include_str!("layered/atlas.wgsl")),
+    (
+        "virtual_maps/pages.wgsl",
+        include_str!("virtual_maps/pages.wgsl"),
+    ),
+    (
+        "virtual_maps/tables.wgsl",
+        include_str!("virtual_maps/tables.wgsl"),
+    ),
+    (
+        "virtual_maps/allocate.wgsl",
+        include_str!("virtual_maps/allocate.wgsl"),
+    ),
+    (
+        "virtual_maps/mark.wgsl",
+        include_str!("virtual_maps/mark.wgsl"),
+    ),
+    (
+        "virtual_maps/cull.wgsl",
+        include_str!("virtual_maps/cull.wgsl"),
+    ),
+    (
+        "virtual_maps/draw.wgsl",
+        include_str!("virtual_maps/draw.wgsl"),
+    ),
+    (
+        "virtual_maps/light.wgsl",
+        include_str!("virtual_maps/light.wgsl"),
+    ),
     ("layered/tile.wgsl", include_str!("layered/tile.wgsl")),
     ("layered/load.wgsl", include_str!("layered/load.wgsl")),
     (

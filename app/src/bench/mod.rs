@@ -106,7 +106,7 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
     }
 
     let settings_list = match args.sweep {
-        Some(sweep) => sweep_settings(sweep, base, &SweepValues::from(args))?,
+        Some(sweep) => sweep_settings(sweep, &base, &SweepValues::from(args))?,
         None => vec![(String::new(), base)],
     };
     let mut rows = Vec::new();
@@ -116,7 +116,7 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
             let reports = run_path(
                 &mut session,
                 (&path, &template),
-                FrameSettings { method, ..settings },
+                &FrameSettings { method, ..settings },
                 &RunOptions::from(args),
                 &mut |_| {},
             )?;
@@ -249,10 +249,11 @@ impl From<&BenchArgs> for RunOptions {
 pub(crate) fn run_path(
     session: &mut Session,
     (path, template): (&CameraPath, &Camera),
-    settings: FrameSettings,
+    settings: &FrameSettings,
     options: &RunOptions,
     done: &mut dyn FnMut(u32),
 ) -> anyhow::Result<Vec<(f64, FrameReport)>> {
+    let settings = *settings;
     let frames = options.frames.max(1);
     session.renderer = FrameRenderer::new(&session.ctx);
     let mut reports = Vec::new();

@@ -44,7 +44,7 @@ pub(super) fn sweep_objects(args: &BenchArgs, methods: &[Method]) -> anyhow::Res
             let reports = run_path(
                 &mut session,
                 (&path, &template),
-                FrameSettings { method, ..base },
+                &FrameSettings { method, ..base },
                 &RunOptions::from(args),
                 &mut |_| {},
             )?;

@@ -37,9 +37,10 @@ pub(crate) const SLICES: [u32; 6] = [1, 2, 4, 8, 16, 32];
 /// settings alone.
 pub(crate) fn settings(
     sweep: Sweep,
-    base: FrameSettings,
+    base: &FrameSettings,
     values: &SweepValues,
 ) -> anyhow::Result<Vec<(String, FrameSettings)>> {
+    let base = *base;
     values.check()?;
     let with_setup = |setup| FrameSettings { setup, ..base };
     Ok(match sweep {
@@ -172,17 +173,17 @@ mod tests {
     #[test]
     fn each_sweep_sets_what_it_varies() {
         let base = FrameSettings::default();
-        let res = settings(Sweep::Resolution, base, &values()).unwrap();
+        let res = settings(Sweep::Resolution, &base, &values()).unwrap();
         assert_eq!(res[1].0, "res 1024");
         assert_eq!(res[1].1.shadow.resolution, 1024);
-        let sun = settings(Sweep::Elevation, base, &values()).unwrap();
+        let sun = settings(Sweep::Elevation, &base, &values()).unwrap();
         let (_, elevation) = sun[1].1.sun.azimuth_elevation_deg();
         assert!((elevation - 45.0).abs() < 1e-3, "{elevation}");
-        let cascades = settings(Sweep::Cascades, base, &values()).unwrap();
+        let cascades = settings(Sweep::Cascades, &base, &values()).unwrap();
         let labels: Vec<&str> = cascades.iter().map(|(l, _)| l.as_str()).collect();
         assert_eq!(labels, ["single", "lispsm", "2 cascades", "4 cascades"]);
         assert_eq!(cascades[3].1.cascades.count, 4);
-        let slices = settings(Sweep::Slices, base, &values()).unwrap();
+        let slices = settings(Sweep::Slices, &base, &values()).unwrap();
         assert_eq!(slices.len(), SLICES.len());
         assert_eq!(slices[5].1.volumes.slices, 32);
         assert_eq!(slices[5].1.volumes.clamp, VolumeClamp::Conservative);
@@ -195,12 +196,12 @@ mod tests {
             cascade_counts: vec![99],
             ..values()
         };
-        let err = settings(Sweep::Cascades, base, &wrong).unwrap_err();
+        let err = settings(Sweep::Cascades, &base, &wrong).unwrap_err();
         assert!(err.to_string().contains("--cascade-counts: 99"), "{err}");
         let wrong = SweepValues {
             elevations: vec![0.0],
             ..values()
         };
-        assert!(settings(Sweep::Elevation, base, &wrong).is_err());
+        assert!(settings(Sweep::Elevation, &base, &wrong).is_err());
     }
 }

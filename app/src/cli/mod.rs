@@ -17,6 +17,7 @@ use crate::scene_source::{LoadOptions, frame_scene};
 mod commands;
 mod layered;
 mod light;
+mod virtual_maps;
 mod volumes;
 
 pub use commands::{BenchArgs, CheckArgs, ReportArgs, ShotArgs, Sweep};
@@ -194,8 +195,8 @@ pub struct ViewArgs {
     #[arg(long, value_name = "TEXELS")]
     pub normal_offset: Option<f32>,
     /// Shadow setup: single (one map), lispsm (one map warped in light space), cascades,
-    /// volumes (stencil shadow volumes: exact hard shadows, no map), or lights (the scene's
-    /// spot and point lights, a map each).
+    /// volumes (stencil shadow volumes: exact hard shadows, no map), lights (the scene's
+    /// spot and point lights, a map each), or virtual (a clipmap of cached pages).
     #[arg(long, value_parser = parse_setup, value_name = "SETUP")]
     pub shadow: Option<ShadowSetup>,
     /// Number of cascades, 1 to 8 (with --shadow cascades).
@@ -278,6 +279,8 @@ pub struct ViewArgs {
     pub cascade_blend: Option<f32>,
     #[command(flatten)]
     pub lights: layered::LayeredArgs,
+    #[command(flatten)]
+    pub virtual_maps: virtual_maps::VirtualArgs,
     /// Pose dynamic objects (the city's cars) as they are this many seconds into their motion.
     #[arg(long, value_name = "SECONDS", allow_hyphen_values = true)]
     pub time: Option<f64>,
@@ -289,7 +292,7 @@ pub const DEFAULT_FOV_DEG: f32 = 60.0;
 impl ViewArgs {
     /// The frame settings these arguments ask for, starting from the scene's sun.
     pub fn settings(&self, scene: &Scene) -> anyhow::Result<FrameSettings> {
-        let mut settings = self.settings_over(FrameSettings {
+        let mut settings = self.settings_over(&FrameSettings {
             sun: scene.sun,
             ..FrameSettings::default()
         })?;
@@ -298,8 +301,8 @@ impl ViewArgs {
     }
 
     /// `base` with what these arguments set changed.
-    pub fn settings_over(&self, base: FrameSettings) -> anyhow::Result<FrameSettings> {
-        let mut settings = base;
+    pub fn settings_over(&self, base: &FrameSettings) -> anyhow::Result<FrameSettings> {
+        let mut settings = *base;
         if let Some(sun) = self.sun {
             if sun.length_squared() == 0.0 || !sun.is_finite() {
                 bail!("--sun must be a non-zero direction x,y,z, got {sun}");
@@ -348,6 +351,7 @@ impl ViewArgs {
             settings.overlays.enable(name).map_err(anyhow::Error::msg)?;
         }
         self.cascade_settings(&mut settings)?;
+        self.virtual_maps.apply_to(self.shadow, &mut settings)?;
         Ok(settings)
     }
 

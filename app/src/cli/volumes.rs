@@ -69,7 +69,7 @@ mod tests {
         let Some(Command::Shot(shot)) = cli.command else {
             panic!("a shot");
         };
-        shot.view.settings_over(FrameSettings::default())
+        shot.view.settings_over(&FrameSettings::default())
     }
 
     #[test]

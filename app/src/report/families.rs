@@ -61,7 +61,8 @@ impl Family {
     }
 
     /// The rows, from the view's settings.
-    pub fn settings(self, base: FrameSettings) -> Vec<Setting> {
+    pub fn settings(self, base: &FrameSettings) -> Vec<Setting> {
+        let base = *base;
         let with = |label: String, settings: FrameSettings| Setting { label, settings };
         match self {
             Self::Culling => Method::ALL
@@ -126,7 +127,8 @@ impl Family {
 
 impl Family {
     /// The views the section shows, each with the overlays that explain the family.
-    pub fn pictures(self, base: FrameSettings) -> Vec<Setting> {
+    pub fn pictures(self, base: &FrameSettings) -> Vec<Setting> {
+        let base = *base;
         let mut settings = FrameSettings {
             measure: true,
             ..base
@@ -259,8 +261,8 @@ mod tests {
     #[test]
     fn each_family_has_its_rows() {
         let base = FrameSettings::default();
-        assert_eq!(Family::Culling.settings(base).len(), Method::ALL.len());
-        let volumes = Family::Volumes.settings(base);
+        assert_eq!(Family::Culling.settings(&base).len(), Method::ALL.len());
+        let volumes = Family::Volumes.settings(&base);
         assert_eq!(volumes[0].label, "standard");
         assert_eq!(volumes[0].settings.method, Method::None);
         assert!(
@@ -269,7 +271,7 @@ mod tests {
                 .all(|s| s.settings.setup == ShadowSetup::Volumes)
         );
         assert_eq!(volumes.len(), 2 + VolumeClamp::ALL.len() - 1);
-        let lights = Family::Lights.settings(base);
+        let lights = Family::Lights.settings(&base);
         assert_eq!(lights[2].settings.layered.path, LayeredPath::Atlas);
     }
 }

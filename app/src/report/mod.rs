@@ -67,15 +67,15 @@ pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
     let (families, mut notes) = families::parse(&args.families, !session.scene.lights.is_empty())?;
     let plan: Vec<(Family, Vec<families::Setting>)> = families
         .into_iter()
-        .map(|f| (f, f.settings(base)))
+        .map(|f| (f, f.settings(&base)))
         .collect();
     let pictures_per_family: Vec<Vec<families::Setting>> =
-        plan.iter().map(|(f, _)| f.pictures(base)).collect();
+        plan.iter().map(|(f, _)| f.pictures(&base)).collect();
     let lights: Vec<_> = session.scene.lights.iter().map(|l| l.kind).collect();
     let run_families: Vec<Family> = plan.iter().map(|(f, _)| *f).collect();
     let sweeps = sweeps::parse(&args.sweeps, &run_families)?
         .into_iter()
-        .map(|sweep| Ok((sweep, sweep.rows(base, &lights)?)))
+        .map(|sweep| Ok((sweep, sweep.rows(&base, &lights)?)))
         .collect::<anyhow::Result<Vec<_>>>()?;
     let options = RunOptions {
         frames: args.frames.max(1),
@@ -122,7 +122,7 @@ pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
             let reports = run_path(
                 &mut session,
                 (&path, &template),
-                setting.settings,
+                &setting.settings,
                 &options,
                 &mut |_| bar.inc(1),
             )?;

@@ -150,14 +150,15 @@ impl ReportSweep {
     }
 
     /// The rows, from the view's settings; `lights` are the scene's lights' kinds.
-    pub fn rows(self, base: FrameSettings, lights: &[LightKind]) -> anyhow::Result<Vec<SweepRow>> {
+    pub fn rows(self, base: &FrameSettings, lights: &[LightKind]) -> anyhow::Result<Vec<SweepRow>> {
+        let base = *base;
         let values = SweepValues {
             resolutions: vec![512, 1024, 2048],
             elevations: vec![10.0, 30.0, 50.0, 70.0],
             cascade_counts: vec![1, 2, 4, 8],
             lambdas: Vec::new(),
         };
-        let swept = |sweep| sweep_settings(sweep, base, &values);
+        let swept = |sweep| sweep_settings(sweep, &base, &values);
         let one_line = |sweep, series: String| -> anyhow::Result<Vec<SweepRow>> {
             Ok(swept(sweep)?
                 .into_iter()
@@ -194,7 +195,7 @@ impl ReportSweep {
                     method: Method::Vfc,
                     ..base
                 };
-                Ok(sweep_settings(Sweep::Slices, base, &values)?
+                Ok(sweep_settings(Sweep::Slices, &base, &values)?
                     .into_iter()
                     .map(|(point, settings)| SweepRow {
                         point,
@@ -203,13 +204,14 @@ impl ReportSweep {
                     })
                     .collect())
             }
-            Self::Maps => Ok(maps_rows(base, lights)),
+            Self::Maps => Ok(maps_rows(&base, lights)),
         }
     }
 }
 
 /// Each number of the scene's lights (up to all of them), each path.
-fn maps_rows(base: FrameSettings, lights: &[LightKind]) -> Vec<SweepRow> {
+fn maps_rows(base: &FrameSettings, lights: &[LightKind]) -> Vec<SweepRow> {
+    let base = *base;
     let mut counts: Vec<usize> = LIGHT_COUNTS.iter().map(|&n| n.min(lights.len())).collect();
     counts.dedup();
     counts
@@ -334,12 +336,12 @@ mod tests {
     #[test]
     fn each_sweep_has_its_rows() {
         let base = FrameSettings::default();
-        let res = ReportSweep::Resolution.rows(base, &[]).unwrap();
+        let res = ReportSweep::Resolution.rows(&base, &[]).unwrap();
         assert_eq!(res.len(), 3 * CULLING_METHODS.len());
         assert_eq!(res[1].series, "frag");
         assert_eq!(res[1].point, "res 512");
         assert_eq!(res[4].settings.shadow.resolution, 1024);
-        let cascades = ReportSweep::Cascades.rows(base, &[]).unwrap();
+        let cascades = ReportSweep::Cascades.rows(&base, &[]).unwrap();
         assert_eq!(cascades.len(), 6);
         let spot = LightKind::Spot {
             direction: glam::Vec3::NEG_Y,
@@ -347,7 +349,7 @@ mod tests {
             outer_cone_rad: 0.4,
         };
         let maps = ReportSweep::Maps
-            .rows(base, &[LightKind::Point, spot, spot])
+            .rows(&base, &[LightKind::Point, spot, spot])
             .unwrap();
         // 1, 2 and 3 lights (the scene has three), each path.
         let points: Vec<&str> = maps.iter().map(|r| r.point.as_str()).collect();

@@ -39,7 +39,7 @@ pub fn run(
         let label = format!("{} / {}", r.point, r.series);
         bar.set_message(format!("{} sweep: {label}", sweep.name()));
         let mut done = |_| bar.inc(1);
-        let reports = run_path(session, (path, template), r.settings, options, &mut done)?;
+        let reports = run_path(session, (path, template), &r.settings, options, &mut done)?;
         if bar.is_hidden() {
             eprintln!("  {} sweep: {label} done", sweep.name());
         }

@@ -227,7 +227,7 @@ impl Running {
             wgpu::FilterMode::Linear,
         );
         let scene_gpu = SceneGpu::new(&ctx, &scene);
-        let mut settings = args.view.settings_over(FrameSettings {
+        let mut settings = args.view.settings_over(&FrameSettings {
             sun: restored.sun.unwrap_or(scene.sun),
             ..restored.frame
         })?;

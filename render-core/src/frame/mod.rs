@@ -301,6 +301,7 @@ impl FrameRenderer {
             measure_fill: settings.measure || settings.overlays.fill,
             volumes: settings.volumes,
             layered: &settings.layered,
+            virtual_maps: settings.virtual_maps,
             frame_index: self.frame_index,
             visible_receivers: self.latest.visibility.map(|v| v.receiver_bounds),
             visible_depths_m: self

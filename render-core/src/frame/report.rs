@@ -83,6 +83,8 @@ pub struct FrameReport {
     pub volume_passes: Option<crate::technique::VolumePasses>,
     /// Many lights: the path, its passes and draws, and the CPU time of recording them.
     pub layered: Option<crate::technique::LayeredFacts>,
+    /// Virtual maps: pages marked, resident, drawn and refused, and the pool.
+    pub virtual_pages: Option<crate::technique::VirtualPages>,
 }
 
 impl FrameReport {
@@ -112,6 +114,7 @@ impl FrameReport {
         self.volume_fill = shadows.volume_fill;
         self.volume_passes = shadows.volume_passes;
         self.layered = shadows.layered;
+        self.virtual_pages = shadows.virtual_pages;
     }
 
     /// Takes a measured frame: error, and the oracle per view and in total.

@@ -142,6 +142,11 @@ impl FrameRenderer {
         self.techniques.layered().depth_texture()
     }
 
+    /// The virtual maps' physical atlas as the last frame with them left it; for tests.
+    pub fn virtual_atlas(&self) -> Option<&wgpu::Texture> {
+        self.techniques.virtual_maps().atlas()
+    }
+
     /// The triangles per-layer culling kept for each slot (a view, or a multiview group) in
     /// the last frame that culled. Blocks: for tests and reports.
     pub fn lights_kept_triangles(&self, ctx: &GpuContext) -> Result<Vec<u32>, GpuError> {

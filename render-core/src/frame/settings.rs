@@ -79,15 +79,19 @@ pub enum ShadowSetup {
     /// The scene's spot and point lights, a map each (six for a point light), rendered by
     /// the path of [`FrameSettings::layered`] (`layered/`).
     Lights,
+    /// Virtual shadow maps: a clipmap of 128-texel pages, only the pages visible pixels read
+    /// drawn, cached across frames ([`FrameSettings::virtual_maps`], `virtual_maps/`).
+    Virtual,
 }
 
 impl ShadowSetup {
-    pub const ALL: [Self; 5] = [
+    pub const ALL: [Self; 6] = [
         Self::Single,
         Self::Lispsm,
         Self::Cascades,
         Self::Volumes,
         Self::Lights,
+        Self::Virtual,
     ];
 
     pub fn name(self) -> &'static str {
@@ -97,6 +101,7 @@ impl ShadowSetup {
             Self::Cascades => "cascades",
             Self::Volumes => "volumes",
             Self::Lights => "lights",
+            Self::Virtual => "virtual",
         }
     }
 }
@@ -170,6 +175,8 @@ pub struct FrameSettings {
     pub volumes: crate::shadow_view::VolumeSettings,
     /// Many lights: how their maps are rendered.
     pub layered: crate::shadow_view::LayeredSettings,
+    /// Virtual maps: the pool, the levels and the cache.
+    pub virtual_maps: crate::shadow_view::VirtualSettings,
     #[serde(skip)]
     pub sun: Sun,
     /// A point light casts the shadows and lights the scene instead of the sun (shadow

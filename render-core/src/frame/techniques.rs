@@ -10,6 +10,7 @@ use crate::layered::LayeredTechnique;
 use crate::shadow_map::{MapTechnique, SunView, ViewLayout, WarpedSunView};
 use crate::technique::ShadowTechnique;
 use crate::truth::LightAtPoints;
+use crate::virtual_maps::VirtualTechnique;
 use crate::volumes::VolumeTechnique;
 
 /// Which technique a setup belongs to.
@@ -22,6 +23,8 @@ pub(super) enum Family {
     Volumes,
     /// Many lights, a map each (`layered/`).
     Lights,
+    /// Virtual shadow maps (`virtual_maps/`).
+    Virtual,
 }
 
 impl Family {
@@ -30,6 +33,7 @@ impl Family {
             ShadowSetup::Single | ShadowSetup::Lispsm | ShadowSetup::Cascades => Self::Maps,
             ShadowSetup::Volumes => Self::Volumes,
             ShadowSetup::Lights => Self::Lights,
+            ShadowSetup::Virtual => Self::Virtual,
         }
     }
 
@@ -37,7 +41,7 @@ impl Family {
     /// draws the point light's light without shadows and reports this.
     pub fn point_light_refusal(self) -> Option<&'static str> {
         match self {
-            Self::Maps => Some(
+            Self::Maps | Self::Virtual => Some(
                 "shadow maps cast the sun's shadows only: a point light's need `--shadow volumes` \
                  (cube maps come with many lights, issue 14); drawn without shadows",
             ),
@@ -80,6 +84,8 @@ pub(super) struct Techniques {
     map_shading: Shading,
     volume_shading: Shading,
     layered_shading: Shading,
+    virtual_maps: VirtualTechnique,
+    virtual_shading: Shading,
     pub active: Family,
     /// What the map technique's layout was made for (setup, cascades, LiSPSM, copies).
     layout_key: Option<(ShadowSetup, CascadeSettings, LispsmSettings, u32)>,
@@ -97,7 +103,10 @@ impl Techniques {
         let maps = MapTechnique::new(ctx, frame, pass_view);
         let volumes = VolumeTechnique::new(ctx, frame);
         let layered = LayeredTechnique::new(ctx, [frame, pass_view]);
+        let virtual_maps = VirtualTechnique::new(ctx, frame);
         Self {
+            virtual_shading: Shading::new(ctx, &virtual_maps, [frame, measure], early_depth_test),
+            virtual_maps,
             map_shading: Shading::new(ctx, &maps, [frame, measure], early_depth_test),
             volume_shading: Shading::new(ctx, &volumes, [frame, measure], early_depth_test),
             layered_shading: Shading::new(ctx, &layered, [frame, measure], early_depth_test),
@@ -118,9 +127,10 @@ impl Techniques {
         if self.layout_key != Some(key) {
             self.layout_key = Some(key);
             let layout: Box<dyn ViewLayout> = match key.0 {
-                ShadowSetup::Single | ShadowSetup::Volumes | ShadowSetup::Lights => {
-                    Box::new(SunView { copies })
-                }
+                ShadowSetup::Single
+                | ShadowSetup::Volumes
+                | ShadowSetup::Lights
+                | ShadowSetup::Virtual => Box::new(SunView { copies }),
                 ShadowSetup::Lispsm => Box::new(WarpedSunView {
                     n_scale: key.2.n_scale,
                 }),
@@ -164,11 +174,16 @@ impl Techniques {
         &self.layered
     }
 
+    pub fn virtual_maps(&self) -> &VirtualTechnique {
+        &self.virtual_maps
+    }
+
     pub fn active(&self) -> &dyn ShadowTechnique {
         match self.active {
             Family::Maps => &self.maps,
             Family::Volumes => &self.volumes,
             Family::Lights => &self.layered,
+            Family::Virtual => &self.virtual_maps,
         }
     }
 
@@ -177,6 +192,7 @@ impl Techniques {
             Family::Maps => &mut self.maps,
             Family::Volumes => &mut self.volumes,
             Family::Lights => &mut self.layered,
+            Family::Virtual => &mut self.virtual_maps,
         }
     }
 
@@ -186,6 +202,7 @@ impl Techniques {
             Family::Maps => &self.map_shading,
             Family::Volumes => &self.volume_shading,
             Family::Lights => &self.layered_shading,
+            Family::Virtual => &self.virtual_shading,
         }
     }
 
@@ -194,5 +211,6 @@ impl Techniques {
         self.maps.exclude(instances);
         self.volumes.exclude(instances);
         self.layered.exclude(instances);
+        self.virtual_maps.exclude(instances);
     }
 }

@@ -2,6 +2,7 @@
 
 mod aabb;
 mod camera;
+mod clipmap;
 mod frustum;
 mod light_fit;
 mod lispsm;
@@ -10,6 +11,7 @@ mod slice_fit;
 
 pub use aabb::Aabb;
 pub use camera::{BOX_EDGES, Camera, basis_for_direction};
+pub use clipmap::{ClipmapLevel, fit_clipmap_level};
 pub use frustum::{Containment, Frustum, Plane};
 pub use light_fit::{
     LightFrustum, TexelGrid, fit_directional_light, fit_focused_light, fit_whole_scene,

@@ -33,6 +33,7 @@ pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY
     .union(wgpu::Features::DEPTH_CLIP_CONTROL)
     .union(wgpu::Features::DEPTH32FLOAT_STENCIL8)
     .union(wgpu::Features::CLIP_DISTANCES)
+    .union(wgpu::Features::MULTI_DRAW_INDIRECT_COUNT)
     .union(wgpu::Features::MULTIVIEW);
 
 /// Instance, adapter, device and queue. Long-lived: one per process (or per window).

@@ -19,6 +19,8 @@ pub mod pass_label {
     pub const VOLUME_SILHOUETTES: &str = "silhouettes";
     pub const VOLUME_DEPTH: &str = "volume depth";
     pub const SHADOW_VOLUMES: &str = "shadow volumes";
+    /// Virtual shadow maps: marking, the page table and the per-page cull, all in compute.
+    pub const VIRTUAL_PAGES: &str = "pages";
     pub const SHADING: &str = "shading";
     pub const OVERLAYS: &str = "overlays";
 
@@ -35,6 +37,16 @@ pub mod pass_label {
         pub const CASTER_TESTS: &str = "caster tests";
         /// The texel-exact footprint test, both phases and the light-visible re-test.
         pub const FOOTPRINTS: &str = "footprint test";
+    }
+
+    /// The steps of [`VIRTUAL_PAGES`], timed inside it.
+    pub mod virtual_maps {
+        /// Pages released (moved boxes, left squares) and pages marked by visible pixels.
+        pub const MARKING: &str = "marking";
+        /// Free pages listed, marked pages given physical pages, eviction, the counts.
+        pub const ALLOCATION: &str = "allocation";
+        /// Each caster against the pages drawn this frame.
+        pub const CULLING: &str = "page culling";
     }
 
     /// The steps of [`VOLUME_SILHOUETTES`], timed inside it.

@@ -98,6 +98,7 @@ fn at_size<'a>(input: &TechniqueInput<'a>, shadow: &'a ShadowSettings) -> Techni
         measure_fill: input.measure_fill,
         volumes: input.volumes,
         layered: input.layered,
+        virtual_maps: input.virtual_maps,
         frame_index: input.frame_index,
         visible_receivers: input.visible_receivers,
         visible_depths_m: input.visible_depths_m,

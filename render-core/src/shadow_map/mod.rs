@@ -447,6 +447,7 @@ impl ShadowTechnique for MapTechnique {
             failure: self.last.failure.clone(),
             cpu_culling_ms: self.last.cpu_culling_ms,
             layered: None,
+            virtual_pages: None,
         }
     }
 

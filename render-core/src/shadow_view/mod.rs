@@ -11,12 +11,14 @@ mod buffer;
 mod gpu_data;
 mod layered_settings;
 mod settings;
+mod virtual_settings;
 mod volume_settings;
 
 pub use buffer::ViewBuffer;
 pub use gpu_data::ShadowViewGpu;
 pub use layered_settings::{LayerCulling, LayeredPath, LayeredSettings};
 pub use settings::{PcfKernel, ShadowSettings};
+pub use virtual_settings::{LEVEL_PAGES, PAGE_BYTES, PAGE_TEXELS, VirtualSettings};
 pub use volume_settings::{VolumeClamp, VolumePassChoice, VolumeSettings};
 
 use crate::geom::LightFrustum;

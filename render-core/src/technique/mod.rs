@@ -66,6 +66,8 @@ pub struct TechniqueInput<'a> {
     pub volumes: crate::shadow_view::VolumeSettings,
     /// How the many-lights technique renders its maps.
     pub layered: &'a crate::shadow_view::LayeredSettings,
+    /// The virtual maps' pool, levels and cache.
+    pub virtual_maps: crate::shadow_view::VirtualSettings,
     pub frame_index: u64,
     /// The newest visible receivers' world bounds that have come back (for FOCUS).
     pub visible_receivers: Option<Aabb>,
@@ -161,6 +163,39 @@ pub struct ShadowReport {
     pub cpu_culling_ms: f64,
     /// Many lights: how the maps were rendered.
     pub layered: Option<LayeredFacts>,
+    /// Virtual shadow maps: the newest frame's pages.
+    pub virtual_pages: Option<VirtualPages>,
+}
+
+/// The pages of one frame of the virtual shadow maps (`virtual_maps/`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct VirtualPages {
+    /// Pages that visible pixels' taps read (and the coarsest level's under them).
+    pub pages_marked: u32,
+    /// Pages holding a physical page after allocation (cached ones included).
+    pub pages_resident: u32,
+    /// Pages drawn this frame: new, or invalidated.
+    pub pages_rendered: u32,
+    /// Marked pages the pool had no room for; their pixels read a coarser level.
+    pub pages_refused: u32,
+    /// Cached pages no pixel marked, evicted where the pool ran out.
+    pub pages_evicted: u32,
+    /// Cached pages released at the frame's start: moved through, left their level's
+    /// square, or everything was invalid.
+    pub pages_invalidated: u32,
+    /// Boxes (old and new bounds of moved objects) that invalidated pages.
+    pub moved_boxes: u32,
+    /// Every page was invalid (the cache off, the light or the scene changed).
+    pub all_invalidated: bool,
+    /// (caster, page) pairs drawn.
+    pub caster_pages: u32,
+    pub pool_pages: u32,
+    pub pool_mib: f64,
+    pub levels: u32,
+    pub finest_texel_m: f32,
+    pub cache: bool,
+    /// Texels of the pages drawn.
+    pub texels_rendered: u64,
 }
 
 /// How the many-lights technique rendered a frame's maps.

@@ -1,0 +1,111 @@
+//! How the virtual shadow maps (`virtual_maps/`) are set: the physical pool, the clipmap's
+//! levels and finest texel, resolution matching's bias and the cache. Plain data: the UI
+//! edits it, the CLI parses it, reports echo it.
+
+use serde::{Deserialize, Serialize};
+
+/// Texels along a page's side.
+pub const PAGE_TEXELS: u32 = 128;
+/// Pages along a clipmap level's side: a level is a virtual map of 32 x 32 pages, 4096
+/// texels square, centred on the camera.
+pub const LEVEL_PAGES: u32 = 32;
+/// Bytes of one physical page (`Depth32Float`).
+pub const PAGE_BYTES: u64 = (PAGE_TEXELS * PAGE_TEXELS * 4) as u64;
+
+/// The virtual maps a user sets.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct VirtualSettings {
+    /// Physical pages in the pool (`--pages`): 1,024 pages are 64 MiB, the memory of four
+    /// cascades of 2048.
+    pub pages: u32,
+    /// Clipmap levels (`--levels`), level k's texel 2^k times the finest.
+    pub levels: u32,
+    /// The finest level's texel, metres.
+    pub finest_texel_m: f32,
+    /// Added to the level resolution matching picks, in octaves: above 0 coarser, below
+    /// finer (Unreal's `ResolutionLodBiasDirectional`).
+    pub lod_bias: f32,
+    /// Pages persist across frames until something moves through them (`--cache`).
+    pub cache: bool,
+}
+
+impl Default for VirtualSettings {
+    fn default() -> Self {
+        Self {
+            pages: 1024,
+            levels: 16,
+            finest_texel_m: 0.002,
+            lod_bias: 0.0,
+            cache: true,
+        }
+    }
+}
+
+impl VirtualSettings {
+    pub const MIN_PAGES: u32 = 16;
+    pub const MAX_PAGES: u32 = 4096;
+    pub const MAX_LEVELS: u32 = 24;
+
+    /// The pool's memory, MiB.
+    pub fn pool_mib(&self) -> f64 {
+        (u64::from(self.pages) * PAGE_BYTES) as f64 / (1024.0 * 1024.0)
+    }
+
+    /// These settings within their ranges (the pool within what the device's textures hold).
+    #[must_use]
+    pub fn clamped(self, max_texture_side: u32) -> Self {
+        let side_pages = max_texture_side / PAGE_TEXELS;
+        Self {
+            pages: self.pages.clamp(
+                Self::MIN_PAGES,
+                Self::MAX_PAGES.min(side_pages * side_pages),
+            ),
+            levels: self.levels.clamp(1, Self::MAX_LEVELS),
+            finest_texel_m: if self.finest_texel_m.is_finite() && self.finest_texel_m > 0.0 {
+                self.finest_texel_m
+            } else {
+                Self::default().finest_texel_m
+            },
+            lod_bias: if self.lod_bias.is_finite() {
+                self.lod_bias.clamp(-4.0, 4.0)
+            } else {
+                0.0
+            },
+            cache: self.cache,
+        }
+    }
+
+    /// Pages along the physical atlas's side, columns and rows: as square as the pool allows.
+    pub fn atlas_pages(&self) -> [u32; 2] {
+        let columns = (f64::from(self.pages).sqrt().ceil() as u32).max(1);
+        [columns, self.pages.div_ceil(columns)]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_default_pool_holds_the_memory_of_four_cascades_of_2048() {
+        let s = VirtualSettings::default();
+        assert_eq!(u64::from(s.pages) * PAGE_BYTES, 4 * 2048 * 2048 * 4);
+        assert!((s.pool_mib() - 64.0).abs() < 1e-12);
+        assert_eq!(s.atlas_pages(), [32, 32]);
+    }
+
+    #[test]
+    fn the_pool_fits_the_device_and_odd_sizes_make_a_whole_atlas() {
+        let s = VirtualSettings {
+            pages: 4096,
+            ..VirtualSettings::default()
+        };
+        assert_eq!(s.clamped(8192).pages, 4096);
+        assert_eq!(s.clamped(2048).pages, 256);
+        let odd = VirtualSettings { pages: 1000, ..s };
+        let [c, r] = odd.atlas_pages();
+        assert!(c * r >= 1000 && c * (r - 1) < 1000, "{c} x {r}");
+        assert_eq!(VirtualSettings { pages: 1, ..s }.clamped(8192).pages, 16);
+    }
+}

@@ -1,0 +1,184 @@
+// The page table's frame (virtual_maps/passes.rs), in this order: entries touched by a moved
+// box invalid; each entry kept, or released when its page left its level's square, was
+// invalidated or everything was; (marking); free physical pages listed; marked entries of
+// the coarsest level given pages, then the others'; where the pool ran out, cached pages no
+// pixel marked evicted and the refused entries given pages again; the frame's counts, the
+// drawn pages' list and squares, and the clears' draw arguments. No readback: the CPU learns
+// the counts a frame or more later.
+#import virtual_maps/tables.wgsl
+
+// x: box, y: level. Every entry whose page the box covers is invalid this frame.
+@compute @workgroup_size(64)
+fn invalidate_moved(@builtin(global_invocation_id) id: vec3<u32>) {
+    let boxes = u32(params.tuning.z);
+    if (id.x >= boxes || id.y >= level_count()) {
+        return;
+    }
+    let pages = box_pages(id.y, moved[2u * id.x].xyz, moved[2u * id.x + 1u].xyz);
+    for (var y = pages.y; y <= pages.w; y++) {
+        for (var x = pages.x; x <= pages.z; x++) {
+            atomicOr(&page_flags[entry_of(id.y, vec2<i32>(x, y))], PAGE_INVALID);
+        }
+    }
+}
+
+fn entry_count() -> u32 {
+    return level_count() * LEVEL_ENTRIES;
+}
+
+fn release(e: u32) {
+    owners[page_slots[e]] = 0u;
+    atomicStore(&page_flags[e], 0u);
+}
+
+@compute @workgroup_size(64)
+fn begin_pages(@builtin(global_invocation_id) id: vec3<u32>) {
+    let e = id.x;
+    if (e >= entry_count()) {
+        return;
+    }
+    let flags = atomicLoad(&page_flags[e]);
+    if ((flags & PAGE_RESIDENT) == 0u) {
+        atomicStore(&page_flags[e], 0u);
+        return;
+    }
+    let level = e / LEVEL_ENTRIES;
+    let same_page = all(page_tags[e] == absolute_page(level, window_page(e)));
+    if (params.counts.w != 0u || (flags & PAGE_INVALID) != 0u || !same_page) {
+        release(e);
+        atomicAdd(&counters.invalidated, 1u);
+        return;
+    }
+    atomicStore(&page_flags[e], PAGE_RESIDENT);
+}
+
+// Every free physical page into the free list. The second round runs only where the first
+// allocation refused pages, after the eviction.
+fn list_free(slot: u32) {
+    if (slot < params.counts.y && owners[slot] == 0u) {
+        free_list[atomicAdd(&counters.free_count, 1u)] = slot;
+    }
+}
+
+@compute @workgroup_size(64)
+fn list_free_pages(@builtin(global_invocation_id) id: vec3<u32>) {
+    list_free(id.x);
+}
+
+@compute @workgroup_size(64)
+fn list_free_again(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (atomicLoad(&counters.first_refused) > 0u) {
+        list_free(id.x);
+    }
+}
+
+// A physical page for entry `e` from the free list, or the entry refused.
+fn take_page(e: u32) -> bool {
+    let taken = atomicAdd(&counters.taken, 1u);
+    if (taken >= atomicLoad(&counters.free_count)) {
+        atomicOr(&page_flags[e], PAGE_REFUSED);
+        return false;
+    }
+    let slot = free_list[taken];
+    owners[slot] = e + 1u;
+    page_slots[e] = slot;
+    page_tags[e] = absolute_page(e / LEVEL_ENTRIES, window_page(e));
+    atomicAnd(&page_flags[e], ~PAGE_REFUSED);
+    atomicOr(&page_flags[e], PAGE_RESIDENT | PAGE_RENDERED);
+    return true;
+}
+
+fn wants_page(e: u32) -> bool {
+    let flags = atomicLoad(&page_flags[e]);
+    return (flags & PAGE_MARKED) != 0u && (flags & PAGE_RESIDENT) == 0u;
+}
+
+// The coarsest level's marked pages first: every pixel's fallback.
+@compute @workgroup_size(64)
+fn allocate_coarsest(@builtin(global_invocation_id) id: vec3<u32>) {
+    let e = (level_count() - 1u) * LEVEL_ENTRIES + id.x;
+    if (id.x < LEVEL_ENTRIES && wants_page(e) && !take_page(e)) {
+        atomicAdd(&counters.first_refused, 1u);
+    }
+}
+
+@compute @workgroup_size(64)
+fn allocate_pages(@builtin(global_invocation_id) id: vec3<u32>) {
+    let e = id.x;
+    if (e < (level_count() - 1u) * LEVEL_ENTRIES && wants_page(e) && !take_page(e)) {
+        atomicAdd(&counters.first_refused, 1u);
+    }
+}
+
+// Where the pool ran out: cached pages that no pixel marked give their physical pages back.
+@compute @workgroup_size(64)
+fn evict_unmarked(@builtin(global_invocation_id) id: vec3<u32>) {
+    let e = id.x;
+    if (e >= entry_count() || atomicLoad(&counters.first_refused) == 0u) {
+        return;
+    }
+    let flags = atomicLoad(&page_flags[e]);
+    if ((flags & PAGE_RESIDENT) != 0u && (flags & PAGE_MARKED) == 0u) {
+        release(e);
+        atomicAdd(&counters.evicted, 1u);
+    }
+}
+
+// Between the rounds: the free list starts again (one thread).
+@compute @workgroup_size(1)
+fn restart_free_list() {
+    if (atomicLoad(&counters.first_refused) > 0u) {
+        atomicStore(&counters.free_count, 0u);
+        atomicStore(&counters.taken, 0u);
+    }
+}
+
+// The refused entries again, the coarsest level's first.
+@compute @workgroup_size(64)
+fn allocate_refused(@builtin(global_invocation_id) id: vec3<u32>) {
+    let e = id.x;
+    if (e < (level_count() - 1u) * LEVEL_ENTRIES && atomicLoad(&counters.first_refused) > 0u
+        && (atomicLoad(&page_flags[e]) & PAGE_REFUSED) != 0u) {
+        take_page(e);
+    }
+}
+
+@compute @workgroup_size(64)
+fn allocate_refused_coarsest(@builtin(global_invocation_id) id: vec3<u32>) {
+    let e = (level_count() - 1u) * LEVEL_ENTRIES + id.x;
+    if (id.x < LEVEL_ENTRIES && atomicLoad(&counters.first_refused) > 0u
+        && (atomicLoad(&page_flags[e]) & PAGE_REFUSED) != 0u) {
+        take_page(e);
+    }
+}
+
+@compute @workgroup_size(64)
+fn tally_pages(@builtin(global_invocation_id) id: vec3<u32>) {
+    let e = id.x;
+    if (e >= entry_count()) {
+        return;
+    }
+    let flags = atomicLoad(&page_flags[e]);
+    if ((flags & PAGE_RESIDENT) != 0u) {
+        atomicAdd(&counters.resident, 1u);
+    }
+    if ((flags & PAGE_REFUSED) != 0u) {
+        atomicAdd(&counters.refused, 1u);
+    }
+    if ((flags & PAGE_RENDERED) != 0u) {
+        let level = e / LEVEL_ENTRIES;
+        rendered_list[atomicAdd(&counters.rendered, 1u)] = e;
+        atomicAdd(&counters.level_rendered[level], 1u);
+        let page = window_page(e);
+        atomicMax(&counters.rects[level][0], u32(LEVEL_PAGES - page.x));
+        atomicMax(&counters.rects[level][1], u32(LEVEL_PAGES - page.y));
+        atomicMax(&counters.rects[level][2], u32(page.x + 1));
+        atomicMax(&counters.rects[level][3], u32(page.y + 1));
+    }
+}
+
+@compute @workgroup_size(1)
+fn finish_pages() {
+    atomicStore(&counters.clear_args[0], 6u);
+    atomicStore(&counters.clear_args[1], atomicLoad(&counters.rendered));
+}

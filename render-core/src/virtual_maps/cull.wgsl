@@ -1,0 +1,77 @@
+// Per-page caster culling (virtual_maps/passes.rs): each caster against the pages drawn this
+// frame at each level, through the level's square of drawn pages and then page by page; a
+// caster over any of them gets one indirect draw with an instance per page, its (caster,
+// entry) pairs listed for the page shader (virtual_maps/draw.wgsl). x: instance, y: level.
+#import virtual_maps/tables.wgsl
+
+struct DrawIndexedArgs {
+    index_count: u32,
+    instance_count: u32,
+    first_index: u32,
+    base_vertex: i32,
+    first_instance: u32,
+}
+
+// Per instance: first index, index count, base vertex (i32 bits), 1 when left out.
+@group(2) @binding(0) var<storage, read> ranges: array<vec4<u32>>;
+@group(2) @binding(1) var<storage, read> bounds: array<InstanceBounds>;
+@group(2) @binding(2) var<storage, read_write> pairs: array<vec2<u32>>;
+@group(2) @binding(3) var<storage, read_write> draws: array<DrawIndexedArgs>;
+
+fn page_drawn(level: u32, x: i32, y: i32) -> bool {
+    return (atomicLoad(&page_flags[entry_of(level, vec2<i32>(x, y))]) & PAGE_RENDERED) != 0u;
+}
+
+@compute @workgroup_size(64)
+fn cull_pages(@builtin(global_invocation_id) id: vec3<u32>) {
+    let instance = id.x;
+    let level = id.y;
+    if (instance >= frame.views.y || level >= level_count()) {
+        return;
+    }
+    let b = bounds[instance];
+    if ((b.flags & FLAG_CASTER) == 0u || ranges[instance].w != 0u || atomicLoad(&counters.level_rendered[level]) == 0u) {
+        return;
+    }
+    let drawn = vec4<i32>(
+        LEVEL_PAGES - i32(atomicLoad(&counters.rects[level][0])),
+        LEVEL_PAGES - i32(atomicLoad(&counters.rects[level][1])),
+        i32(atomicLoad(&counters.rects[level][2])) - 1,
+        i32(atomicLoad(&counters.rects[level][3])) - 1,
+    );
+    let box = box_pages(level, b.min, b.max);
+    let first = max(box.xy, drawn.xy);
+    let last = min(box.zw, drawn.zw);
+    var count = 0u;
+    for (var y = first.y; y <= last.y; y++) {
+        for (var x = first.x; x <= last.x; x++) {
+            count += select(0u, 1u, page_drawn(level, x, y));
+        }
+    }
+    if (count == 0u) {
+        return;
+    }
+    let base = atomicAdd(&counters.pairs, count);
+    let draw = atomicAdd(&counters.draws, 1u);
+    if (draw >= arrayLength(&draws)) {
+        atomicAdd(&counters.overflow, count);
+        return;
+    }
+    if (base + count > arrayLength(&pairs)) {
+        atomicAdd(&counters.overflow, count);
+        draws[draw] = DrawIndexedArgs(0u, 0u, 0u, 0, 0u);
+        return;
+    }
+    var next = base;
+    for (var y = first.y; y <= last.y; y++) {
+        for (var x = first.x; x <= last.x; x++) {
+            if (page_drawn(level, x, y)) {
+                pairs[next] = vec2<u32>(instance, entry_of(level, vec2<i32>(x, y)));
+                next++;
+            }
+        }
+    }
+    let range = ranges[instance];
+    draws[draw] = DrawIndexedArgs(range.y, count, range.x, bitcast<i32>(range.z), base);
+    atomicAdd(&counters.level_pairs[level], count);
+}

@@ -1,0 +1,83 @@
+//! The GPU mirror of the virtual maps' parameters and the word offsets of their counters.
+//! Keep in sync with `virtual_maps/pages.wgsl` and `virtual_maps/tables.wgsl`.
+
+use bytemuck::{Pod, Zeroable};
+
+use crate::shadow_view::VirtualSettings;
+
+/// `VirtualParams` in `pages.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub(super) struct VirtualParams {
+    /// Levels, physical pages, the atlas's columns of pages, 1 when every page is invalid.
+    pub counts: [u32; 4],
+    /// The finest texel (m), the level bias (octaves), moved boxes, the atlas's rows of pages.
+    pub tuning: [f32; 4],
+    /// Per level, the absolute position of its square's first page.
+    pub first_page: [[i32; 4]; VirtualSettings::MAX_LEVELS as usize],
+}
+const _: () = assert!(size_of::<VirtualParams>() == 32 + 16 * 24);
+
+/// Word offsets in `Counters` (`tables.wgsl`).
+pub(super) mod word {
+    pub const MARKED: usize = 0;
+    pub const RESIDENT: usize = 1;
+    pub const RENDERED: usize = 2;
+    pub const REFUSED: usize = 3;
+    pub const FREE: usize = 4;
+    pub const PAIRS: usize = 6;
+    pub const DRAWS: usize = 7;
+    pub const OVERFLOW: usize = 8;
+    pub const EVICTED: usize = 9;
+    pub const INVALIDATED: usize = 11;
+    pub const CLEAR_ARGS: usize = 12;
+    pub const LEVEL_MARKED: usize = 16;
+    pub const LEVEL_RENDERED: usize = LEVEL_MARKED + 24;
+    pub const LEVEL_PAIRS: usize = LEVEL_RENDERED + 24;
+    pub const RECTS: usize = LEVEL_PAIRS + 24;
+    /// Words in all.
+    pub const COUNT: usize = RECTS + 4 * 24;
+}
+
+/// The pages' counts of one frame, as the GPU left them.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub(super) struct FrameCounts {
+    pub marked: u32,
+    pub resident: u32,
+    pub rendered: u32,
+    pub refused: u32,
+    /// Free physical pages before allocation (after the eviction, where one ran).
+    pub free: u32,
+    pub pairs: u32,
+    pub draws: u32,
+    pub overflow: u32,
+    pub evicted: u32,
+    pub invalidated: u32,
+    pub level_marked: Vec<u32>,
+    pub level_rendered: Vec<u32>,
+    pub level_pairs: Vec<u32>,
+}
+
+impl FrameCounts {
+    pub fn from_words(words: &[u32], levels: usize) -> Option<Self> {
+        if words.len() < word::COUNT {
+            return None;
+        }
+        let per_level = |first: usize| words[first..first + levels.min(24)].to_vec();
+        Some(Self {
+            marked: words[word::MARKED],
+            resident: words[word::RESIDENT],
+            rendered: words[word::RENDERED],
+            refused: words[word::REFUSED],
+            free: words[word::FREE],
+            pairs: words[word::PAIRS],
+            draws: words[word::DRAWS],
+            overflow: words[word::OVERFLOW],
+            evicted: words[word::EVICTED],
+            invalidated: words[word::INVALIDATED],
+            level_marked: per_level(word::LEVEL_MARKED),
+            level_rendered: per_level(word::LEVEL_RENDERED),
+            level_pairs: per_level(word::LEVEL_PAIRS),
+        })
+    }
+}

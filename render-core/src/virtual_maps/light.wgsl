@@ -1,0 +1,69 @@
+// The virtual maps' "light reaching this point" (virtual_maps/mod.rs): the level resolution
+// matching picks, or the first coarser one whose square holds every tap and whose pages are
+// resident (a refused page falls back, never to a hole), its PCF taps read through the page
+// table from the physical atlas. The reference is the method's own: the technique culls no
+// caster a page needs, so its error is measured against the exact shadow (truth/).
+#import virtual_maps/pages.wgsl
+#import metrics/measure.wgsl
+
+@group(1) @binding(1) var page_atlas: texture_depth_2d;
+@group(1) @binding(2) var<storage, read> page_flags: array<u32>;
+@group(1) @binding(3) var<storage, read> page_slots: array<u32>;
+
+struct LightReaching {
+    method: f32,
+    reference: f32,
+    // The level that shades the point, and whether one does.
+    view: u32,
+    shaded: bool,
+    added: vec3<f32>,
+}
+
+fn light_unshadowed(world_pos: vec3<f32>, geometric: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(0.0);
+}
+
+fn taps_resident(l: ShadowLookup) -> bool {
+    let pages = tap_pages(l);
+    for (var y = pages[0].y; y <= pages[1].y; y++) {
+        for (var x = pages[0].x; x <= pages[1].x; x++) {
+            if ((page_flags[entry_of(l.view, vec2<i32>(x, y))] & PAGE_RESIDENT) == 0u) {
+                return false;
+            }
+        }
+    }
+    return true;
+}
+
+// Tap `t` (texels of the level's square) in the atlas.
+fn atlas_texel(l: ShadowLookup, t: vec2<i32>) -> vec2<i32> {
+    let page = t / PAGE_TEXELS;
+    return slot_origin(page_slots[entry_of(l.view, page)]) + (t - page * PAGE_TEXELS);
+}
+
+// Fraction of kernel taps that see the light.
+fn page_factor(l: ShadowLookup) -> f32 {
+    var lit = 0.0;
+    for (var j = 0; j < l.kernel; j++) {
+        for (var i = 0; i < l.kernel; i++) {
+            let t = l.first + vec2<i32>(i, j);
+            let stored = textureLoad(page_atlas, atlas_texel(l, t), 0);
+            lit += select(0.0, 1.0, tap_threshold(l, t) <= stored);
+        }
+    }
+    return lit / f32(l.kernel * l.kernel);
+}
+
+fn light_reaching(world_pos: vec3<f32>, geometric: vec3<f32>, measuring: bool) -> LightReaching {
+    var out = LightReaching(1.0, 1.0, 0u, false, vec3<f32>(0.0));
+    for (var level = matched_level(world_pos, geometric); level < level_count(); level++) {
+        let l = shadow_lookup(world_pos, geometric, level);
+        if (!lookup_contained(l) || !taps_resident(l)) {
+            continue;
+        }
+        let lit = page_factor(l);
+        out = LightReaching(lit, lit, level, true, vec3<f32>(0.0));
+        break;
+    }
+    return out;
+}

@@ -1,0 +1,203 @@
+//! Virtual shadow maps (`--shadow virtual`), the technique engines ship today (Unreal
+//! Engine 5, Blender's EEVEE): a clipmap of the sun, each level a 4096-texel square of
+//! 128-texel pages centred on the camera, level k's texels 2^k times the finest. Only the
+//! pages that visible pixels read are given physical pages of an atlas, and only those drawn;
+//! drawn pages stay cached across frames until something moves through them or the light
+//! moves.
+//!
+//! ```text
+//! prepare   the levels: a shadow view each (geom::fit_clipmap_level), on a texel grid fixed
+//!           in light space, so a page keeps its place as the camera moves
+//! draw      in compute, no readback (allocate.wgsl, mark.wgsl, cull.wgsl): moved boxes
+//!           invalidate their pages; pages that left their square or were invalidated are
+//!           released; each visible receiver pixel marks the pages its PCF taps read at the
+//!           level resolution matching picks, and the coarsest level's; marked pages get
+//!           physical pages (the coarsest level's first; where the pool runs out, cached pages
+//!           nobody marked are evicted, and what is still refused is counted); each caster
+//!           against the pages drawn this frame; then one pass over the atlas (draw.wgsl):
+//!           each drawn page cleared, each (caster, page) pair drawn with clip distances at the
+//!           page's edges, by indirect draws
+//! light     light.wgsl: the matched level, or the first coarser one whose pages are there
+//! report    pages marked, resident, drawn, refused (a frame or more later)
+//! ```
+
+mod frame;
+mod gpu_data;
+mod pipelines;
+mod resources;
+
+use crate::geom::Aabb;
+use crate::gpu::{GpuContext, LogOnce};
+use crate::scene::{Mobility, Scene};
+use crate::shadow_view::{ShadowView, VirtualSettings};
+use crate::technique::TechniqueInput;
+use gpu_data::FrameCounts;
+use pipelines::Pipelines;
+use resources::{Lists, Tables};
+
+/// The technique's light term (imported as `technique/light.wgsl` by the shading pass).
+pub(crate) const LIGHT_WGSL: &str = "virtual_maps/light.wgsl";
+
+/// The composed shaders, for the naga validation test.
+#[cfg(test)]
+pub(crate) fn shader_sources() -> Vec<(String, String)> {
+    let mut out: Vec<_> = pipelines::compute_sources()
+        .into_iter()
+        .map(|(label, source)| (label.to_owned(), source))
+        .collect();
+    out.push(("VirtualMaps::draw".to_owned(), pipelines::draw_source()));
+    out
+}
+
+/// What the cached pages were drawn for: the scene, the light, the levels' texels and the
+/// casters left out. Any change invalidates every page.
+#[derive(Clone, Debug, PartialEq)]
+struct CacheKey {
+    scene: u64,
+    direction_to_sun: [u32; 3],
+    finest_texel_m: u32,
+    exclusions: u64,
+    /// The scene's bounds, which fix every level's depth range.
+    bounds: [u32; 6],
+}
+
+/// The virtual shadow maps.
+pub struct VirtualTechnique {
+    pipelines: Pipelines,
+    tables: Option<Tables>,
+    lists: Lists,
+    light_group: Option<wgpu::BindGroup>,
+    /// Zeroed outcomes for the `casters` overlay (no caster is culled per view).
+    outcomes: wgpu::Buffer,
+    draw_count: bool,
+    settings: VirtualSettings,
+    key: Option<CacheKey>,
+    /// Every instance's world bounds as the cached pages last saw them.
+    seen_bounds: Vec<Aabb>,
+    /// The next frame draws every page again (a frame overflowed the pairs).
+    invalidate_next: bool,
+    /// Room the pairs and draws need, learnt from a frame that overflowed them.
+    grow_to: Option<(u32, u32)>,
+    exclusions_version: u64,
+    excluded: Vec<u32>,
+    /// The levels of the last frame and its settings, for the report.
+    views: Vec<ShadowView>,
+    first_pages: Vec<[i32; 2]>,
+    latest: Option<(u64, FrameCounts)>,
+    frame_tags: Vec<(u64, bool, u32)>,
+    casters_total: u32,
+    failure: Option<String>,
+    failures: LogOnce,
+}
+
+impl VirtualTechnique {
+    pub fn new(ctx: &GpuContext, frame_layout: &wgpu::BindGroupLayout) -> Self {
+        let features = ctx.features();
+        let device = &ctx.device;
+        Self {
+            pipelines: Pipelines::new(
+                device,
+                frame_layout,
+                features.contains(wgpu::Features::CLIP_DISTANCES),
+            ),
+            tables: None,
+            lists: Lists::new(device),
+            light_group: None,
+            outcomes: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("VirtualMaps::outcomes"),
+                size: 16,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            draw_count: features.contains(wgpu::Features::MULTI_DRAW_INDIRECT_COUNT),
+            settings: VirtualSettings::default(),
+            key: None,
+            seen_bounds: Vec::new(),
+            invalidate_next: true,
+            grow_to: None,
+            exclusions_version: 0,
+            excluded: Vec::new(),
+            views: Vec::new(),
+            first_pages: Vec::new(),
+            latest: None,
+            frame_tags: Vec::new(),
+            casters_total: 0,
+            failure: None,
+            failures: LogOnce::default(),
+        }
+    }
+
+    /// The physical atlas, for tests that read it back.
+    pub fn atlas(&self) -> Option<&wgpu::Texture> {
+        self.tables.as_ref().map(|t| &t.atlas)
+    }
+
+    /// Tables for these settings (all pages invalid when they are new).
+    fn ensure_tables(&mut self, ctx: &GpuContext) {
+        if self.tables.as_ref().is_some_and(|t| t.fits(&self.settings)) {
+            return;
+        }
+        let tables = Tables::new(&ctx.device, &self.settings);
+        let mut encoder = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("VirtualMaps::clear"),
+            });
+        tables.clear(&mut encoder);
+        ctx.queue.submit([encoder.finish()]);
+        self.light_group = Some(tables.light_group(&ctx.device, &self.pipelines));
+        self.tables = Some(tables);
+        self.latest = None;
+        self.invalidate_next = true;
+    }
+
+    /// The boxes (old and new) of instances that moved since the pages last saw them, as
+    /// min/max pairs; `None` when the cache cannot follow (a new scene).
+    fn moved_boxes(&mut self, scene: &Scene) -> Option<Vec<[f32; 4]>> {
+        if self.seen_bounds.len() != scene.instances.len() {
+            self.seen_bounds = scene.instances.iter().map(|i| i.aabb_in_world).collect();
+            return None;
+        }
+        let mut boxes = Vec::new();
+        for (seen, instance) in self.seen_bounds.iter_mut().zip(&scene.instances) {
+            if instance.mobility == Mobility::Static || *seen == instance.aabb_in_world {
+                continue;
+            }
+            for b in [*seen, instance.aabb_in_world] {
+                boxes.push(b.min.extend(0.0).to_array());
+                boxes.push(b.max.extend(0.0).to_array());
+            }
+            *seen = instance.aabb_in_world;
+        }
+        Some(boxes)
+    }
+
+    fn cache_key(&self, input: &TechniqueInput<'_>) -> CacheKey {
+        let b = input.scene.bounds();
+        CacheKey {
+            scene: input.scene_gpu.id,
+            direction_to_sun: input.direction_to_sun.to_array().map(f32::to_bits),
+            finest_texel_m: self.settings.finest_texel_m.to_bits(),
+            exclusions: self.exclusions_version,
+            bounds: [b.min, b.max]
+                .map(|v| v.to_array())
+                .as_flattened()
+                .iter()
+                .map(|f| f.to_bits())
+                .collect::<Vec<_>>()
+                .try_into()
+                .unwrap_or_default(),
+        }
+    }
+
+    fn ensure_outcomes(&mut self, device: &wgpu::Device, words: u64) {
+        if self.outcomes.size() < words * 4 {
+            self.outcomes = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("VirtualMaps::outcomes"),
+                size: (words * 4).next_power_of_two(),
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+        }
+    }
+}

@@ -1,0 +1,95 @@
+// Virtual shadow maps' page grid (virtual_maps/mod.rs): every level is a shadow view of the
+// frame (shadow_views[level], a 4096-texel square on a fixed texel grid), cut into 32 x 32
+// pages of 128 texels. A page's entry in its level's table is wrapped by its absolute page
+// position, so a page keeps its entry (and its physical page) while the square moves with
+// the camera. Every user binds `params` here; the tables it binds as it needs them.
+#import shadow_view/lookup.wgsl
+
+const PAGE_TEXELS: i32 = 128;
+const LEVEL_PAGES: i32 = 32;
+const LEVEL_ENTRIES: u32 = 1024u;
+
+// An entry's flags: marked by a visible pixel this frame; holding a physical page with valid
+// depths; drawn this frame; marked but given no physical page; touched by a moving box.
+const PAGE_MARKED: u32 = 1u;
+const PAGE_RESIDENT: u32 = 2u;
+const PAGE_RENDERED: u32 = 4u;
+const PAGE_REFUSED: u32 = 8u;
+const PAGE_INVALID: u32 = 16u;
+
+// Keep in sync with virtual_maps/gpu_data.rs (VirtualParams).
+struct VirtualParams {
+    // x: levels; y: physical pages; z: the atlas's columns of pages; w: 1 when every page is
+    // invalid this frame (the light, the scene or the settings changed, or the cache is off).
+    counts: vec4<u32>,
+    // x: the finest level's texel, metres; y: the level bias, octaves; z: moved boxes this
+    // frame; w: the atlas's rows of pages.
+    tuning: vec4<f32>,
+    // Per level, xy: the absolute position of its square's first page (column, row).
+    first_page: array<vec4<i32>, 24>,
+}
+
+@group(1) @binding(0) var<uniform> params: VirtualParams;
+
+fn level_count() -> u32 {
+    return params.counts.x;
+}
+
+fn wrap_pages(p: vec2<i32>) -> vec2<i32> {
+    return ((p % LEVEL_PAGES) + LEVEL_PAGES) % LEVEL_PAGES;
+}
+
+// The absolute position of page `page` of level `level`'s square.
+fn absolute_page(level: u32, page: vec2<i32>) -> vec2<i32> {
+    return params.first_page[level].xy + page;
+}
+
+// The table entry of page `page` (0..32 each way) of level `level`'s square.
+fn entry_of(level: u32, page: vec2<i32>) -> u32 {
+    let wrapped = wrap_pages(absolute_page(level, page));
+    return level * LEVEL_ENTRIES + u32(wrapped.y * LEVEL_PAGES + wrapped.x);
+}
+
+// The page of its level's square that entry `e` stands for this frame.
+fn window_page(e: u32) -> vec2<i32> {
+    let local = i32(e % LEVEL_ENTRIES);
+    let wrapped = vec2<i32>(local % LEVEL_PAGES, local / LEVEL_PAGES);
+    return wrap_pages(wrapped - params.first_page[e / LEVEL_ENTRIES].xy);
+}
+
+// The first texel of physical page `slot` in the atlas.
+fn slot_origin(slot: u32) -> vec2<i32> {
+    let columns = params.counts.z;
+    return vec2<i32>(i32(slot % columns), i32(slot / columns)) * PAGE_TEXELS;
+}
+
+// Resolution matching: the finest level whose texel is no larger than the point's pixel, as
+// areas on the surface (the measure's own terms, metrics/measure.wgsl), plus the bias.
+fn matched_level(world_pos: vec3<f32>, n: vec3<f32>) -> u32 {
+    let to_eye = frame.eye_world.xyz - world_pos;
+    let distance = length(to_eye);
+    let pixel_m = distance * frame.camera_forward.w;
+    let cos_view = max(abs(dot(n, to_eye / max(distance, 1e-6))), 0.02);
+    let cos_light = max(abs(dot(n, shadow_views[0].light_dir.xyz)), 0.02);
+    let texel_m = pixel_m * sqrt(cos_light / cos_view);
+    let octaves = log2(max(texel_m, 1e-30) / params.tuning.x) + params.tuning.y;
+    // NaN (a broken surface) takes the finest level, which the lookup then rejects.
+    let level = select(0.0, floor(octaves), octaves == octaves);
+    return u32(clamp(level, 0.0, f32(level_count() - 1u)));
+}
+
+// The level a point is shaded from when its pages are there: the matched one, or the first
+// coarser level whose square holds every tap (`level_count()` when none does).
+fn holding_level(world_pos: vec3<f32>, n: vec3<f32>) -> u32 {
+    for (var level = matched_level(world_pos, n); level < level_count(); level++) {
+        if (lookup_contained(shadow_lookup(world_pos, n, level))) {
+            return level;
+        }
+    }
+    return level_count();
+}
+
+// The pages (of its level's square) that lookup `l`'s taps read: first and last.
+fn tap_pages(l: ShadowLookup) -> array<vec2<i32>, 2> {
+    return array<vec2<i32>, 2>(l.first / PAGE_TEXELS, (l.first + l.kernel - 1) / PAGE_TEXELS);
+}

@@ -1,0 +1,186 @@
+//! The virtual maps' bind-group layouts and pipelines: the page table's compute passes
+//! (`allocate.wgsl`), marking (`mark.wgsl`), per-page culling (`cull.wgsl`) and the page
+//! draws (`draw.wgsl`). Long-lived.
+
+use crate::gpu::{
+    bind_group_layout, compute_pipeline, depth_texture, pipeline_layout, shader_module, storage,
+    texture, uniform,
+};
+use crate::scene_gpu::VERTEX_LAYOUT;
+use crate::shaders::compose;
+use crate::shadow_view::SHADOW_FORMAT;
+
+/// The page table's passes in `allocate.wgsl`, in the order a frame runs them.
+pub(super) const TABLE_PASSES: [&str; 12] = [
+    "invalidate_moved",
+    "begin_pages",
+    "list_free_pages",
+    "allocate_coarsest",
+    "allocate_pages",
+    "evict_unmarked",
+    "restart_free_list",
+    "list_free_again",
+    "allocate_refused_coarsest",
+    "allocate_refused",
+    "tally_pages",
+    "finish_pages",
+];
+
+pub(super) fn draw_source() -> String {
+    format!(
+        "enable clip_distances;\n{}",
+        compose("virtual_maps/draw.wgsl", &[])
+    )
+}
+
+pub(super) fn compute_sources() -> [(&'static str, String); 3] {
+    [
+        (
+            "VirtualMaps::allocate",
+            compose("virtual_maps/allocate.wgsl", &[]),
+        ),
+        ("VirtualMaps::mark", compose("virtual_maps/mark.wgsl", &[])),
+        ("VirtualMaps::cull", compose("virtual_maps/cull.wgsl", &[])),
+    ]
+}
+
+pub(super) struct Pipelines {
+    pub tables_layout: wgpu::BindGroupLayout,
+    pub mark_layout: wgpu::BindGroupLayout,
+    pub cull_layout: wgpu::BindGroupLayout,
+    pub draw_layout: wgpu::BindGroupLayout,
+    pub light_layout: wgpu::BindGroupLayout,
+    /// In the order of [`TABLE_PASSES`].
+    pub tables: Vec<wgpu::ComputePipeline>,
+    pub mark: wgpu::ComputePipeline,
+    pub cull: wgpu::ComputePipeline,
+    /// `None` where the adapter has no `CLIP_DISTANCES`.
+    pub draws: Option<[wgpu::RenderPipeline; 2]>,
+}
+
+impl Pipelines {
+    pub fn new(device: &wgpu::Device, frame_layout: &wgpu::BindGroupLayout, clip: bool) -> Self {
+        let compute = wgpu::ShaderStages::COMPUTE;
+        let mut tables_types = vec![uniform()];
+        tables_types.extend([storage(false); 7]);
+        tables_types.push(storage(true));
+        let tables_layout =
+            bind_group_layout(device, "VirtualMaps::tables", compute, &tables_types);
+        let float = wgpu::TextureSampleType::Float { filterable: false };
+        let d2 = wgpu::TextureViewDimension::D2;
+        let mark_layout = bind_group_layout(
+            device,
+            "VirtualMaps::surface",
+            compute,
+            &[
+                texture(wgpu::TextureSampleType::Uint, d2),
+                texture(float, d2),
+                texture(float, d2),
+            ],
+        );
+        let cull_layout = bind_group_layout(
+            device,
+            "VirtualMaps::cull",
+            compute,
+            &[storage(true), storage(true), storage(false), storage(false)],
+        );
+        let draw_layout = bind_group_layout(
+            device,
+            "VirtualMaps::draw",
+            wgpu::ShaderStages::VERTEX,
+            &[uniform(), storage(true), storage(true), storage(true)],
+        );
+        let light_layout = bind_group_layout(
+            device,
+            "VirtualMaps::light",
+            wgpu::ShaderStages::FRAGMENT | compute,
+            &[uniform(), depth_texture(), storage(true), storage(true)],
+        );
+        let [allocate, mark, cull] =
+            compute_sources().map(|(label, source)| shader_module(device, label, source));
+        let two = pipeline_layout(
+            device,
+            "VirtualMaps::tables",
+            &[frame_layout, &tables_layout],
+        );
+        let tables = TABLE_PASSES
+            .iter()
+            .map(|entry| compute_pipeline(device, &allocate, Some(&two), entry))
+            .collect();
+        let with = |label, group: &wgpu::BindGroupLayout| {
+            pipeline_layout(device, label, &[frame_layout, &tables_layout, group])
+        };
+        let mark = compute_pipeline(
+            device,
+            &mark,
+            Some(&with("VirtualMaps::mark", &mark_layout)),
+            "mark_pages",
+        );
+        let cull = compute_pipeline(
+            device,
+            &cull,
+            Some(&with("VirtualMaps::cull", &cull_layout)),
+            "cull_pages",
+        );
+        let draws = clip.then(|| {
+            let module = shader_module(device, "VirtualMaps::draw", draw_source());
+            let layout =
+                pipeline_layout(device, "VirtualMaps::draw", &[frame_layout, &draw_layout]);
+            [
+                page_pipeline(device, (&layout, &module), "vs_clear", false),
+                page_pipeline(device, (&layout, &module), "vs_page", true),
+            ]
+        });
+        Self {
+            tables_layout,
+            mark_layout,
+            cull_layout,
+            draw_layout,
+            light_layout,
+            tables,
+            mark,
+            cull,
+            draws,
+        }
+    }
+}
+
+/// Depth into the atlas, both faces as the shadow-map technique draws casters; the clears
+/// write the far depth whatever is there.
+fn page_pipeline(
+    device: &wgpu::Device,
+    (layout, module): (&wgpu::PipelineLayout, &wgpu::ShaderModule),
+    entry: &str,
+    casters: bool,
+) -> wgpu::RenderPipeline {
+    let buffers = [Some(VERTEX_LAYOUT)];
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(entry),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some(entry),
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            buffers: if casters { &buffers } else { &[] },
+        },
+        primitive: wgpu::PrimitiveState {
+            cull_mode: None,
+            ..Default::default()
+        },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: SHADOW_FORMAT,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(if casters {
+                wgpu::CompareFunction::Less
+            } else {
+                wgpu::CompareFunction::Always
+            }),
+            stencil: wgpu::StencilState::default(),
+            bias: wgpu::DepthBiasState::default(),
+        }),
+        multisample: wgpu::MultisampleState::default(),
+        fragment: None,
+        multiview_mask: None,
+        cache: None,
+    })
+}

@@ -1,0 +1,65 @@
+// The page tables and the pool as the compute passes write them (group 1; virtual_maps/
+// passes.rs): per entry its flags, physical page and absolute page; per physical page its
+// entry; the frame's free pages, drawn pages and counters; the boxes that moved.
+#import virtual_maps/pages.wgsl
+
+// Keep in sync with virtual_maps/counts.rs (the word offsets).
+struct Counters {
+    marked: atomic<u32>,
+    resident: atomic<u32>,
+    rendered: atomic<u32>,
+    refused: atomic<u32>,
+    free_count: atomic<u32>,
+    taken: atomic<u32>,
+    pairs: atomic<u32>,
+    draws: atomic<u32>,
+    // (caster, page) pairs that found no room: their pages are drawn again next frame.
+    overflow: atomic<u32>,
+    evicted: atomic<u32>,
+    // Pages refused by the first allocation, before cached pages were evicted.
+    first_refused: atomic<u32>,
+    invalidated: atomic<u32>,
+    // Draw arguments of the clears: 6 vertices, an instance per drawn page.
+    clear_args: array<atomic<u32>, 4>,
+    level_marked: array<atomic<u32>, 24>,
+    level_rendered: array<atomic<u32>, 24>,
+    level_pairs: array<atomic<u32>, 24>,
+    // Per level, the drawn pages' square: 32 less the first column and row, and one past
+    // the last column and row (all 0: none drawn), so that zeroed counters start empty.
+    rects: array<array<atomic<u32>, 4>, 24>,
+}
+
+@group(1) @binding(1) var<storage, read_write> page_flags: array<atomic<u32>>;
+@group(1) @binding(2) var<storage, read_write> counters: Counters;
+@group(1) @binding(3) var<storage, read_write> page_slots: array<u32>;
+@group(1) @binding(4) var<storage, read_write> page_tags: array<vec2<i32>>;
+// Per physical page: its entry + 1, 0 when free.
+@group(1) @binding(5) var<storage, read_write> owners: array<u32>;
+@group(1) @binding(6) var<storage, read_write> free_list: array<u32>;
+@group(1) @binding(7) var<storage, read_write> rendered_list: array<u32>;
+// Boxes that moved this frame, world min and max (xyz) in pairs.
+@group(1) @binding(8) var<storage, read> moved: array<vec4<f32>>;
+
+// Where level `level`'s square places a world point, texels (x right, y down the map).
+fn level_texel(level: u32, p: vec3<f32>) -> vec2<f32> {
+    let view = shadow_views[level];
+    let c = light_clip(view, p);
+    let size = f32(view.square.w);
+    return vec2<f32>(c.x * 0.5 + 0.5, 0.5 - c.y * 0.5) * size;
+}
+
+// The pages of level `level`'s square that the world box `lo..hi` covers, widened by a
+// texel, as first and last page (x > z: none).
+fn box_pages(level: u32, lo: vec3<f32>, hi: vec3<f32>) -> vec4<i32> {
+    var t_lo = vec2<f32>(1e30);
+    var t_hi = vec2<f32>(-1e30);
+    for (var i = 0u; i < 8u; i++) {
+        let corner = select(lo, hi, vec3<bool>((i & 1u) != 0u, (i & 2u) != 0u, (i & 4u) != 0u));
+        let t = level_texel(level, corner);
+        t_lo = min(t_lo, t);
+        t_hi = max(t_hi, t);
+    }
+    let first = clamp(vec2<i32>(floor((t_lo - 1.0) / f32(PAGE_TEXELS))), vec2<i32>(0), vec2<i32>(LEVEL_PAGES));
+    let last = clamp(vec2<i32>(floor((t_hi + 1.0) / f32(PAGE_TEXELS))), vec2<i32>(-1), vec2<i32>(LEVEL_PAGES - 1));
+    return vec4<i32>(first, last);
+}
