@@ -147,6 +147,11 @@ impl FrameRenderer {
         self.techniques.virtual_maps().atlas()
     }
 
+    /// The virtual maps' page-table flags after the last frame with them. Blocks: for tests.
+    pub fn virtual_page_flags(&self, ctx: &GpuContext) -> Result<Vec<u32>, GpuError> {
+        self.techniques.virtual_maps().read_page_flags(ctx)
+    }
+
     /// The triangles per-layer culling kept for each slot (a view, or a multiview group) in
     /// the last frame that culled. Blocks: for tests and reports.
     pub fn lights_kept_triangles(&self, ctx: &GpuContext) -> Result<Vec<u32>, GpuError> {

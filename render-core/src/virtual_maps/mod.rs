@@ -132,6 +132,19 @@ impl VirtualTechnique {
         self.tables.as_ref().map(|t| &t.atlas)
     }
 
+    /// Each page-table entry's flags (level by level, 1,024 entries each, wrapped by the
+    /// page's absolute position) as the last frame left them: bit 0 marked, 1 resident,
+    /// 2 drawn this frame, 3 refused. Blocks: for tests.
+    pub fn read_page_flags(&self, ctx: &GpuContext) -> Result<Vec<u32>, crate::gpu::GpuError> {
+        let Some(tables) = &self.tables else {
+            return Ok(Vec::new());
+        };
+        let bytes = crate::gpu::read_buffer(ctx, &tables.flags, tables.flags.size(), "page flags")?;
+        let mut words: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes);
+        words.truncate((tables.levels * resources::LEVEL_ENTRIES) as usize);
+        Ok(words)
+    }
+
     /// Tables for these settings (all pages invalid when they are new).
     fn ensure_tables(&mut self, ctx: &GpuContext) {
         if self.tables.as_ref().is_some_and(|t| t.fits(&self.settings)) {

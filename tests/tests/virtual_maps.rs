@@ -1,0 +1,379 @@
+//! Virtual shadow maps (`--shadow virtual`, `virtual_maps/`): the cache draws nothing for a
+//! static scene and exactly the pages a moving box touches; the picture equals a full
+//! re-render; a pool too small falls back to coarser levels and never leaves a hole; the hard
+//! cases (sky only, a camera cut, far from the origin, the sun at the zenith and 1 degree up,
+//! a 1 m scene) give the exact shadow.
+
+use glam::{DVec3, Mat4, Vec3};
+use render_core::frame::{
+    FrameCapture, FrameInput, FrameRenderer, FrameReport, FrameSettings, ShadowSetup,
+};
+use render_core::geom::Camera;
+use render_core::scene::{Mobility, Scene, Sun};
+use render_core::scene_gpu::SceneGpu;
+use render_core::shadow_view::{LEVEL_PAGES, PAGE_TEXELS, ShadowView, VirtualSettings};
+use render_core::technique::VirtualPages;
+use shadowlab_tests::{against_truth, box_on_plane, gpu, translated};
+
+const SIZE: (u32, u32) = (256, 192);
+const MARKED: u32 = 1;
+const RESIDENT: u32 = 2;
+const RENDERED: u32 = 4;
+
+/// A 2 x 3 x 1.5 m box 1 m above a 40 m ground; the box moves (a car).
+fn scene(sun: Sun) -> Scene {
+    let mut scene = box_on_plane(20.0, Vec3::new(2.0, 3.0, 1.5), 1.0, sun);
+    scene.instances[1].mobility = Mobility::Dynamic;
+    scene
+}
+
+fn camera() -> Camera {
+    Camera::look_at(
+        Vec3::new(-9.0, 7.0, 11.0),
+        Vec3::new(0.0, 0.5, 0.0),
+        60f32.to_radians(),
+        0.1,
+        500.0,
+    )
+}
+
+fn settings(virtual_maps: VirtualSettings) -> FrameSettings {
+    FrameSettings {
+        setup: ShadowSetup::Virtual,
+        measure: true,
+        virtual_maps,
+        ..FrameSettings::default()
+    }
+}
+
+/// Renders frames of one renderer and keeps what the tests read.
+struct Frames {
+    renderer: FrameRenderer,
+    scene_gpu: SceneGpu,
+}
+
+struct Frame {
+    report: FrameReport,
+    pages: VirtualPages,
+    capture: FrameCapture,
+    flags: Vec<u32>,
+    views: Vec<ShadowView>,
+}
+
+impl Frames {
+    fn new(scene: &Scene) -> Self {
+        Self {
+            renderer: FrameRenderer::new(gpu()),
+            scene_gpu: SceneGpu::new(gpu(), scene),
+        }
+    }
+
+    fn frame(&mut self, scene: &Scene, camera: &Camera, settings: &FrameSettings) -> Frame {
+        let ctx = gpu();
+        let input = FrameInput {
+            camera,
+            width: SIZE.0,
+            height: SIZE.1,
+            settings,
+        };
+        let report = self
+            .renderer
+            .render_and_wait(ctx, scene, &self.scene_gpu, &input)
+            .expect("frame renders");
+        assert_eq!(report.shadow_failure, None);
+        let capture =
+            FrameCapture::read(ctx, self.renderer.targets().expect("targets")).expect("readback");
+        let flags = self.renderer.virtual_page_flags(ctx).expect("reads back");
+        Frame {
+            pages: report
+                .virtual_pages
+                .expect("the virtual maps report their pages"),
+            report,
+            capture,
+            flags,
+            views: self.renderer.last_views().to_vec(),
+        }
+    }
+}
+
+fn entries_with(flags: &[u32], bit: u32) -> Vec<usize> {
+    (0..flags.len()).filter(|&e| flags[e] & bit != 0).collect()
+}
+
+/// The page-table entries whose pages (in each level's square) the world box `lo..hi` covers,
+/// widened by a texel, as `box_pages` in `virtual_maps/tables.wgsl` finds them.
+fn touched_entries(views: &[ShadowView], lo: Vec3, hi: Vec3) -> Vec<usize> {
+    let side = LEVEL_PAGES as i64;
+    let mut out = Vec::new();
+    for (level, view) in views.iter().enumerate() {
+        let light = &view.light;
+        let grid = light.grid.expect("a level has a texel grid");
+        let rows = light.light_from_world.transpose();
+        let t = light.light_from_world.w_axis;
+        let half = f64::from(LEVEL_PAGES * PAGE_TEXELS) * 0.5;
+        let texel = |p: Vec3| {
+            let x = f64::from(rows.x_axis.truncate().dot(p) + t.x) * f64::from(grid.per_metre[0]);
+            let y = f64::from(rows.y_axis.truncate().dot(p) + t.y) * f64::from(grid.per_metre[1]);
+            DVec3::new(
+                x - f64::from(grid.centre_texel[0]) + half,
+                half - (y - f64::from(grid.centre_texel[1])),
+                0.0,
+            )
+        };
+        let (mut min, mut max) = (DVec3::splat(f64::MAX), DVec3::splat(f64::MIN));
+        for i in 0..8 {
+            let corner = Vec3::new(
+                if i & 1 == 0 { lo.x } else { hi.x },
+                if i & 2 == 0 { lo.y } else { hi.y },
+                if i & 4 == 0 { lo.z } else { hi.z },
+            );
+            let p = texel(corner);
+            min = min.min(p);
+            max = max.max(p);
+        }
+        let page = |v: f64| (v / f64::from(PAGE_TEXELS)).floor() as i64;
+        let first_page = [
+            (f64::from(grid.centre_texel[0]) - half) as i64 / i64::from(PAGE_TEXELS),
+            -((f64::from(grid.centre_texel[1]) - half) as i64 / i64::from(PAGE_TEXELS)) - side,
+        ];
+        for y in page(min.y - 1.0).max(0)..=page(max.y + 1.0).min(side - 1) {
+            for x in page(min.x - 1.0).max(0)..=page(max.x + 1.0).min(side - 1) {
+                let wrapped = [
+                    (first_page[0] + x).rem_euclid(side),
+                    (first_page[1] + y).rem_euclid(side),
+                ];
+                out.push(
+                    level * (side * side) as usize + (wrapped[1] * side + wrapped[0]) as usize,
+                );
+            }
+        }
+    }
+    out.sort_unstable();
+    out.dedup();
+    out
+}
+
+#[test]
+fn a_static_scene_draws_no_page_in_its_second_frame_and_its_picture_stays() {
+    let scene = scene(Sun::default());
+    let settings = settings(VirtualSettings::default());
+    let mut frames = Frames::new(&scene);
+    let first = frames.frame(&scene, &camera(), &settings);
+    let second = frames.frame(&scene, &camera(), &settings);
+    let p = first.pages;
+    assert!(
+        p.pages_marked > 0 && p.pages_rendered == p.pages_marked,
+        "{p:?}"
+    );
+    assert_eq!(p.pages_refused, 0);
+    assert!(
+        p.caster_pages > 0,
+        "the box and the ground are drawn into pages: {p:?}"
+    );
+    let q = second.pages;
+    assert_eq!(q.pages_rendered, 0, "{q:?}");
+    assert_eq!(q.caster_pages, 0, "{q:?}");
+    assert_eq!(
+        (q.pages_marked, q.pages_resident),
+        (p.pages_marked, p.pages_resident)
+    );
+    assert!(!q.all_invalidated);
+    assert!(entries_with(&second.flags, RENDERED).is_empty());
+    assert_eq!(
+        entries_with(&first.flags, MARKED),
+        entries_with(&second.flags, MARKED)
+    );
+    assert_eq!(first.capture.shadow, second.capture.shadow);
+    // The box's shadow is in the picture.
+    assert!(first.capture.shadow.iter().any(|&s| s == 0));
+}
+
+#[test]
+fn with_the_cache_off_every_marked_page_is_drawn_each_frame() {
+    let scene = scene(Sun::default());
+    let settings = settings(VirtualSettings {
+        cache: false,
+        ..VirtualSettings::default()
+    });
+    let mut frames = Frames::new(&scene);
+    let first = frames.frame(&scene, &camera(), &settings);
+    let second = frames.frame(&scene, &camera(), &settings);
+    assert!(second.pages.all_invalidated);
+    assert_eq!(second.pages.pages_rendered, second.pages.pages_marked);
+    assert_eq!(second.pages.pages_invalidated, first.pages.pages_resident);
+    assert_eq!(first.capture.shadow, second.capture.shadow);
+}
+
+#[test]
+fn moving_a_box_draws_again_exactly_the_pages_its_old_and_new_bounds_touch() {
+    let mut scene = scene(Sun::default());
+    let settings = settings(VirtualSettings::default());
+    let mut frames = Frames::new(&scene);
+    let first = frames.frame(&scene, &camera(), &settings);
+    let old = scene.instances[1].aabb_in_world;
+    let moved =
+        Mat4::from_translation(Vec3::new(0.9, 0.0, 0.4)) * scene.instances[1].world_from_local;
+    scene.set_world_from_local(1, moved);
+    frames.scene_gpu.update_instances(gpu(), &scene, &[1]);
+    let new = scene.instances[1].aabb_in_world;
+    let second = frames.frame(&scene, &camera(), &settings);
+    assert_eq!(second.pages.moved_boxes, 2);
+    let touched: Vec<usize> = [old, new]
+        .iter()
+        .flat_map(|b| touched_entries(&second.views, b.min, b.max))
+        .collect();
+    let resident_before = entries_with(&first.flags, RESIDENT);
+    let marked_now = entries_with(&second.flags, MARKED);
+    // Drawn again: marked pages that the boxes touched or that were not there before.
+    let expected: Vec<usize> = marked_now
+        .iter()
+        .copied()
+        .filter(|e| touched.binary_search(e).is_ok() || resident_before.binary_search(e).is_err())
+        .collect();
+    assert!(!expected.is_empty());
+    assert_eq!(entries_with(&second.flags, RENDERED), expected);
+    let invalidated = resident_before
+        .iter()
+        .filter(|e| touched.contains(e))
+        .count() as u32;
+    assert_eq!(second.pages.pages_invalidated, invalidated);
+    assert!(
+        second.pages.pages_rendered < second.pages.pages_marked,
+        "{:?}",
+        second.pages
+    );
+    // No stale shadow: the picture equals a fresh renderer's of the moved scene.
+    let fresh = Frames::new(&scene).frame(&scene, &camera(), &settings);
+    assert_eq!(second.capture.shadow, fresh.capture.shadow);
+    assert_ne!(
+        first.capture.shadow, second.capture.shadow,
+        "the shadow moved"
+    );
+}
+
+#[test]
+fn a_pool_too_small_falls_back_to_coarser_levels_and_never_leaves_a_hole() {
+    let scene = scene(Sun::default());
+    let settings = settings(VirtualSettings {
+        pages: 16,
+        lod_bias: -3.0,
+        ..VirtualSettings::default()
+    });
+    let frame = Frames::new(&scene).frame(&scene, &camera(), &settings);
+    let p = frame.pages;
+    assert!(p.pages_refused > 0, "{p:?}");
+    assert!(p.pages_resident <= 16, "{p:?}");
+    assert_eq!(p.pages_resident + p.pages_refused, p.pages_marked, "{p:?}");
+    // Every receiver pixel is shaded from some level (the undersampling counts only those).
+    let error = frame.report.error.expect("measured");
+    let shaded = frame.report.undersampling.expect("measured").pixels;
+    assert_eq!(shaded, error.visible_px);
+    // The refused pixels read the coarsest level, which undersamples them.
+    let under = frame.report.undersampling.expect("measured");
+    assert!(under.p95_octaves > 0.0, "{under:?}");
+}
+
+#[test]
+fn sky_only_marks_no_page() {
+    let scene = scene(Sun::default());
+    let up = Camera::look_at(
+        Vec3::new(0.0, 30.0, 0.0),
+        Vec3::new(0.0, 60.0, 1.0),
+        60f32.to_radians(),
+        0.1,
+        500.0,
+    );
+    let frame = Frames::new(&scene).frame(&scene, &up, &settings(VirtualSettings::default()));
+    let p = frame.pages;
+    assert_eq!(
+        (p.pages_marked, p.pages_rendered, p.caster_pages),
+        (0, 0, 0),
+        "{p:?}"
+    );
+    assert!(frame.capture.ids.iter().all(|&id| id == 0));
+}
+
+#[test]
+fn a_camera_cut_leaves_no_stale_page() {
+    let scene = scene(Sun::default());
+    let settings = settings(VirtualSettings::default());
+    // 300 m away, looking back: every level up to 6 (262 m squares) moves whole.
+    let far = Camera::look_at(
+        Vec3::new(300.0, 40.0, -17.0),
+        Vec3::new(0.0, 1.0, 0.0),
+        60f32.to_radians(),
+        0.1,
+        500.0,
+    );
+    let mut frames = Frames::new(&scene);
+    let first = frames.frame(&scene, &camera(), &settings);
+    let cut = frames.frame(&scene, &far, &settings);
+    assert!(
+        cut.pages.pages_invalidated > 0,
+        "fine levels' squares moved: {:?}",
+        cut.pages
+    );
+    let fresh = Frames::new(&scene).frame(&scene, &far, &settings);
+    assert_eq!(cut.capture.shadow, fresh.capture.shadow);
+    assert!(first.pages.pages_rendered > 0);
+}
+
+/// The exact shadow's error: wrong pixels off the exact picture's edges, at most `share`
+/// of the visible ones.
+fn near_exact(scene: &Scene, camera: &Camera, share: f64) -> VirtualPages {
+    let (error, shadowed, _, report) =
+        against_truth(scene, camera, &settings(VirtualSettings::default()), SIZE);
+    assert!(
+        shadowed > 100,
+        "the case has a shadow to get right: {shadowed}"
+    );
+    let off_edge = error.off_edge_px.expect("against the exact shadow");
+    assert!(
+        f64::from(off_edge) <= share * f64::from(error.visible_px),
+        "{error:?}"
+    );
+    let p = report.virtual_pages.expect("pages");
+    assert!(
+        report
+            .undersampling
+            .is_some_and(|u| u.p95_octaves.is_finite())
+    );
+    p
+}
+
+#[test]
+fn the_hard_cases_give_the_exact_shadow() {
+    let far = Vec3::new(100_000.0, 0.0, 60_000.0);
+    let at_far = |c: Camera| {
+        Camera::look_at(
+            c.eye + far,
+            c.eye + far + c.forward,
+            c.fov_y_rad,
+            c.near_m,
+            c.far_m,
+        )
+    };
+    for (name, sun) in [
+        ("default", Sun::default()),
+        ("zenith", Sun::from_direction(Vec3::Y)),
+        ("1 degree", Sun::from_azimuth_elevation_deg(35.0, 1.0)),
+    ] {
+        let p = near_exact(&scene(sun), &camera(), 0.002);
+        assert!(p.pages_marked > 0, "{name}: {p:?}");
+    }
+    near_exact(
+        &translated(&scene(Sun::default()), far),
+        &at_far(camera()),
+        0.002,
+    );
+    // A 1 m scene: a 10 cm box 5 cm above a 1 m ground, seen from 1 m.
+    let small = box_on_plane(0.5, Vec3::new(0.1, 0.15, 0.075), 0.05, Sun::default());
+    let close = Camera::look_at(
+        Vec3::new(-0.45, 0.35, 0.55),
+        Vec3::new(0.0, 0.025, 0.0),
+        60f32.to_radians(),
+        0.01,
+        10.0,
+    );
+    near_exact(&small, &close, 0.002);
+}
