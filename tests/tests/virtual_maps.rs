@@ -103,7 +103,7 @@ fn entries_with(flags: &[u32], bit: u32) -> Vec<usize> {
 /// The page-table entries whose pages (in each level's square) the world box `lo..hi` covers,
 /// widened by a texel, as `box_pages` in `virtual_maps/tables.wgsl` finds them.
 fn touched_entries(views: &[ShadowView], lo: Vec3, hi: Vec3) -> Vec<usize> {
-    let side = LEVEL_PAGES as i64;
+    let side = i64::from(LEVEL_PAGES);
     let mut out = Vec::new();
     for (level, view) in views.iter().enumerate() {
         let light = &view.light;
@@ -185,7 +185,7 @@ fn a_static_scene_draws_no_page_in_its_second_frame_and_its_picture_stays() {
     );
     assert_eq!(first.capture.shadow, second.capture.shadow);
     // The box's shadow is in the picture.
-    assert!(first.capture.shadow.iter().any(|&s| s == 0));
+    assert!(first.capture.shadow.contains(&0));
 }
 
 #[test]
