@@ -87,7 +87,7 @@ fn bad_cascade_flags_name_the_flag() {
         (&["--cascade-depths", "all"], "unknown cascade depths 'all'"),
         (
             &["--lispsm-n", "0"],
-            "--lispsm-n 0: the scale of n must be between 0.01 and 100",
+            "--lispsm-n 0 is outside 0.01 to 100",
         ),
     ] {
         let output = run(shadowlab()

@@ -72,6 +72,8 @@ pub(crate) struct BenchRow {
     pub(crate) speed_up: Option<f64>,
     /// Median GPU ms per pass label (and depth: steps inside a pass are 1), in frame order.
     pub(crate) passes: Vec<(String, u32, f64)>,
+    /// Virtual maps: the medians of pages marked, resident, drawn and refused.
+    pub(crate) pages: Option<[f64; 4]>,
 }
 
 pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
@@ -227,6 +229,8 @@ pub(crate) struct RunOptions {
     /// Skip the exact shadow; measure flicker.
     pub no_truth: bool,
     pub flicker: bool,
+    /// The sun turns about the up axis this many degrees a second, 1/30 s a frame.
+    pub moving_sun_deg_per_s: f32,
 }
 
 impl From<&BenchArgs> for RunOptions {
@@ -238,6 +242,7 @@ impl From<&BenchArgs> for RunOptions {
             time: args.view.time.unwrap_or(0.0),
             no_truth: args.no_truth,
             flicker: args.flicker,
+            moving_sun_deg_per_s: args.moving_sun.unwrap_or(0.0),
         }
     }
 }
@@ -253,12 +258,18 @@ pub(crate) fn run_path(
     options: &RunOptions,
     done: &mut dyn FnMut(u32),
 ) -> anyhow::Result<Vec<(f64, FrameReport)>> {
-    let settings = *settings;
+    let mut settings = *settings;
+    let (azimuth, elevation) = settings.sun.azimuth_elevation_deg();
     let frames = options.frames.max(1);
     session.renderer = FrameRenderer::new(&session.ctx);
     let mut reports = Vec::new();
     for frame in 0..options.warmup + frames {
         let camera = camera_at(path, template, (frame, options));
+        if options.moving_sun_deg_per_s != 0.0 {
+            let turned = options.moving_sun_deg_per_s * frame as f32 / 30.0;
+            settings.sun =
+                render_core::scene::Sun::from_azimuth_elevation_deg(azimuth + turned, elevation);
+        }
         if options.animate {
             session.animate(options.time + f64::from(frame) / 30.0);
         } else {
@@ -335,7 +346,11 @@ pub(crate) fn summarise(setting: &str, method: &str, reports: &[(f64, FrameRepor
         frame_ms: collect(&|(wall, _)| Some(*wall)).unwrap_or(0.0),
         gpu_frame_ms: collect(&|(_, r)| r.gpu_total_ms()),
         shadow_pass_ms: collect(&|(_, r)| r.shadow_pass_ms()),
-        culling_ms: collect(&|(_, r)| r.gpu_ms(pass_label::CULLING)),
+        // The virtual maps' marking, allocation and per-page cull are their culling.
+        culling_ms: collect(&|(_, r)| {
+            r.gpu_ms(pass_label::CULLING)
+                .or_else(|| r.gpu_ms(pass_label::VIRTUAL_PAGES))
+        }),
         cpu_culling_ms: collect(&|(_, r)| Some(r.cpu.culling_ms)),
         casters_drawn: collect(&|(_, r)| Some(f64::from(r.counts.casters_rendered))).unwrap_or(0.0),
         shadow_triangles: collect(&|(_, r)| Some(r.counts.triangles_shadow as f64)).unwrap_or(0.0),
@@ -390,7 +405,27 @@ pub(crate) fn summarise(setting: &str, method: &str, reports: &[(f64, FrameRepor
         volume_pass_saved: None,
         speed_up: None,
         passes: median_passes(reports),
+        pages: pages_medians(reports),
     }
+}
+
+fn pages_medians(reports: &[(f64, FrameReport)]) -> Option<[f64; 4]> {
+    let pages: Vec<_> = reports
+        .iter()
+        .filter_map(|(_, r)| r.virtual_pages)
+        .collect();
+    if pages.is_empty() {
+        return None;
+    }
+    let of = |f: fn(&render_core::technique::VirtualPages) -> u32| {
+        median(pages.iter().map(|p| f64::from(f(p))).collect()).unwrap_or(0.0)
+    };
+    Some([
+        of(|p| p.pages_marked),
+        of(|p| p.pages_resident),
+        of(|p| p.pages_rendered),
+        of(|p| p.pages_refused),
+    ])
 }
 
 fn median_passes(reports: &[(f64, FrameReport)]) -> Vec<(String, u32, f64)> {

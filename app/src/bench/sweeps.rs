@@ -97,6 +97,22 @@ pub(crate) fn settings(
                 (format!("{slices} slice{plural}"), s)
             })
             .collect(),
+        Sweep::Virtual => {
+            let mut single = with_setup(ShadowSetup::Single);
+            single.shadow.resolution = 8192;
+            let mut cascades = with_setup(ShadowSetup::Cascades);
+            cascades.cascades.count = 4;
+            cascades.shadow.resolution = 2048;
+            let virtual_maps = with_setup(ShadowSetup::Virtual);
+            let mut uncached = virtual_maps;
+            uncached.virtual_maps.cache = false;
+            vec![
+                ("single 8192".to_owned(), single),
+                ("4 cascades 2048".to_owned(), cascades),
+                ("virtual".to_owned(), virtual_maps),
+                ("virtual / cache off".to_owned(), uncached),
+            ]
+        }
         Sweep::Setups => ShadowSetup::ALL
             .into_iter()
             .map(|setup| (setup.name().to_owned(), with_setup(setup)))

@@ -35,7 +35,7 @@ pub(super) fn format_passes(rows: &[BenchRow]) -> String {
     aligned(&lines, 1)
 }
 
-pub(crate) const COLUMNS: [&str; 22] = [
+pub(crate) const COLUMNS: [&str; 26] = [
     "setting",
     "method",
     "frames",
@@ -58,9 +58,13 @@ pub(crate) const COLUMNS: [&str; 22] = [
     "fill saved mean/peak",
     "volume pass saved mean/peak",
     "speed-up",
+    "pages_marked",
+    "pages_resident",
+    "pages_rendered",
+    "pages_refused",
 ];
 
-pub(crate) fn row_cells(r: &BenchRow) -> [String; 22] {
+pub(crate) fn row_cells(r: &BenchRow) -> [String; 26] {
     let opt =
         |v: Option<f64>, digits: usize| v.map_or_else(|| "n/a".into(), |v| format!("{v:.digits$}"));
     [
@@ -94,7 +98,16 @@ pub(crate) fn row_cells(r: &BenchRow) -> [String; 22] {
         saved_cell(r.fill_saved),
         saved_cell(r.volume_pass_saved),
         opt(r.speed_up, 2),
+        page_cell(r.pages, 0),
+        page_cell(r.pages, 1),
+        page_cell(r.pages, 2),
+        page_cell(r.pages, 3),
     ]
+}
+
+/// Column `i` of the virtual maps' page medians, `-` for other techniques.
+fn page_cell(pages: Option<[f64; 4]>, i: usize) -> String {
+    pages.map_or_else(|| "-".into(), |p| format!("{:.0}", p[i]))
 }
 
 /// A mean and peak ratio, `3.1x/7.0x`.
@@ -151,13 +164,13 @@ pub(super) fn aligned(lines: &[Vec<String>], left: usize) -> String {
 
 pub(crate) fn format_csv(rows: &[BenchRow]) -> String {
     let mut out = String::from(
-        "setting,method,frames,frame_ms,gpu_frame_ms,shadow_pass_ms,casters_drawn,casters_oracle,tightness,shadow_triangles,error_px_max,casters_total,speed_up,culling_ms,undersampling_p50,undersampling_p95,exact_error_px,exact_error_percent,exact_error_off_edge_px_max,flicker_moved_px,flicker_turned_px,fill_mfragments,fill_mfragments_max,fill_saved_mean,fill_saved_peak,volume_pass_saved_mean,volume_pass_saved_peak,cpu_culling_ms\n",
+        "setting,method,frames,frame_ms,gpu_frame_ms,shadow_pass_ms,casters_drawn,casters_oracle,tightness,shadow_triangles,error_px_max,casters_total,speed_up,culling_ms,undersampling_p50,undersampling_p95,exact_error_px,exact_error_percent,exact_error_off_edge_px_max,flicker_moved_px,flicker_turned_px,fill_mfragments,fill_mfragments_max,fill_saved_mean,fill_saved_peak,volume_pass_saved_mean,volume_pass_saved_peak,cpu_culling_ms,pages_marked,pages_resident,pages_rendered,pages_refused\n",
     );
     let opt = |v: Option<f64>| v.map_or_else(String::new, |v| format!("{v:.4}"));
     for r in rows {
         let _ = writeln!(
             out,
-            "{},{},{},{:.4},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{:.4},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             r.setting,
             r.method,
             r.frames,
@@ -186,7 +199,11 @@ pub(crate) fn format_csv(rows: &[BenchRow]) -> String {
             opt(r.fill_saved.map(|f| f.1)),
             opt(r.volume_pass_saved.map(|f| f.0)),
             opt(r.volume_pass_saved.map(|f| f.1)),
-            opt(r.cpu_culling_ms)
+            opt(r.cpu_culling_ms),
+            r.pages.map_or_else(
+                || ",,,".to_owned(),
+                |p| p.map(|v| format!("{v:.0}")).join(",")
+            )
         );
     }
     out

@@ -66,6 +66,10 @@ pub struct BenchArgs {
     /// turned 0.1 degrees), the worst frame in the `flicker move/turn` column.
     #[arg(long)]
     pub flicker: bool,
+    /// The sun turns about the up axis this many degrees a second (1/30 s a frame): the
+    /// worst case for the virtual maps' cache (UE's moving-sun emulation).
+    #[arg(long, value_name = "DEG_PER_S", allow_hyphen_values = true)]
+    pub moving_sun: Option<f32>,
     /// Camera path CSV (`eye_x,eye_y,eye_z,target_x,target_y,target_z` per line); default: the
     /// scene's street path or an orbit.
     #[arg(long, value_name = "P")]
@@ -182,8 +186,12 @@ pub enum Sweep {
     Splits,
     /// The practical split's lambda, over `--lambdas`.
     Lambda,
-    /// Every shadow setup (single, lispsm, cascades, volumes), with the other flags.
+    /// Every shadow setup (single, lispsm, cascades, volumes, lights, virtual), with the other
+    /// flags.
     Setups,
+    /// The virtual maps' goals in one run: a single map of 8192, 4 cascades of 2048 (the
+    /// pool's memory), then the virtual maps with the cache on and off.
+    Virtual,
     /// Shadow volumes with each clamping (none, continuous, discrete, conservative).
     Clamp,
     /// Shadow volumes with conservative discrete clamping over 1, 2, 4, 8, 16 and 32 slices

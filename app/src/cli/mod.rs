@@ -42,12 +42,10 @@ pub enum Command {
     Shot(Box<ShotArgs>),
     /// Fly a camera path and print a table of methods (median over frames, after warm-up).
     Bench(Box<BenchArgs>),
-    /// Run every technique family along a camera path and write a report folder (HTML,
-    /// Markdown, CSV, JSON, plots).
+    /// Run every technique family along a camera path and write a report folder.
     Report(Box<ReportArgs>),
-    /// The hard cases (grazing sun, zenith sun, camera inside geometry, looking into the sun,
-    /// an empty view, 100 km out) with every technique on this scene: pass or fail with the
-    /// figures; the exit status fails with any.
+    /// The hard cases (grazing and zenith sun, camera inside geometry, into the sun, empty
+    /// view, 100 km out) with every technique: pass or fail with figures, and the exit status.
     Check(Box<CheckArgs>),
     /// List the built-in scenes.
     Scenes,
@@ -195,8 +193,8 @@ pub struct ViewArgs {
     #[arg(long, value_name = "TEXELS")]
     pub normal_offset: Option<f32>,
     /// Shadow setup: single (one map), lispsm (one map warped in light space), cascades,
-    /// volumes (stencil shadow volumes: exact hard shadows, no map), lights (the scene's
-    /// spot and point lights, a map each), or virtual (a clipmap of cached pages).
+    /// volumes (stencil shadow volumes, no map), lights (the scene's lamps, a map each), or
+    /// virtual (virtual shadow maps: a clipmap of cached pages).
     #[arg(long, value_parser = parse_setup, value_name = "SETUP")]
     pub shadow: Option<ShadowSetup>,
     /// Number of cascades, 1 to 8 (with --shadow cascades).
@@ -427,10 +425,8 @@ impl ViewArgs {
         self.volumes_into(settings)?;
         self.lights.apply_to(self.shadow, settings)?;
         if let Some(scale) = self.lispsm_n {
-            anyhow::ensure!(
-                scale.is_finite() && (0.01..=100.0).contains(&scale),
-                "--lispsm-n {scale}: the scale of n must be between 0.01 and 100"
-            );
+            let ok = scale.is_finite() && (0.01..=100.0).contains(&scale);
+            anyhow::ensure!(ok, "--lispsm-n {scale} is outside 0.01 to 100");
             settings.lispsm.n_scale = scale;
         }
         Ok(())

@@ -84,6 +84,7 @@ pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
         time: 0.0,
         no_truth: args.no_truth,
         flicker: false,
+        moving_sun_deg_per_s: 0.0,
     };
     let sweep_options = RunOptions {
         frames: args.sweep_frames.max(1),

@@ -17,7 +17,9 @@ const SETUP_HELP: &str = "single: one map fitted to the view. lispsm: one map wa
     perspective in light space (Wimmer et al.), finer near the camera. cascades: the view \
     frustum cut along its depth, one map per slice (Engel), so near shadows get fine texels. \
     volumes: stencil shadow volumes, exact per pixel and without a map (Crow; Lloyd's culling \
-    and clamping with any method but none)";
+    and clamping with any method but none). lights: the scene's lamps, a map each. virtual: \
+    virtual shadow maps, a clipmap of 128-texel pages around the camera of which only those \
+    visible pixels read are drawn, and kept until something moves through them";
 const CLAMP_HELP: &str = "Where each shadow volume is drawn along the light. none: from the \
     caster to past the scene. continuous: only across the depths of the visible receiver \
     points under the caster (Lloyd's clamping), so no volume fills the empty space around \
@@ -111,6 +113,9 @@ pub fn ui(ui: &mut egui::Ui, settings: &mut FrameSettings, report: Option<&Frame
         }
         if settings.setup == ShadowSetup::Lights {
             super::lights::rows(ui, &mut settings.layered, report);
+        }
+        if settings.setup == ShadowSetup::Virtual {
+            super::virtual_pages::rows(ui, &mut settings.virtual_maps, report);
         }
         // Many lights with the sun cascade it as the cascades setup does.
         if !settings.cascaded_sun() {

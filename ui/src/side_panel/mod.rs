@@ -17,6 +17,7 @@ mod selection;
 mod shadows;
 mod sun;
 mod timings_plot;
+mod virtual_pages;
 
 #[cfg(test)]
 mod tests;

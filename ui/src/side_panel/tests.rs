@@ -1005,3 +1005,31 @@ fn compare_all_switches_on_and_lists_every_row() {
         );
     }
 }
+
+#[test]
+fn the_virtual_setup_sets_its_pool_and_cache_and_says_what_its_pages_did() {
+    let mut lab = Lab::new();
+    lab.settings.setup = ShadowSetup::Virtual;
+    lab.report.virtual_pages = Some(render_core::technique::VirtualPages {
+        pages_marked: 140,
+        pages_resident: 1024,
+        pages_rendered: 12,
+        pages_refused: 3,
+        pages_evicted: 5,
+        pool_pages: 1024,
+        pool_mib: 64.0,
+        levels: 16,
+        cache: true,
+        caster_pages: 2500,
+        ..Default::default()
+    });
+    let mut harness = harness_on(lab, PanelTab::Shadows);
+    harness.get_by_label("140 marked, 1,024 resident, 12 drawn");
+    harness.get_by_label("3 refused (pool full), 5 evicted");
+    harness.get_by_label("100% of 1024 pages");
+    harness.get_by_label("64 MiB");
+    harness.get_by_role_and_label(Role::Slider, "Level bias");
+    harness.get_by_role_and_label(Role::CheckBox, "Cache").click();
+    harness.run();
+    assert!(!harness.state().settings.virtual_maps.cache);
+}
