@@ -36,6 +36,12 @@ pub const FILL_LOW: Swatch = swatch("FILL_LOW", [0.1, 0.3, 1.0]);
 pub const FILL_HIGH: Swatch = swatch("FILL_HIGH", [1.0, 0.9, 0.1]);
 /// The shadow volumes drawn over the view, translucent (Lloyd et al.'s Figure 1).
 pub const VOLUME: Swatch = swatch("VOLUME", [1.0, 0.85, 0.1]);
+/// The virtual maps' page view: pages drawn this frame, cached pages read this frame, cached
+/// pages no pixel read, and pages the pool refused.
+pub const PAGE_DRAWN: Swatch = swatch("PAGE_DRAWN", [1.0, 0.55, 0.1]);
+pub const PAGE_CACHED: Swatch = swatch("PAGE_CACHED", [0.15, 0.8, 0.3]);
+pub const PAGE_IDLE: Swatch = swatch("PAGE_IDLE", [0.25, 0.35, 0.6]);
+pub const PAGE_REFUSED: Swatch = swatch("PAGE_REFUSED", [0.95, 0.1, 0.25]);
 /// Volume fragments on one pixel that the fill heat map shows as [`FILL_HIGH`].
 pub const FILL_HIGH_COUNT: u32 = 1024;
 
@@ -51,7 +57,7 @@ pub const VIEWS: [Swatch; 8] = [
     swatch("VIEW_7", [0.6, 0.6, 0.6]),
 ];
 
-const ALL: [Swatch; 16] = [
+const ALL: [Swatch; 20] = [
     RENDERED,
     EXCLUDED,
     CULLED_LIGHT_FRUSTUM,
@@ -68,6 +74,10 @@ const ALL: [Swatch; 16] = [
     FILL_LOW,
     FILL_HIGH,
     VOLUME,
+    PAGE_DRAWN,
+    PAGE_CACHED,
+    PAGE_IDLE,
+    PAGE_REFUSED,
 ];
 
 pub(crate) const WGSL_PATH: &str = "palette.wgsl";

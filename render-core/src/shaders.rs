@@ -132,6 +132,10 @@ const FILES: &[(&str, &str)] = &[
         "virtual_maps/light.wgsl",
         include_str!("virtual_maps/light.wgsl"),
     ),
+    (
+        "virtual_maps/overlay.wgsl",
+        include_str!("virtual_maps/overlay.wgsl"),
+    ),
     ("layered/tile.wgsl", include_str!("layered/tile.wgsl")),
     ("layered/load.wgsl", include_str!("layered/load.wgsl")),
     (

@@ -120,7 +120,18 @@ pub fn legend(settings: &FrameSettings) -> Vec<LegendGroup> {
             )],
         });
     }
-    if overlays.light_view {
+    if overlays.light_view && settings.setup == super::ShadowSetup::Virtual {
+        groups.push(LegendGroup {
+            title: "Pages of each level, finest first (top left)",
+            entries: vec![
+                entry(crate::palette::PAGE_DRAWN, "drawn this frame"),
+                entry(crate::palette::PAGE_CACHED, "cached, read this frame"),
+                entry(crate::palette::PAGE_IDLE, "cached, not read"),
+                entry(crate::palette::PAGE_REFUSED, "refused: the pool is full"),
+                entry(MAP_EMPTY, "no page"),
+            ],
+        });
+    } else if overlays.light_view {
         let bits = settings.method.gpu_bits().unwrap_or(0);
         let mut entries = vec![
             entry(MAP_NEAR, "map: near the light"),
@@ -225,5 +236,18 @@ mod tests {
         assert_eq!(labels, ["cascade 0 (nearest)", "cascade 1", "cascade 2"]);
         let [r, g, b] = groups[0].entries[2].rgb;
         assert!((r, g, b) == (VIEWS[2].rgb[0], VIEWS[2].rgb[1], VIEWS[2].rgb[2]));
+    }
+
+    #[test]
+    fn the_virtual_maps_light_view_is_their_pages() {
+        let mut settings = FrameSettings::default();
+        settings.setup = crate::frame::ShadowSetup::Virtual;
+        settings.overlays.light_view = true;
+        let groups = legend(&settings);
+        assert_eq!(groups.len(), 1);
+        let labels: Vec<_> = groups[0].entries.iter().map(|e| e.label).collect();
+        assert!(labels.contains(&"drawn this frame"), "{labels:?}");
+        assert!(labels.contains(&"refused: the pool is full"), "{labels:?}");
+        assert_eq!(groups[0].entries[0].rgb, crate::palette::PAGE_DRAWN.rgb);
     }
 }

@@ -424,8 +424,9 @@ impl FrameRenderer {
         let own = crate::technique::TechniqueOverlays {
             fill: settings.overlays.fill,
             volumes: settings.overlays.volumes,
+            light_view: settings.overlays.light_view,
         };
-        if own.fill || own.volumes {
+        if own.fill || own.volumes || own.light_view {
             self.techniques
                 .active()
                 .draw_overlay(&ctx.device, encoder, targets, own);

@@ -228,6 +228,8 @@ pub struct TechniqueOverlays {
     pub fill: bool,
     /// The shadow volumes, translucent.
     pub volumes: bool,
+    /// The light's view, for a technique that draws its own (the virtual maps' pages).
+    pub light_view: bool,
 }
 
 /// Fragments and stencil writes of one frame's volumes.

@@ -348,6 +348,7 @@ impl ShadowTechnique for VirtualTechnique {
             self.frame_tags.remove(0);
         }
         self.views = draw.views.to_vec();
+        self.frame_group = Some(draw.frame_group.clone());
         self.casters_total = input.scene.caster_count() as u32;
         self.ensure_outcomes(&ctx.device, u64::from(instances) * draw.views.len() as u64);
         ShadowPasses {
@@ -424,6 +425,26 @@ impl ShadowTechnique for VirtualTechnique {
         self.latest
             .as_ref()
             .is_some_and(|(tag, _)| *tag >= frame_index)
+    }
+
+    /// The page view, with the `light-view` overlay.
+    fn draw_overlay(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        targets: &crate::view::ViewTargets,
+        overlays: crate::technique::TechniqueOverlays,
+    ) {
+        if let (true, Some(tables), Some(frame_group)) =
+            (overlays.light_view, &self.tables, &self.frame_group)
+        {
+            self.page_view.draw(
+                device,
+                encoder,
+                targets,
+                (frame_group, &tables.params, &tables.flags),
+            );
+        }
     }
 
     fn inset(&self, _view: u32) -> Option<InsetSources<'_>> {

@@ -23,6 +23,7 @@
 
 mod frame;
 mod gpu_data;
+mod overlay;
 mod pipelines;
 mod resources;
 
@@ -46,6 +47,7 @@ pub(crate) fn shader_sources() -> Vec<(String, String)> {
         .map(|(label, source)| (label.to_owned(), source))
         .collect();
     out.push(("VirtualMaps::draw".to_owned(), pipelines::draw_source()));
+    out.push(("VirtualMaps::page_view".to_owned(), overlay::shader_source()));
     out
 }
 
@@ -64,6 +66,9 @@ struct CacheKey {
 /// The virtual shadow maps.
 pub struct VirtualTechnique {
     pipelines: Pipelines,
+    page_view: overlay::PageView,
+    /// Group 0 of the last frame's passes, for the page view.
+    frame_group: Option<wgpu::BindGroup>,
     tables: Option<Tables>,
     lists: Lists,
     light_group: Option<wgpu::BindGroup>,
@@ -100,6 +105,8 @@ impl VirtualTechnique {
                 frame_layout,
                 features.contains(wgpu::Features::CLIP_DISTANCES),
             ),
+            page_view: overlay::PageView::new(device, frame_layout),
+            frame_group: None,
             tables: None,
             lists: Lists::new(device),
             light_group: None,

@@ -1,0 +1,55 @@
+// The virtual maps' page view (virtual_maps/overlay.rs), the `light-view` overlay of this
+// technique: every level's square side by side, finest first, left to right and down, each
+// page in the colour of what it did this frame (palette.rs PAGE_*), dark where it is empty.
+#import virtual_maps/pages.wgsl
+#import palette.wgsl
+
+@group(1) @binding(1) var<storage, read> page_flags: array<u32>;
+
+struct VsOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) uv: vec2<f32>,
+}
+
+@vertex
+fn vs_pages(@builtin(vertex_index) index: u32) -> VsOut {
+    let uv = vec2<f32>(f32((index << 1u) & 2u), f32(index & 2u));
+    var out: VsOut;
+    out.clip = vec4<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0, 0.0, 1.0);
+    out.uv = uv;
+    return out;
+}
+
+// Levels per row of the view: the smallest square that holds them all.
+fn columns() -> u32 {
+    return u32(ceil(sqrt(f32(level_count())) - 1e-4));
+}
+
+@fragment
+fn fs_pages(in: VsOut) -> @location(0) vec4<f32> {
+    let n = f32(columns());
+    let cell = vec2<u32>(min(in.uv * n, vec2<f32>(n - 1.0)));
+    let level = cell.y * columns() + cell.x;
+    let local = fract(in.uv * n);
+    if (level >= level_count() || any(local < vec2<f32>(0.015)) || any(local > vec2<f32>(0.985))) {
+        return vec4<f32>(0.0, 0.0, 0.0, 1.0);
+    }
+    let page = vec2<i32>(local * f32(LEVEL_PAGES));
+    let flags = page_flags[entry_of(level, page)];
+    var colour = PALETTE_MAP_EMPTY;
+    if ((flags & PAGE_REFUSED) != 0u) {
+        colour = PALETTE_PAGE_REFUSED;
+    } else if ((flags & PAGE_RENDERED) != 0u) {
+        colour = PALETTE_PAGE_DRAWN;
+    } else if ((flags & PAGE_RESIDENT) != 0u && (flags & PAGE_MARKED) != 0u) {
+        colour = PALETTE_PAGE_CACHED;
+    } else if ((flags & PAGE_RESIDENT) != 0u) {
+        colour = PALETTE_PAGE_IDLE;
+    }
+    // Page borders, faint, where pages are not tiny.
+    let in_page = fract(local * f32(LEVEL_PAGES));
+    if (any(in_page < vec2<f32>(0.06))) {
+        colour *= 0.7;
+    }
+    return vec4<f32>(colour, 1.0);
+}
