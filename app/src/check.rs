@@ -196,6 +196,7 @@ fn techniques(base: &FrameSettings, lights: bool) -> Vec<Technique> {
         with("cascades, frag", ShadowSetup::Cascades, Method::Frag),
         with("volumes, standard", ShadowSetup::Volumes, Method::None),
         volumes,
+        with("virtual maps", ShadowSetup::Virtual, Method::None),
     ];
     if lights {
         let mut atlas = with("lights, atlas, frag", ShadowSetup::Lights, Method::Frag);

@@ -85,10 +85,7 @@ fn bad_cascade_flags_name_the_flag() {
             "unknown cascade selection 'nearest'",
         ),
         (&["--cascade-depths", "all"], "unknown cascade depths 'all'"),
-        (
-            &["--lispsm-n", "0"],
-            "--lispsm-n 0 is outside 0.01 to 100",
-        ),
+        (&["--lispsm-n", "0"], "--lispsm-n 0 is outside 0.01 to 100"),
     ] {
         let output = run(shadowlab()
             .args(["shot", "builtin:boxes", "--size", "32x32", "--out"])

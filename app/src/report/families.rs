@@ -82,6 +82,7 @@ impl Family {
                 ShadowSetup::Single,
                 ShadowSetup::Lispsm,
                 ShadowSetup::Cascades,
+                ShadowSetup::Virtual,
             ]
             .into_iter()
             .map(|setup| with(setup.name().to_owned(), FrameSettings { setup, ..base }))
@@ -152,10 +153,22 @@ impl Family {
             Self::Setups => {
                 settings.setup = ShadowSetup::Cascades;
                 settings.overlays.cascades = true;
-                vec![with(
-                    "cascades: each point tinted by the cascade that shades it",
-                    settings,
-                )]
+                let mut pages = FrameSettings {
+                    setup: ShadowSetup::Virtual,
+                    ..settings
+                };
+                pages.overlays.cascades = false;
+                pages.overlays.light_view = true;
+                vec![
+                    with(
+                        "cascades: each point tinted by the cascade that shades it",
+                        settings,
+                    ),
+                    with(
+                        "virtual maps: every clipmap level's pages, drawn this frame or cached",
+                        pages,
+                    ),
+                ]
             }
             Self::Volumes => {
                 settings.setup = ShadowSetup::Volumes;

@@ -1,10 +1,11 @@
-// The page table's frame (virtual_maps/passes.rs), in this order: entries touched by a moved
+// The page table's frame (virtual_maps/frame.rs), in this order: entries touched by a moved
 // box invalid; each entry kept, or released when its page left its level's square, was
-// invalidated or everything was; (marking); free physical pages listed; marked entries of
-// the coarsest level given pages, then the others'; where the pool ran out, cached pages no
-// pixel marked evicted and the refused entries given pages again; the frame's counts, the
-// drawn pages' list and squares, and the clears' draw arguments. No readback: the CPU learns
-// the counts a frame or more later.
+// invalidated or everything was; (marking); free physical pages listed; marked entries given
+// pages, all but a few kept back; where the pool ran out, cached pages no pixel marked evicted
+// and the refused entries given pages again; (the refused pixels' fallback marks); the
+// fallback pages given the pages kept back; the frame's counts, the drawn pages' list and
+// squares, and the clears' draw arguments. No readback: the CPU learns the counts a frame or
+// more later.
 #import virtual_maps/tables.wgsl
 
 // x: box, y: level. Every entry whose page the box covers is invalid this frame.
@@ -72,10 +73,15 @@ fn list_free_again(@builtin(global_invocation_id) id: vec3<u32>) {
     }
 }
 
-// A physical page for entry `e` from the free list, or the entry refused.
-fn take_page(e: u32) -> bool {
+// A physical page for entry `e` from the free list, leaving `kept_back` pages in it, or the
+// entry refused.
+fn take_page(e: u32, kept_back: u32) -> bool {
     let taken = atomicAdd(&counters.taken, 1u);
-    if (taken >= atomicLoad(&counters.free_count)) {
+    let free = atomicLoad(&counters.free_count);
+    if (taken + kept_back >= free) {
+        // Given back, so the count ends at the pages taken: every value below the limit is
+        // handed out once, and the counter never falls below it again.
+        atomicSub(&counters.taken, 1u);
         atomicOr(&page_flags[e], PAGE_REFUSED);
         return false;
     }
@@ -93,19 +99,11 @@ fn wants_page(e: u32) -> bool {
     return (flags & PAGE_MARKED) != 0u && (flags & PAGE_RESIDENT) == 0u;
 }
 
-// The coarsest level's marked pages first: every pixel's fallback.
-@compute @workgroup_size(64)
-fn allocate_coarsest(@builtin(global_invocation_id) id: vec3<u32>) {
-    let e = (level_count() - 1u) * LEVEL_ENTRIES + id.x;
-    if (id.x < LEVEL_ENTRIES && wants_page(e) && !take_page(e)) {
-        atomicAdd(&counters.first_refused, 1u);
-    }
-}
-
+// Marked pages, each level's, from the pool less the pages kept back for fallbacks.
 @compute @workgroup_size(64)
 fn allocate_pages(@builtin(global_invocation_id) id: vec3<u32>) {
     let e = id.x;
-    if (e < (level_count() - 1u) * LEVEL_ENTRIES && wants_page(e) && !take_page(e)) {
+    if (e < entry_count() && wants_page(e) && !take_page(e, params.limits.x)) {
         atomicAdd(&counters.first_refused, 1u);
     }
 }
@@ -133,22 +131,23 @@ fn restart_free_list() {
     }
 }
 
-// The refused entries again, the coarsest level's first.
+// The refused entries again, after the eviction.
 @compute @workgroup_size(64)
 fn allocate_refused(@builtin(global_invocation_id) id: vec3<u32>) {
     let e = id.x;
-    if (e < (level_count() - 1u) * LEVEL_ENTRIES && atomicLoad(&counters.first_refused) > 0u
+    if (e < entry_count() && atomicLoad(&counters.first_refused) > 0u
         && (atomicLoad(&page_flags[e]) & PAGE_REFUSED) != 0u) {
-        take_page(e);
+        take_page(e, params.limits.x);
     }
 }
 
+// The coarsest level's pages that refused pixels marked (mark.wgsl `mark_fallback`), from
+// the pages kept back.
 @compute @workgroup_size(64)
-fn allocate_refused_coarsest(@builtin(global_invocation_id) id: vec3<u32>) {
+fn allocate_fallback(@builtin(global_invocation_id) id: vec3<u32>) {
     let e = (level_count() - 1u) * LEVEL_ENTRIES + id.x;
-    if (id.x < LEVEL_ENTRIES && atomicLoad(&counters.first_refused) > 0u
-        && (atomicLoad(&page_flags[e]) & PAGE_REFUSED) != 0u) {
-        take_page(e);
+    if (id.x < LEVEL_ENTRIES && atomicLoad(&counters.first_refused) > 0u && wants_page(e)) {
+        take_page(e, 0u);
     }
 }
 

@@ -5,6 +5,10 @@ use super::gpu_data::{FrameCounts, VirtualParams, word};
 use super::pipelines::TABLE_PASSES;
 use super::resources::{self, LEVEL_ENTRIES, Tables};
 use super::{LIGHT_WGSL, VirtualTechnique};
+
+/// Physical pages kept back from the first allocations for the fallback pages of pixels whose
+/// own pages the pool refused (a quarter of a smaller pool).
+const FALLBACK_PAGES: u32 = 16;
 use crate::culling::{CasterOutcome, Method};
 use crate::geom::fit_clipmap_level;
 use crate::gpu::{GpuContext, pass_label};
@@ -32,6 +36,8 @@ impl VirtualTechnique {
             moved as f32,
             rows as f32,
         ];
+        // The coarsest level's pages that refused pixels fall back to: a few cover the scene.
+        params.limits = [FALLBACK_PAGES.min(self.settings.pages / 4), 0, 0, 0];
         for (slot, first) in params.first_page.iter_mut().zip(&self.first_pages) {
             *slot = [first[0], first[1], 0, 0];
         }
@@ -51,19 +57,22 @@ impl VirtualTechnique {
         let entries = (levels * LEVEL_ENTRIES).div_ceil(64);
         let pages = tables.pages.div_ceil(64);
         let level_entries = LEVEL_ENTRIES.div_ceil(64);
-        let sizes: [[u32; 2]; 12] = [
+        let sizes: [[u32; 2]; 11] = [
             [moved.div_ceil(64), levels],
             [entries, 1],
             [pages, 1],
-            [level_entries, 1],
             [entries, 1],
             [entries, 1],
             [1, 1],
             [pages, 1],
+            [entries, 1],
             [level_entries, 1],
             [entries, 1],
-            [entries, 1],
             [1, 1],
+        ];
+        let pixels = [
+            draw.targets.width.div_ceil(8),
+            draw.targets.height.div_ceil(8),
         ];
         let scope = draw.timer.open_scope(pass_label::VIRTUAL_PAGES, encoder);
         let dispatch = |encoder: &mut wgpu::CommandEncoder,
@@ -92,14 +101,12 @@ impl VirtualTechnique {
         };
         scope.step(pass_label::virtual_maps::MARKING, encoder, |e| {
             dispatch(e, &table(0..2), None);
-            let size = [
-                draw.targets.width.div_ceil(8),
-                draw.targets.height.div_ceil(8),
-            ];
-            dispatch(e, &[(&self.pipelines.mark, size)], Some(mark_group));
+            dispatch(e, &[(&self.pipelines.mark[0], pixels)], Some(mark_group));
         });
         scope.step(pass_label::virtual_maps::ALLOCATION, encoder, |e| {
-            dispatch(e, &table(2..TABLE_PASSES.len()), None);
+            dispatch(e, &table(2..8), None);
+            dispatch(e, &[(&self.pipelines.mark[1], pixels)], Some(mark_group));
+            dispatch(e, &table(8..TABLE_PASSES.len()), None);
         });
         scope.step(pass_label::virtual_maps::CULLING, encoder, |e| {
             if !self.draw_count {

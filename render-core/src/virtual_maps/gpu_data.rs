@@ -13,10 +13,12 @@ pub(super) struct VirtualParams {
     pub counts: [u32; 4],
     /// The finest texel (m), the level bias (octaves), moved boxes, the atlas's rows of pages.
     pub tuning: [f32; 4],
+    /// Physical pages kept back for fallback pages; unused.
+    pub limits: [u32; 4],
     /// Per level, the absolute position of its square's first page.
     pub first_page: [[i32; 4]; VirtualSettings::MAX_LEVELS as usize],
 }
-const _: () = assert!(size_of::<VirtualParams>() == 32 + 16 * 24);
+const _: () = assert!(size_of::<VirtualParams>() == 48 + 16 * 24);
 
 /// Word offsets in `Counters` (`tables.wgsl`).
 pub(super) mod word {

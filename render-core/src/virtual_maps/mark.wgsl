@@ -1,7 +1,8 @@
-// Page marking (virtual_maps/passes.rs): each visible receiver pixel marks the pages its
-// PCF taps read at the level shading will read (`holding_level`), and the coarsest level's
-// pages under it, which are given physical pages first so that a pixel refused its own
-// pages falls back to a coarser one, never to a hole. One thread per pixel.
+// Page marking (virtual_maps/frame.rs): each visible receiver pixel marks the pages its PCF
+// taps read at the level shading will read (`holding_level`); after allocation, a pixel one of
+// whose pages the pool refused marks the coarsest level's pages under it, which take physical
+// pages kept back for them, so that it falls back to a coarser level, never to a hole. One
+// thread per pixel.
 #import virtual_maps/tables.wgsl
 
 @group(2) @binding(0) var surface_ids: texture_2d<u32>;
@@ -21,24 +22,62 @@ fn mark_taps(l: ShadowLookup) {
     }
 }
 
+// Whether one of the pages lookup `l`'s taps read was refused.
+fn taps_refused(l: ShadowLookup) -> bool {
+    let pages = tap_pages(l);
+    for (var y = pages[0].y; y <= pages[1].y; y++) {
+        for (var x = pages[0].x; x <= pages[1].x; x++) {
+            if ((atomicLoad(&page_flags[entry_of(l.view, vec2<i32>(x, y))]) & PAGE_REFUSED) != 0u) {
+                return true;
+            }
+        }
+    }
+    return false;
+}
+
+// The receiver surface at pixel `id` (xyz: position; w: 0 where none), and its normal.
+fn receiver_at(id: vec2<u32>) -> array<vec4<f32>, 2> {
+    let size = textureDimensions(surface_ids);
+    var out = array<vec4<f32>, 2>(vec4<f32>(0.0), vec4<f32>(0.0));
+    if (any(id >= size) || frame.params.y == 0u) {
+        return out;
+    }
+    let object = textureLoad(surface_ids, id, 0).x;
+    if (object == 0u || (instances[object - 1u].flags.x & FLAG_RECEIVER) == 0u) {
+        return out;
+    }
+    out[0] = vec4<f32>(textureLoad(surface_positions, id, 0).xyz, 1.0);
+    out[1] = vec4<f32>(textureLoad(surface_normals, id, 0).xyz, 0.0);
+    return out;
+}
+
 @compute @workgroup_size(8, 8)
 fn mark_pages(@builtin(global_invocation_id) id: vec3<u32>) {
-    let size = textureDimensions(surface_ids);
-    if (any(id.xy >= size) || frame.params.y == 0u) {
+    let surface = receiver_at(id.xy);
+    if (surface[0].w == 0.0) {
         return;
     }
-    let object = textureLoad(surface_ids, id.xy, 0).x;
-    if (object == 0u || (instances[object - 1u].flags.x & FLAG_RECEIVER) == 0u) {
+    let level = holding_level(surface[0].xyz, surface[1].xyz);
+    if (level < level_count()) {
+        mark_taps(shadow_lookup(surface[0].xyz, surface[1].xyz, level));
+    }
+}
+
+// After allocation: the coarsest level's pages for pixels whose own were refused.
+@compute @workgroup_size(8, 8)
+fn mark_fallback(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (atomicLoad(&counters.first_refused) == 0u) {
         return;
     }
-    let p = textureLoad(surface_positions, id.xy, 0).xyz;
-    let n = textureLoad(surface_normals, id.xy, 0).xyz;
+    let surface = receiver_at(id.xy);
     let last = level_count() - 1u;
-    let level = holding_level(p, n);
-    if (level <= last) {
-        mark_taps(shadow_lookup(p, n, level));
+    if (surface[0].w == 0.0) {
+        return;
     }
-    if (level < last) {
+    let p = surface[0].xyz;
+    let n = surface[1].xyz;
+    let level = holding_level(p, n);
+    if (level < last && taps_refused(shadow_lookup(p, n, level))) {
         let coarsest = shadow_lookup(p, n, last);
         if (lookup_contained(coarsest)) {
             mark_taps(coarsest);

@@ -47,7 +47,10 @@ pub(crate) fn shader_sources() -> Vec<(String, String)> {
         .map(|(label, source)| (label.to_owned(), source))
         .collect();
     out.push(("VirtualMaps::draw".to_owned(), pipelines::draw_source()));
-    out.push(("VirtualMaps::page_view".to_owned(), overlay::shader_source()));
+    out.push((
+        "VirtualMaps::page_view".to_owned(),
+        overlay::shader_source(),
+    ));
     out
 }
 

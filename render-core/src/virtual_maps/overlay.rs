@@ -2,7 +2,9 @@
 //! colours of what they did this frame (`overlay.wgsl`), in the top-left corner of the view
 //! where the other techniques show their light's view.
 
-use crate::gpu::{bind_group_layout, buffer_entry, color_attachment, pipeline_layout, storage, uniform};
+use crate::gpu::{
+    bind_group_layout, buffer_entry, color_attachment, pipeline_layout, storage, uniform,
+};
 use crate::overlays::LIGHT_VIEW_SIZE;
 use crate::view::ViewTargets;
 
@@ -73,7 +75,10 @@ impl PageView {
         let margin = (side * 0.05).round();
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("VirtualMaps::page_view"),
-            color_attachments: &[Some(color_attachment(&targets.color_view, wgpu::LoadOp::Load))],
+            color_attachments: &[Some(color_attachment(
+                &targets.color_view,
+                wgpu::LoadOp::Load,
+            ))],
             depth_stencil_attachment: None,
             timestamp_writes: None,
             occlusion_query_set: None,

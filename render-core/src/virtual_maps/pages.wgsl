@@ -25,6 +25,9 @@ struct VirtualParams {
     // x: the finest level's texel, metres; y: the level bias, octaves; z: moved boxes this
     // frame; w: the atlas's rows of pages.
     tuning: vec4<f32>,
+    // x: physical pages kept back from the first allocations for the fallback pages of
+    // pixels whose own pages were refused; y, z, w: unused.
+    limits: vec4<u32>,
     // Per level, xy: the absolute position of its square's first page (column, row).
     first_page: array<vec4<i32>, 24>,
 }

@@ -11,17 +11,18 @@ use crate::shaders::compose;
 use crate::shadow_view::SHADOW_FORMAT;
 
 /// The page table's passes in `allocate.wgsl`, in the order a frame runs them.
-pub(super) const TABLE_PASSES: [&str; 12] = [
+/// Marking (`mark.wgsl` `mark_pages`) runs after the first two, the fallback marks
+/// (`mark_fallback`) before `allocate_fallback`.
+pub(super) const TABLE_PASSES: [&str; 11] = [
     "invalidate_moved",
     "begin_pages",
     "list_free_pages",
-    "allocate_coarsest",
     "allocate_pages",
     "evict_unmarked",
     "restart_free_list",
     "list_free_again",
-    "allocate_refused_coarsest",
     "allocate_refused",
+    "allocate_fallback",
     "tally_pages",
     "finish_pages",
 ];
@@ -52,7 +53,8 @@ pub(super) struct Pipelines {
     pub light_layout: wgpu::BindGroupLayout,
     /// In the order of [`TABLE_PASSES`].
     pub tables: Vec<wgpu::ComputePipeline>,
-    pub mark: wgpu::ComputePipeline,
+    /// `mark_pages` and `mark_fallback`.
+    pub mark: [wgpu::ComputePipeline; 2],
     pub cull: wgpu::ComputePipeline,
     /// `None` where the adapter has no `CLIP_DISTANCES`.
     pub draws: Option<[wgpu::RenderPipeline; 2]>,
@@ -110,12 +112,9 @@ impl Pipelines {
         let with = |label, group: &wgpu::BindGroupLayout| {
             pipeline_layout(device, label, &[frame_layout, &tables_layout, group])
         };
-        let mark = compute_pipeline(
-            device,
-            &mark,
-            Some(&with("VirtualMaps::mark", &mark_layout)),
-            "mark_pages",
-        );
+        let mark_pipeline_layout = with("VirtualMaps::mark", &mark_layout);
+        let mark = ["mark_pages", "mark_fallback"]
+            .map(|entry| compute_pipeline(device, &mark, Some(&mark_pipeline_layout), entry));
         let cull = compute_pipeline(
             device,
             &cull,

@@ -1029,7 +1029,9 @@ fn the_virtual_setup_sets_its_pool_and_cache_and_says_what_its_pages_did() {
     harness.get_by_label("100% of 1024 pages");
     harness.get_by_label("64 MiB");
     harness.get_by_role_and_label(Role::Slider, "Level bias");
-    harness.get_by_role_and_label(Role::CheckBox, "Cache").click();
+    harness
+        .get_by_role_and_label(Role::CheckBox, "Cache")
+        .click();
     harness.run();
     assert!(!harness.state().settings.virtual_maps.cache);
 }
