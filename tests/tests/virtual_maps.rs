@@ -218,10 +218,15 @@ fn moving_a_box_draws_again_exactly_the_pages_its_old_and_new_bounds_touch() {
     let new = scene.instances[1].aabb_in_world;
     let second = frames.frame(&scene, &camera(), &settings);
     assert_eq!(second.pages.moved_boxes, 2);
-    let touched: Vec<usize> = [old, new]
-        .iter()
-        .flat_map(|b| touched_entries(&second.views, b.min, b.max))
-        .collect();
+    let (before, after) = (
+        touched_entries(&second.views, old.min, old.max),
+        touched_entries(&second.views, new.min, new.max),
+    );
+    // The box crossed page borders: its old and new pages differ, and both are drawn again.
+    assert_ne!(before, after);
+    let mut touched = [before, after].concat();
+    touched.sort_unstable();
+    touched.dedup();
     let resident_before = entries_with(&first.flags, RESIDENT);
     let marked_now = entries_with(&second.flags, MARKED);
     // Drawn again: marked pages that the boxes touched or that were not there before.
@@ -234,7 +239,7 @@ fn moving_a_box_draws_again_exactly_the_pages_its_old_and_new_bounds_touch() {
     assert_eq!(entries_with(&second.flags, RENDERED), expected);
     let invalidated = resident_before
         .iter()
-        .filter(|e| touched.contains(e))
+        .filter(|e| touched.binary_search(e).is_ok())
         .count() as u32;
     assert_eq!(second.pages.pages_invalidated, invalidated);
     assert!(
@@ -424,7 +429,7 @@ impl Marking<'_> {
     /// The entries the pixel at `p` with normal `n` marks, and whether the answer is certain:
     /// false where its level's octave or a tap's texel lies so near a boundary that the GPU's
     /// f32 (from its own surface point, not this one read back from depth) may fall either side.
-    fn marks(&self, p: Vec3, n: Vec3) -> (Vec<usize>, bool) {
+    fn marks(&self, p: Vec3, n: Vec3) -> Marks {
         let (p64, n64) = (p.as_dvec3(), n.as_dvec3());
         let to_eye = self.camera.eye.as_dvec3() - p64;
         let distance = to_eye.length();
@@ -449,32 +454,54 @@ impl Marking<'_> {
                 r.rem_euclid(i64::from(PAGE_TEXELS)) == 0
                     || (r + self.kernel - 1).rem_euclid(i64::from(PAGE_TEXELS)) == 0
             };
+            let near_whole = |c: &f64| (c - c.round()).abs() < 0.05;
             if start
                 .iter()
-                .any(|c| (c - c.round()).abs() < 0.05 && page_edge(c.round() as i64))
+                .any(|c| near_whole(c) && page_edge(c.round() as i64))
             {
                 *certain = false;
             }
+            let texels_certain = !start.iter().any(near_whole);
             let first = start.map(|c| c.floor() as i64);
             let last_tap = first.map(|f| f + self.kernel - 1);
             let held = first.iter().all(|&f| f >= 0) && last_tap.iter().all(|&l| l < side);
             held.then(|| {
                 let pages = |t: i64| t.div_euclid(i64::from(PAGE_TEXELS));
-                let mut out = Vec::new();
+                let mut entries = Vec::new();
                 for y in pages(first[1])..=pages(last_tap[1]) {
                     for x in pages(first[0])..=pages(last_tap[0]) {
-                        out.push(entry(self.views, level, [x, y]));
+                        entries.push(entry(self.views, level, [x, y]));
                     }
                 }
-                out
+                let mut texels = Vec::new();
+                for y in first[1]..=last_tap[1] {
+                    for x in first[0]..=last_tap[0] {
+                        texels.push((level, x, y));
+                    }
+                }
+                (entries, texels, texels_certain)
             })
         };
         // No pixel's page is refused here: no fallback marks.
-        let marks = (matched..=last)
+        let (entries, texels, texels_certain) = (matched..=last)
             .find_map(|level| taps(level, &mut certain))
             .unwrap_or_default();
-        (marks, certain)
+        Marks {
+            entries,
+            texels,
+            certain,
+            texels_certain: texels_certain && certain,
+        }
     }
+}
+
+/// What one pixel marks, and whether the CPU can be sure of it.
+struct Marks {
+    entries: Vec<usize>,
+    /// The texels its taps read: level, x, y.
+    texels: Vec<(usize, i64, i64)>,
+    certain: bool,
+    texels_certain: bool,
 }
 
 /// The geometric normal of the box-on-plane scene at `p` on instance `id - 1`, towards the eye.
@@ -510,6 +537,8 @@ fn page_marking_equals_the_cpu_reference() {
         kernel: i64::from(settings.shadow.pcf.width()),
     };
     let (mut certain, mut uncertain) = (Vec::new(), Vec::new());
+    let (mut sure_texels, mut all_texels) = (Vec::new(), Vec::new());
+    let mut unsure_texel_pixels = 0;
     let mut unsure_pixels = 0;
     let mut pixels = 0;
     for y in 0..SIZE.1 {
@@ -519,12 +548,18 @@ fn page_marking_equals_the_cpu_reference() {
                 continue;
             };
             pixels += 1;
-            let (marks, sure) = marking.marks(p, box_scene_normal(&scene, id, p));
-            if sure {
-                certain.extend(marks);
+            let marks = marking.marks(p, box_scene_normal(&scene, id, p));
+            if marks.texels_certain {
+                sure_texels.extend(marks.texels.iter().copied());
+            } else {
+                unsure_texel_pixels += 1;
+            }
+            all_texels.extend(marks.texels);
+            if marks.certain {
+                certain.extend(marks.entries);
             } else {
                 unsure_pixels += 1;
-                uncertain.extend(marks);
+                uncertain.extend(marks.entries);
             }
         }
     }
@@ -556,4 +591,19 @@ fn page_marking_equals_the_cpu_reference() {
         "{unsure_pixels} of {pixels} pixels on a boundary"
     );
     assert_eq!(frame.pages.pages_marked as usize, gpu.len());
+    // The texels pixels read: at least those the CPU is sure of, at most a row and a column
+    // more for each pixel whose taps lie on a whole texel.
+    for texels in [&mut sure_texels, &mut all_texels] {
+        texels.sort_unstable();
+        texels.dedup();
+    }
+    let sampled = frame.pages.texels_sampled.expect("the frame measured") as usize;
+    let slack = unsure_texel_pixels * 2 * marking.kernel as usize;
+    assert!(
+        (sure_texels.len()..=all_texels.len() + slack).contains(&sampled),
+        "{sampled} texels sampled, the CPU reads {} to {} + {slack}",
+        sure_texels.len(),
+        all_texels.len()
+    );
+    assert!(frame.pages.texels_rendered >= sampled as u64);
 }

@@ -72,8 +72,9 @@ pub(crate) struct BenchRow {
     pub(crate) speed_up: Option<f64>,
     /// Median GPU ms per pass label (and depth: steps inside a pass are 1), in frame order.
     pub(crate) passes: Vec<(String, u32, f64)>,
-    /// Virtual maps: the medians of pages marked, resident, drawn and refused.
-    pub(crate) pages: Option<[f64; 4]>,
+    /// Virtual maps: the medians of pages marked, resident, drawn and refused, and of the
+    /// texels drawn and the texels visible pixels read.
+    pub(crate) pages: Option<[f64; 6]>,
 }
 
 pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
@@ -288,6 +289,10 @@ pub(crate) fn run_path(
         report.volume_fill = report.volume_fill.or(measured.volume_fill);
         report.error = measured.error;
         report.undersampling = measured.undersampling;
+        // The virtual maps count the texels pixels read when measuring.
+        if let (Some(pages), Some(m)) = (report.virtual_pages.as_mut(), measured.virtual_pages) {
+            pages.texels_sampled = m.texels_sampled;
+        }
         if frame >= options.warmup && !options.no_truth && settings.exact_truth_applies() {
             report.exact_error = Some(session.exact_error(&camera, &settings)?);
         }
@@ -409,7 +414,7 @@ pub(crate) fn summarise(setting: &str, method: &str, reports: &[(f64, FrameRepor
     }
 }
 
-fn pages_medians(reports: &[(f64, FrameReport)]) -> Option<[f64; 4]> {
+fn pages_medians(reports: &[(f64, FrameReport)]) -> Option<[f64; 6]> {
     let pages: Vec<_> = reports
         .iter()
         .filter_map(|(_, r)| r.virtual_pages)
@@ -417,14 +422,22 @@ fn pages_medians(reports: &[(f64, FrameReport)]) -> Option<[f64; 4]> {
     if pages.is_empty() {
         return None;
     }
-    let of = |f: fn(&render_core::technique::VirtualPages) -> u32| {
-        median(pages.iter().map(|p| f64::from(f(p))).collect()).unwrap_or(0.0)
+    let of = |f: fn(&render_core::technique::VirtualPages) -> Option<u64>| {
+        median(
+            pages
+                .iter()
+                .filter_map(|p| f(p).map(|v| v as f64))
+                .collect(),
+        )
+        .unwrap_or(0.0)
     };
     Some([
-        of(|p| p.pages_marked),
-        of(|p| p.pages_resident),
-        of(|p| p.pages_rendered),
-        of(|p| p.pages_refused),
+        of(|p| Some(p.pages_marked.into())),
+        of(|p| Some(p.pages_resident.into())),
+        of(|p| Some(p.pages_rendered.into())),
+        of(|p| Some(p.pages_refused.into())),
+        of(|p| Some(p.texels_rendered)),
+        of(|p| p.texels_sampled),
     ])
 }
 

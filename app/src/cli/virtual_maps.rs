@@ -24,7 +24,7 @@ pub struct VirtualArgs {
     #[arg(long, value_name = "M")]
     pub finest_texel: Option<f32>,
     /// Virtual maps: octaves added to the level resolution matching picks, -4 to 4 (above 0
-    /// coarser).
+    /// coarser; default -0.5, as Unreal's).
     #[arg(long, value_name = "OCTAVES", allow_hyphen_values = true)]
     pub lod_bias: Option<f32>,
 }

@@ -24,7 +24,8 @@ pub struct VirtualSettings {
     /// The finest level's texel, metres.
     pub finest_texel_m: f32,
     /// Added to the level resolution matching picks, in octaves: above 0 coarser, below
-    /// finer (Unreal's `ResolutionLodBiasDirectional`).
+    /// finer (Unreal's `ResolutionLodBiasDirectional`, whose default, -0.5, this takes: texels
+    /// half a pixel wide to two thirds of one, so a PCF edge spans fewer pixels).
     pub lod_bias: f32,
     /// Pages persist across frames until something moves through them (`--cache`).
     pub cache: bool,
@@ -36,7 +37,7 @@ impl Default for VirtualSettings {
             pages: 1024,
             levels: 16,
             finest_texel_m: 0.002,
-            lod_bias: 0.0,
+            lod_bias: -0.5,
             cache: true,
         }
     }

@@ -196,6 +196,8 @@ pub struct VirtualPages {
     pub cache: bool,
     /// Texels of the pages drawn.
     pub texels_rendered: u64,
+    /// Texels of resident pages that visible pixels' taps read (when the frame measured).
+    pub texels_sampled: Option<u64>,
 }
 
 /// How the many-lights technique rendered a frame's maps.

@@ -50,7 +50,7 @@ impl VirtualTechnique {
         encoder: &mut wgpu::CommandEncoder,
         draw: &DrawInput<'_>,
         (tables, groups): (&Tables, &[wgpu::BindGroup; 3]),
-        (instances, moved): (u32, u32),
+        (instances, moved, measure): (u32, u32, bool),
     ) {
         let [table_group, mark_group, cull_group] = groups;
         let levels = tables.levels;
@@ -107,6 +107,18 @@ impl VirtualTechnique {
             dispatch(e, &table(2..8), None);
             dispatch(e, &[(&self.pipelines.mark[1], pixels)], Some(mark_group));
             dispatch(e, &table(8..TABLE_PASSES.len()), None);
+            if measure {
+                e.clear_buffer(&tables.texel_bits, 0, None);
+                let words = (tables.pages * 512).div_ceil(64);
+                dispatch(
+                    e,
+                    &[
+                        (&self.pipelines.mark[2], pixels),
+                        (&self.pipelines.mark[3], [words, 1]),
+                    ],
+                    Some(mark_group),
+                );
+            }
         });
         scope.step(pass_label::virtual_maps::CULLING, encoder, |e| {
             if !self.draw_count {
@@ -211,6 +223,7 @@ impl VirtualTechnique {
                     view_entry(0, &t.ids_view),
                     view_entry(1, &t.positions_view),
                     view_entry(2, &t.normals_view),
+                    buffer_entry(3, &tables.texel_bits),
                 ],
             ),
             group(
@@ -337,7 +350,7 @@ impl ShadowTechnique for VirtualTechnique {
             encoder,
             draw,
             (tables, &[table_group, mark_group, cull_group]),
-            (instances, moved),
+            (instances, moved, input.measure),
         );
         self.failure = self
             .encode_draws(encoder, draw, scene_gpu, (tables, &draw_group))
@@ -350,7 +363,7 @@ impl ShadowTechnique for VirtualTechnique {
             .readback
             .copy(encoder, &tables.counters, input.frame_index);
         self.frame_tags
-            .push((input.frame_index, invalidate_all, moved));
+            .push((input.frame_index, invalidate_all, moved, input.measure));
         if self.frame_tags.len() > 8 {
             self.frame_tags.remove(0);
         }
@@ -415,6 +428,9 @@ impl ShadowTechnique for VirtualTechnique {
                 finest_texel_m: self.settings.finest_texel_m,
                 cache: self.settings.cache,
                 texels_rendered: u64::from(c.rendered) * u64::from(PAGE_TEXELS * PAGE_TEXELS),
+                texels_sampled: cache
+                    .is_some_and(|f| f.3)
+                    .then_some(u64::from(c.texels_sampled)),
             }
         });
         ShadowReport {

@@ -37,8 +37,9 @@ pub(super) mod word {
     pub const LEVEL_RENDERED: usize = LEVEL_MARKED + 24;
     pub const LEVEL_PAIRS: usize = LEVEL_RENDERED + 24;
     pub const RECTS: usize = LEVEL_PAIRS + 24;
+    pub const TEXELS_SAMPLED: usize = RECTS + 4 * 24;
     /// Words in all.
-    pub const COUNT: usize = RECTS + 4 * 24;
+    pub const COUNT: usize = TEXELS_SAMPLED + 1;
 }
 
 /// The pages' counts of one frame, as the GPU left them.
@@ -55,6 +56,7 @@ pub(super) struct FrameCounts {
     pub overflow: u32,
     pub evicted: u32,
     pub invalidated: u32,
+    pub texels_sampled: u32,
     pub level_marked: Vec<u32>,
     pub level_rendered: Vec<u32>,
     pub level_pairs: Vec<u32>,
@@ -77,6 +79,7 @@ impl FrameCounts {
             overflow: words[word::OVERFLOW],
             evicted: words[word::EVICTED],
             invalidated: words[word::INVALIDATED],
+            texels_sampled: words[word::TEXELS_SAMPLED],
             level_marked: per_level(word::LEVEL_MARKED),
             level_rendered: per_level(word::LEVEL_RENDERED),
             level_pairs: per_level(word::LEVEL_PAIRS),

@@ -8,6 +8,8 @@
 @group(2) @binding(0) var surface_ids: texture_2d<u32>;
 @group(2) @binding(1) var surface_positions: texture_2d<f32>;
 @group(2) @binding(2) var surface_normals: texture_2d<f32>;
+// When measuring: per physical page, a bit per texel that a visible pixel's tap reads.
+@group(2) @binding(3) var<storage, read_write> texel_bits: array<atomic<u32>>;
 
 fn mark_taps(l: ShadowLookup) {
     let pages = tap_pages(l);
@@ -60,6 +62,60 @@ fn mark_pages(@builtin(global_invocation_id) id: vec3<u32>) {
     let level = holding_level(surface[0].xyz, surface[1].xyz);
     if (level < level_count()) {
         mark_taps(shadow_lookup(surface[0].xyz, surface[1].xyz, level));
+    }
+}
+
+// Whether every page lookup `l`'s taps read is resident (as light.wgsl asks).
+fn taps_resident(l: ShadowLookup) -> bool {
+    let pages = tap_pages(l);
+    for (var y = pages[0].y; y <= pages[1].y; y++) {
+        for (var x = pages[0].x; x <= pages[1].x; x++) {
+            if ((atomicLoad(&page_flags[entry_of(l.view, vec2<i32>(x, y))]) & PAGE_RESIDENT) == 0u) {
+                return false;
+            }
+        }
+    }
+    return true;
+}
+
+// When measuring, after allocation: the texels shading will read, at the level it will read
+// them from (light.wgsl `light_reaching`), a bit each in their physical page.
+@compute @workgroup_size(8, 8)
+fn mark_sampled(@builtin(global_invocation_id) id: vec3<u32>) {
+    let surface = receiver_at(id.xy);
+    if (frame.params.z == 0u || surface[0].w == 0.0) {
+        return;
+    }
+    let p = surface[0].xyz;
+    let n = surface[1].xyz;
+    for (var level = matched_level(p, n); level < level_count(); level++) {
+        let l = shadow_lookup(p, n, level);
+        if (!lookup_contained(l) || !taps_resident(l)) {
+            continue;
+        }
+        for (var j = 0; j < l.kernel; j++) {
+            for (var i = 0; i < l.kernel; i++) {
+                let t = l.first + vec2<i32>(i, j);
+                let page = t / PAGE_TEXELS;
+                let local = t - page * PAGE_TEXELS;
+                let bit = u32(local.y * PAGE_TEXELS + local.x);
+                let slot = page_slots[entry_of(level, page)];
+                atomicOr(&texel_bits[slot * 512u + bit / 32u], 1u << (bit % 32u));
+            }
+        }
+        return;
+    }
+}
+
+// When measuring: the texels marked, one thread per word.
+@compute @workgroup_size(64)
+fn count_sampled(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (frame.params.z == 0u || id.x >= params.counts.y * 512u) {
+        return;
+    }
+    let bits = atomicLoad(&texel_bits[id.x]);
+    if (bits != 0u) {
+        atomicAdd(&counters.texels_sampled, countOneBits(bits));
     }
 }
 

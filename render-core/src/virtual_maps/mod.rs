@@ -92,7 +92,8 @@ pub struct VirtualTechnique {
     views: Vec<ShadowView>,
     first_pages: Vec<[i32; 2]>,
     latest: Option<(u64, FrameCounts)>,
-    frame_tags: Vec<(u64, bool, u32)>,
+    /// Recent frames: index, every page invalid, moved boxes, measured.
+    frame_tags: Vec<(u64, bool, u32, bool)>,
     casters_total: u32,
     failure: Option<String>,
     failures: LogOnce,

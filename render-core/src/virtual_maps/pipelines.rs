@@ -53,8 +53,8 @@ pub(super) struct Pipelines {
     pub light_layout: wgpu::BindGroupLayout,
     /// In the order of [`TABLE_PASSES`].
     pub tables: Vec<wgpu::ComputePipeline>,
-    /// `mark_pages` and `mark_fallback`.
-    pub mark: [wgpu::ComputePipeline; 2],
+    /// `mark_pages`, `mark_fallback`, `mark_sampled` and `count_sampled`.
+    pub mark: [wgpu::ComputePipeline; 4],
     pub cull: wgpu::ComputePipeline,
     /// `None` where the adapter has no `CLIP_DISTANCES`.
     pub draws: Option<[wgpu::RenderPipeline; 2]>,
@@ -78,6 +78,7 @@ impl Pipelines {
                 texture(wgpu::TextureSampleType::Uint, d2),
                 texture(float, d2),
                 texture(float, d2),
+                storage(false),
             ],
         );
         let cull_layout = bind_group_layout(
@@ -113,8 +114,13 @@ impl Pipelines {
             pipeline_layout(device, label, &[frame_layout, &tables_layout, group])
         };
         let mark_pipeline_layout = with("VirtualMaps::mark", &mark_layout);
-        let mark = ["mark_pages", "mark_fallback"]
-            .map(|entry| compute_pipeline(device, &mark, Some(&mark_pipeline_layout), entry));
+        let mark = [
+            "mark_pages",
+            "mark_fallback",
+            "mark_sampled",
+            "count_sampled",
+        ]
+        .map(|entry| compute_pipeline(device, &mark, Some(&mark_pipeline_layout), entry));
         let cull = compute_pipeline(
             device,
             &cull,

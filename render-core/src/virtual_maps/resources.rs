@@ -43,6 +43,8 @@ pub(super) struct Tables {
     pub owners: wgpu::Buffer,
     pub free_list: wgpu::Buffer,
     pub rendered: wgpu::Buffer,
+    /// When measuring: a bit per texel of each physical page that a tap reads.
+    pub texel_bits: wgpu::Buffer,
     pub atlas: wgpu::Texture,
     pub atlas_view: wgpu::TextureView,
     pub readback: AsyncReadback,
@@ -96,6 +98,12 @@ impl Tables {
             owners: buffer(device, "VirtualMaps::owners", pages * 4, STORAGE),
             free_list: buffer(device, "VirtualMaps::free_list", pages * 4, STORAGE),
             rendered: buffer(device, "VirtualMaps::rendered", entries * 4, STORAGE),
+            texel_bits: buffer(
+                device,
+                "VirtualMaps::texel_bits",
+                pages * u64::from(PAGE_TEXELS * PAGE_TEXELS / 8),
+                STORAGE,
+            ),
             atlas_view: atlas.create_view(&wgpu::TextureViewDescriptor::default()),
             atlas,
             readback: AsyncReadback::new(device, "VirtualMaps::counts", counters_size, 3),

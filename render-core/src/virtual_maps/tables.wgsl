@@ -27,6 +27,8 @@ struct Counters {
     // Per level, the drawn pages' square: 32 less the first column and row, and one past
     // the last column and row (all 0: none drawn), so that zeroed counters start empty.
     rects: array<array<atomic<u32>, 4>, 24>,
+    // When measuring: the texels of physical pages that visible pixels' taps read.
+    texels_sampled: atomic<u32>,
 }
 
 @group(1) @binding(1) var<storage, read_write> page_flags: array<atomic<u32>>;
