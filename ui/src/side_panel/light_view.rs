@@ -14,6 +14,23 @@ const VIEW_HELP: &str = "Which shadow view (cascade) the inset shows: its map, m
 const TEXTURE_SIZE: f32 = 256.0;
 
 pub fn ui(ui: &mut egui::Ui, input: &PanelInput<'_>, settings: &mut FrameSettings) {
+    if settings.setup == render_core::frame::ShadowSetup::Virtual {
+        // The virtual maps draw their own light view: every level's pages, over the view.
+        ui.label(
+            "The virtual maps show their pages over the view (L, the light-view overlay): \
+             each clipmap level's square, finest first, in the colours below.",
+        );
+        ui.checkbox(&mut settings.overlays.light_view, "Pages over the view");
+        let pages = FrameSettings {
+            overlays: Overlays {
+                light_view: true,
+                ..Overlays::default()
+            },
+            ..*settings
+        };
+        crate::legend::ui(ui, &legend(&pages));
+        return;
+    }
     let views = input.report.map_or(0, |r| r.views.len() as u32);
     if views > 1 {
         grid::facts(ui, "light_view_choice", |ui| {

@@ -1035,3 +1035,20 @@ fn the_virtual_setup_sets_its_pool_and_cache_and_says_what_its_pages_did() {
     harness.run();
     assert!(!harness.state().settings.virtual_maps.cache);
 }
+
+#[test]
+fn the_light_tab_of_the_virtual_maps_turns_their_page_view_on_and_names_its_colours() {
+    let mut lab = Lab::new();
+    lab.settings.setup = ShadowSetup::Virtual;
+    let mut harness = harness_on(lab, PanelTab::Light);
+    harness.get_by_label("refused: the pool is full");
+    assert!(
+        harness.query_by_label("Light view").is_none(),
+        "no stale inset image"
+    );
+    harness
+        .get_by_role_and_label(Role::CheckBox, "Pages over the view")
+        .click();
+    harness.run();
+    assert!(harness.state().settings.overlays.light_view);
+}
