@@ -25,6 +25,7 @@ fn check_runs_every_hard_case_with_every_technique_and_passes_on_the_boxes() {
         "cascades, frag",
         "volumes, standard",
         "volumes, conservative CC",
+        "virtual maps",
     ];
     for case in cases {
         for technique in techniques {
