@@ -249,10 +249,12 @@ impl VirtualTechnique {
         ]
     }
 
+    /// Level `level`'s part of the report: its casters are its (caster, page) draws.
     fn view_report(&self, level: usize, view: &ShadowView) -> ViewReport {
         let light = &view.light;
         let counts = self.latest.as_ref().map(|(_, c)| c);
         let texel = light.texel_size_m[0];
+        let shadow = &self.shadow;
         ViewReport {
             name: view.name.clone(),
             casters_rendered: counts
@@ -262,8 +264,8 @@ impl VirtualTechnique {
             depth_range_m: light.depth_range_m,
             shades_depth_m: [None, None],
             shades_by: view.shades_by,
-            pcf_m: 0.0,
-            depth_bias_m: texel,
+            pcf_m: shadow.pcf.width() as f32 * texel,
+            depth_bias_m: shadow.depth_bias_m + shadow.depth_bias_texels.max(0.0) * texel,
             ..ViewReport::default()
         }
     }
@@ -368,6 +370,7 @@ impl ShadowTechnique for VirtualTechnique {
             self.frame_tags.remove(0);
         }
         self.views = draw.views.to_vec();
+        self.shadow = *input.shadow;
         self.frame_group = Some(draw.frame_group.clone());
         self.casters_total = input.scene.caster_count() as u32;
         self.ensure_outcomes(&ctx.device, u64::from(instances) * draw.views.len() as u64);

@@ -11,14 +11,15 @@
 //! draw      in compute, no readback (allocate.wgsl, mark.wgsl, cull.wgsl): moved boxes
 //!           invalidate their pages; pages that left their square or were invalidated are
 //!           released; each visible receiver pixel marks the pages its PCF taps read at the
-//!           level resolution matching picks, and the coarsest level's; marked pages get
-//!           physical pages (the coarsest level's first; where the pool runs out, cached pages
-//!           nobody marked are evicted, and what is still refused is counted); each caster
-//!           against the pages drawn this frame; then one pass over the atlas (draw.wgsl):
+//!           level resolution matching picks; marked pages get physical pages (where the pool
+//!           runs out, cached pages nobody marked are evicted, and the pixels whose pages are
+//!           still refused mark the coarsest level's, which take pages kept back for them);
+//!           each caster against the pages drawn this frame; then one pass over the atlas (draw.wgsl):
 //!           each drawn page cleared, each (caster, page) pair drawn with clip distances at the
 //!           page's edges, by indirect draws
 //! light     light.wgsl: the matched level, or the first coarser one whose pages are there
-//! report    pages marked, resident, drawn, refused (a frame or more later)
+//! report    pages marked, resident, drawn, refused, and when measuring the texels pixels
+//!           read (a frame or more later)
 //! ```
 
 mod frame;
@@ -90,6 +91,7 @@ pub struct VirtualTechnique {
     excluded: Vec<u32>,
     /// The levels of the last frame and its settings, for the report.
     views: Vec<ShadowView>,
+    shadow: crate::shadow_view::ShadowSettings,
     first_pages: Vec<[i32; 2]>,
     latest: Option<(u64, FrameCounts)>,
     /// Recent frames: index, every page invalid, moved boxes, measured.
@@ -129,6 +131,7 @@ impl VirtualTechnique {
             exclusions_version: 0,
             excluded: Vec::new(),
             views: Vec::new(),
+            shadow: crate::shadow_view::ShadowSettings::default(),
             first_pages: Vec::new(),
             latest: None,
             frame_tags: Vec::new(),
