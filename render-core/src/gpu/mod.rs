@@ -14,7 +14,7 @@ pub use context::{GpuContext, GpuError, OPTIONAL_FEATURES, SharedGpu};
 pub use counters::GpuCounters;
 pub use fullscreen::{draw_fullscreen, fullscreen_pipeline};
 pub use layout::{
-    bind_group_layout, buffer_entry, color_attachment, compute_pipeline, depth_attachment,
+    bind_group_layout, buffer, buffer_entry, color_attachment, compute_pipeline, depth_attachment,
     depth_pass, depth_texture, layout_entry, pipeline_layout, shader_module, storage, texture,
     uniform, view_entry,
 };

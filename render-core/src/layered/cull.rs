@@ -7,8 +7,8 @@
 use bytemuck::{Pod, Zeroable};
 
 use crate::gpu::{
-    FrameTimer, GpuContext, bind_group_layout, buffer_entry, compute_pipeline, pipeline_layout,
-    shader_module, storage, uniform,
+    FrameTimer, GpuContext, bind_group_layout, buffer, buffer_entry, compute_pipeline,
+    pipeline_layout, shader_module, storage, uniform,
 };
 use crate::scene::Scene;
 use crate::scene_gpu::SceneGpu;
@@ -343,20 +343,6 @@ fn binding_limit(device: &wgpu::Device) -> u64 {
 
 fn bytes_of_len<T>(len: usize) -> u64 {
     (len.max(1) * size_of::<T>()) as u64
-}
-
-fn buffer(
-    device: &wgpu::Device,
-    label: &str,
-    size: u64,
-    usage: wgpu::BufferUsages,
-) -> wgpu::Buffer {
-    device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some(label),
-        size,
-        usage: usage | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    })
 }
 
 /// Replaces `buffer` by one of at least `bytes` (a power of two) when it is smaller.

@@ -7,12 +7,13 @@ use std::collections::HashMap;
 use std::num::NonZeroU32;
 
 use super::cull::TriangleCull;
-use super::paths::{MapPass, PathInput, depth_pipeline, map_pass};
+use super::paths::{MapPass, PathInput, map_pass};
 use super::targets::LayeredMaps;
 use crate::gpu::{
     GpuContext, bind_group_layout, buffer_entry, pipeline_layout, shader_module, storage, uniform,
 };
 use crate::shaders::compose;
+use crate::shadow_view::depth_pipeline;
 
 /// The culled draws' shaders, as the renderer and the validation test compose them: a pass
 /// per view, a multiview group, an atlas page (clip distances).
@@ -66,7 +67,12 @@ impl CulledDraws {
         );
         let [(_, one), (_, group), (_, tiles)] = culled_sources();
         let module = shader_module(device, "Layered::culled", one);
-        let traditional = depth_pipeline(device, (&layout, &module, "vs_culled"), None, true);
+        let traditional = depth_pipeline(
+            device,
+            (&layout, &module, "vs_culled"),
+            None,
+            (true, wgpu::CompareFunction::Less),
+        );
         let multiview = multiview.then(|| {
             (
                 shader_module(device, "Layered::culled_multiview", group),
@@ -75,7 +81,12 @@ impl CulledDraws {
         });
         let atlas = atlas.then(|| {
             let module = shader_module(device, "Layered::culled_atlas", tiles);
-            depth_pipeline(device, (&layout, &module, "vs_culled_atlas"), None, true)
+            depth_pipeline(
+                device,
+                (&layout, &module, "vs_culled_atlas"),
+                None,
+                (true, wgpu::CompareFunction::Less),
+            )
         });
         Self {
             group_layout,
@@ -162,7 +173,7 @@ impl CulledDraws {
                     &ctx.device,
                     (&self.layout, module, "vs_culled_multiview"),
                     mask,
-                    true,
+                    (true, wgpu::CompareFunction::Less),
                 )
             });
             let Some(pass_group) = input.view_buffer.pass_group(first as u32) else {

@@ -14,10 +14,10 @@ use crate::gpu::{
     FrameTimer, GpuContext, bind_group_layout, buffer_entry, depth_attachment, pass_label,
     pipeline_layout, shader_module, storage, uniform,
 };
-use crate::scene_gpu::{DrawList, SceneGpu, VERTEX_LAYOUT};
+use crate::scene_gpu::{DrawList, SceneGpu};
 use crate::shaders::compose;
 use crate::shadow_map::cpu_casters::CpuCasters;
-use crate::shadow_view::{LayeredPath, SHADOW_FORMAT, ShadowView, ViewBuffer};
+use crate::shadow_view::{LayeredPath, ShadowView, ViewBuffer, depth_pipeline};
 
 /// The traditional path's shader, as the renderer and the validation test compose it.
 pub(crate) fn traditional_source() -> String {
@@ -91,7 +91,12 @@ impl Paths {
         let device = &ctx.device;
         let layout = pipeline_layout(device, "Layered::layout", &[frame, pass_view]);
         let module = shader_module(device, "Layered::traditional", traditional_source());
-        let traditional = depth_pipeline(device, (&layout, &module, "vs_layered"), None, false);
+        let traditional = depth_pipeline(
+            device,
+            (&layout, &module, "vs_layered"),
+            None,
+            (false, wgpu::CompareFunction::Less),
+        );
         let max_views = device.limits().max_multiview_view_count.min(32);
         let multiview_exposed = ctx.features().contains(wgpu::Features::MULTIVIEW);
         let multiview = super::probe::multiview_reaches_every_layer(ctx).then(|| Multiview {
@@ -184,7 +189,7 @@ impl Paths {
                     &ctx.device,
                     (&m.layout, &m.module, "vs_multiview"),
                     NonZeroU32::new((1u32 << count) - 1),
-                    false,
+                    (false, wgpu::CompareFunction::Less),
                 )
             });
             let Some(pass_group) = input.view_buffer.pass_group(first as u32) else {
@@ -259,7 +264,12 @@ impl Atlas {
         );
         let layout = pipeline_layout(device, "Layered::atlas_layout", &[frame, &group_layout]);
         let module = shader_module(device, "Layered::atlas", atlas_source());
-        let pipeline = depth_pipeline(device, (&layout, &module, "vs_atlas"), None, false);
+        let pipeline = depth_pipeline(
+            device,
+            (&layout, &module, "vs_atlas"),
+            None,
+            (false, wgpu::CompareFunction::Less),
+        );
         let pairs = pairs_buffer(device, 64);
         let group = atlas_group(device, &group_layout, &pairs, page);
         Self {
@@ -396,42 +406,6 @@ fn depth_pass<'e>(
             .and_then(wgpu_profiler::GpuProfilerQuery::render_pass_timestamp_writes),
         occlusion_query_set: None,
         multiview_mask: mask,
-    })
-}
-
-/// Casters' depth only, both faces, as the shadow-map technique draws them: from the scene's
-/// vertex buffer, or (`pulled`) fetching the vertices in the shader.
-pub(super) fn depth_pipeline(
-    device: &wgpu::Device,
-    (layout, module, entry): (&wgpu::PipelineLayout, &wgpu::ShaderModule, &str),
-    multiview_mask: Option<NonZeroU32>,
-    pulled: bool,
-) -> wgpu::RenderPipeline {
-    let buffers = [Some(VERTEX_LAYOUT)];
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some(entry),
-        layout: Some(layout),
-        vertex: wgpu::VertexState {
-            module,
-            entry_point: Some(entry),
-            compilation_options: wgpu::PipelineCompilationOptions::default(),
-            buffers: if pulled { &[] } else { &buffers },
-        },
-        primitive: wgpu::PrimitiveState {
-            cull_mode: None,
-            ..Default::default()
-        },
-        depth_stencil: Some(wgpu::DepthStencilState {
-            format: SHADOW_FORMAT,
-            depth_write_enabled: Some(true),
-            depth_compare: Some(wgpu::CompareFunction::Less),
-            stencil: wgpu::StencilState::default(),
-            bias: wgpu::DepthBiasState::default(),
-        }),
-        multisample: wgpu::MultisampleState::default(),
-        fragment: None,
-        multiview_mask,
-        cache: None,
     })
 }
 

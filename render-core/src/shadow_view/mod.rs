@@ -113,3 +113,40 @@ impl ShadowView {
         }
     }
 }
+
+/// Casters' depth only into shadow views' targets, both faces as the shadow-map technique
+/// draws them: from the scene's vertex buffer, or (`pulled`) fetching the vertices in the
+/// shader; `compare` is `Less` for casters, `Always` to write whatever is there (a clear).
+pub(crate) fn depth_pipeline(
+    device: &wgpu::Device,
+    (layout, module, entry): (&wgpu::PipelineLayout, &wgpu::ShaderModule, &str),
+    multiview_mask: Option<std::num::NonZeroU32>,
+    (pulled, compare): (bool, wgpu::CompareFunction),
+) -> wgpu::RenderPipeline {
+    let buffers = [Some(crate::scene_gpu::VERTEX_LAYOUT)];
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(entry),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some(entry),
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            buffers: if pulled { &[] } else { &buffers },
+        },
+        primitive: wgpu::PrimitiveState {
+            cull_mode: None,
+            ..Default::default()
+        },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: SHADOW_FORMAT,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(compare),
+            stencil: wgpu::StencilState::default(),
+            bias: wgpu::DepthBiasState::default(),
+        }),
+        multisample: wgpu::MultisampleState::default(),
+        fragment: None,
+        multiview_mask,
+        cache: None,
+    })
+}

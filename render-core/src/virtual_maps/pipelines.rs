@@ -6,9 +6,8 @@ use crate::gpu::{
     bind_group_layout, compute_pipeline, depth_texture, pipeline_layout, shader_module, storage,
     texture, uniform,
 };
-use crate::scene_gpu::VERTEX_LAYOUT;
 use crate::shaders::compose;
-use crate::shadow_view::SHADOW_FORMAT;
+use crate::shadow_view::depth_pipeline;
 
 /// The page table's passes in `allocate.wgsl`, in the order a frame runs them.
 /// Marking (`mark.wgsl` `mark_pages`) runs after the first two, the fallback marks
@@ -131,9 +130,12 @@ impl Pipelines {
             let module = shader_module(device, "VirtualMaps::draw", draw_source());
             let layout =
                 pipeline_layout(device, "VirtualMaps::draw", &[frame_layout, &draw_layout]);
+            // The clears write the far depth whatever is there; casters as every map draws them.
+            let always = (true, wgpu::CompareFunction::Always);
+            let less = (false, wgpu::CompareFunction::Less);
             [
-                page_pipeline(device, (&layout, &module), "vs_clear", false),
-                page_pipeline(device, (&layout, &module), "vs_page", true),
+                depth_pipeline(device, (&layout, &module, "vs_clear"), None, always),
+                depth_pipeline(device, (&layout, &module, "vs_page"), None, less),
             ]
         });
         Self {
@@ -148,44 +150,4 @@ impl Pipelines {
             draws,
         }
     }
-}
-
-/// Depth into the atlas, both faces as the shadow-map technique draws casters; the clears
-/// write the far depth whatever is there.
-fn page_pipeline(
-    device: &wgpu::Device,
-    (layout, module): (&wgpu::PipelineLayout, &wgpu::ShaderModule),
-    entry: &str,
-    casters: bool,
-) -> wgpu::RenderPipeline {
-    let buffers = [Some(VERTEX_LAYOUT)];
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some(entry),
-        layout: Some(layout),
-        vertex: wgpu::VertexState {
-            module,
-            entry_point: Some(entry),
-            compilation_options: wgpu::PipelineCompilationOptions::default(),
-            buffers: if casters { &buffers } else { &[] },
-        },
-        primitive: wgpu::PrimitiveState {
-            cull_mode: None,
-            ..Default::default()
-        },
-        depth_stencil: Some(wgpu::DepthStencilState {
-            format: SHADOW_FORMAT,
-            depth_write_enabled: Some(true),
-            depth_compare: Some(if casters {
-                wgpu::CompareFunction::Less
-            } else {
-                wgpu::CompareFunction::Always
-            }),
-            stencil: wgpu::StencilState::default(),
-            bias: wgpu::DepthBiasState::default(),
-        }),
-        multisample: wgpu::MultisampleState::default(),
-        fragment: None,
-        multiview_mask: None,
-        cache: None,
-    })
 }

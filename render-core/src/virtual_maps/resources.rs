@@ -8,28 +8,14 @@ use bytemuck::Zeroable;
 
 use super::gpu_data::{VirtualParams, word};
 use super::pipelines::Pipelines;
-use crate::gpu::{AsyncReadback, GpuContext, buffer_entry, view_entry};
+use crate::gpu::{AsyncReadback, GpuContext, buffer, buffer_entry, view_entry};
 use crate::scene_gpu::SceneGpu;
 use crate::shadow_view::{LEVEL_PAGES, PAGE_TEXELS, SHADOW_FORMAT, VirtualSettings};
 
 /// Entries of one level's table.
 pub(super) const LEVEL_ENTRIES: u32 = LEVEL_PAGES * LEVEL_PAGES;
 
-fn buffer(
-    device: &wgpu::Device,
-    label: &str,
-    size: u64,
-    usage: wgpu::BufferUsages,
-) -> wgpu::Buffer {
-    device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some(label),
-        size: size.max(16),
-        usage,
-        mapped_at_creation: false,
-    })
-}
-
-const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE.union(wgpu::BufferUsages::COPY_DST);
+const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE;
 
 /// The pool and tables of one (pages, levels).
 pub(super) struct Tables {
