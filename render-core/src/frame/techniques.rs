@@ -41,7 +41,11 @@ impl Family {
     /// draws the point light's light without shadows and reports this.
     pub fn point_light_refusal(self) -> Option<&'static str> {
         match self {
-            Self::Maps | Self::Virtual => Some(
+            Self::Virtual => Some(
+                "virtual shadow maps cast the sun's shadows only (a point light's pages are to \
+                 come): drawn without shadows; `--shadow volumes` casts a point light's",
+            ),
+            Self::Maps => Some(
                 "shadow maps cast the sun's shadows only: a point light's need `--shadow volumes` \
                  (cube maps come with many lights, issue 14); drawn without shadows",
             ),

@@ -6,9 +6,6 @@ use super::pipelines::TABLE_PASSES;
 use super::resources::{self, LEVEL_ENTRIES, Tables};
 use super::{LIGHT_WGSL, VirtualTechnique};
 
-/// Physical pages kept back from the first allocations for the fallback pages of pixels whose
-/// own pages the pool refused (a quarter of a smaller pool).
-const FALLBACK_PAGES: u32 = 16;
 use crate::culling::{CasterOutcome, Method};
 use crate::geom::fit_clipmap_level;
 use crate::gpu::{GpuContext, pass_label};
@@ -17,6 +14,10 @@ use crate::technique::{
     DrawInput, InsetSources, ShadowPasses, ShadowReport, ShadowTechnique, TechniqueInput,
     ViewReport, VirtualPages,
 };
+
+/// Physical pages kept back from the first allocations for the fallback pages of pixels whose
+/// own pages the pool refused (a quarter of a smaller pool).
+const FALLBACK_PAGES: u32 = 16;
 
 impl VirtualTechnique {
     /// This frame's parameters: the levels' squares, the pool, and whether every page is
