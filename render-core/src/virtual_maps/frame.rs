@@ -1,9 +1,11 @@
 //! The virtual maps' frame: the levels as views, the page table's passes, the cull and the
 //! page draws, and what comes back of them.
 
+use bytemuck::Zeroable;
+
 use super::gpu_data::{FrameCounts, VirtualParams, word};
 use super::pipelines::TABLE_PASSES;
-use super::resources::{self, LEVEL_ENTRIES, Tables};
+use super::resources::{LEVEL_ENTRIES, Tables};
 use super::{LIGHT_WGSL, VirtualTechnique};
 
 use crate::culling::{CasterOutcome, Method};
@@ -23,7 +25,7 @@ impl VirtualTechnique {
     /// This frame's parameters: the levels' squares, the pool, and whether every page is
     /// invalid.
     fn params(&self, invalidate_all: bool, moved: u32) -> VirtualParams {
-        let mut params = resources::empty_params();
+        let mut params = VirtualParams::zeroed();
         let [columns, rows] = self.settings.atlas_pages();
         params.counts = [
             self.settings.levels,

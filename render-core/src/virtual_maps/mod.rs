@@ -64,7 +64,7 @@ struct CacheKey {
     finest_texel_m: u32,
     exclusions: u64,
     /// The scene's bounds, which fix every level's depth range.
-    bounds: [u32; 6],
+    bounds: [[u32; 3]; 2],
 }
 
 /// The virtual shadow maps.
@@ -164,14 +164,8 @@ impl VirtualTechnique {
         if self.tables.as_ref().is_some_and(|t| t.fits(&self.settings)) {
             return;
         }
+        // New buffers are zeroed: every entry empty, every physical page free.
         let tables = Tables::new(&ctx.device, &self.settings);
-        let mut encoder = ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("VirtualMaps::clear"),
-            });
-        tables.clear(&mut encoder);
-        ctx.queue.submit([encoder.finish()]);
         self.light_group = Some(tables.light_group(&ctx.device, &self.pipelines));
         self.tables = Some(tables);
         self.latest = None;
@@ -206,14 +200,7 @@ impl VirtualTechnique {
             direction_to_sun: input.direction_to_sun.to_array().map(f32::to_bits),
             finest_texel_m: self.settings.finest_texel_m.to_bits(),
             exclusions: self.exclusions_version,
-            bounds: [b.min, b.max]
-                .map(|v| v.to_array())
-                .as_flattened()
-                .iter()
-                .map(|f| f.to_bits())
-                .collect::<Vec<_>>()
-                .try_into()
-                .unwrap_or_default(),
+            bounds: [b.min, b.max].map(|v| v.to_array().map(f32::to_bits)),
         }
     }
 

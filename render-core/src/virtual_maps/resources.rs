@@ -4,8 +4,6 @@
 //! the cull. Long-lived; remade when the pool or the levels change (every page is then
 //! invalid), the pairs and draws grown when a frame overflows them.
 
-use bytemuck::Zeroable;
-
 use super::gpu_data::{VirtualParams, word};
 use super::pipelines::Pipelines;
 use crate::gpu::{AsyncReadback, GpuContext, buffer, buffer_entry, view_entry};
@@ -100,13 +98,6 @@ impl Tables {
         self.pages == settings.pages && self.levels == settings.levels
     }
 
-    /// Zeroes the tables: every entry empty, every physical page free.
-    pub fn clear(&self, encoder: &mut wgpu::CommandEncoder) {
-        for b in [&self.flags, &self.owners, &self.slots] {
-            encoder.clear_buffer(b, 0, None);
-        }
-    }
-
     pub fn write_params(&self, ctx: &GpuContext, params: &VirtualParams) {
         ctx.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(params));
@@ -164,14 +155,9 @@ impl Lists {
 
     /// Each instance's indices in the scene's buffers, for the cull's draws, and whether it
     /// is left out (`excluded`, sorted).
-    pub fn follow_scene(
-        &mut self,
-        ctx: &GpuContext,
-        scene_gpu: &SceneGpu,
-        excluded: &[u32],
-    ) -> bool {
+    pub fn follow_scene(&mut self, ctx: &GpuContext, scene_gpu: &SceneGpu, excluded: &[u32]) {
         if self.ranges_scene == Some(scene_gpu.id) {
-            return false;
+            return;
         }
         let ranges: Vec<[u32; 4]> = (0..)
             .zip(&scene_gpu.instance_ranges)
@@ -189,14 +175,12 @@ impl Lists {
         ctx.queue
             .write_buffer(&self.ranges, 0, bytemuck::cast_slice(&ranges));
         self.ranges_scene = Some(scene_gpu.id);
-        true
     }
 
     /// The moved boxes into their buffer (min and max each), grown as needed.
-    pub fn write_moved(&mut self, ctx: &GpuContext, boxes: &[[f32; 4]]) -> bool {
+    pub fn write_moved(&mut self, ctx: &GpuContext, boxes: &[[f32; 4]]) {
         let needed = (boxes.len() / 2) as u32;
-        let grown = needed > self.moved_capacity;
-        if grown {
+        if needed > self.moved_capacity {
             self.moved_capacity = needed.next_power_of_two();
             self.moved = buffer(
                 &ctx.device,
@@ -209,7 +193,6 @@ impl Lists {
             ctx.queue
                 .write_buffer(&self.moved, 0, bytemuck::cast_slice(boxes));
         }
-        grown
     }
 
     /// Room for at least `pairs` pairs and `draws` draws (after a frame overflowed).
@@ -233,9 +216,4 @@ impl Lists {
             );
         }
     }
-}
-
-/// The zeroed parameters (a start for each frame's).
-pub(super) fn empty_params() -> VirtualParams {
-    VirtualParams::zeroed()
 }
