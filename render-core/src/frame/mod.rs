@@ -57,7 +57,7 @@ use crate::truth::{ExactShadow, FrameGroups, PendingLight, SurfacePoint};
 use crate::view::gpu_data::{FrameUniforms, OVERLAY_CASTERS, OVERLAY_VIEWS};
 use crate::view::{FrameBindings, VisibilityPass};
 use observer::Frozen;
-use techniques::{Family, Techniques};
+use techniques::{Family, SingleViews, Techniques};
 
 /// What a frame looks at.
 #[derive(Clone, Copy, Debug)]
@@ -87,8 +87,8 @@ pub struct FrameRenderer {
     /// The shadow techniques (maps of the sun: one view or one per cascade; stencil volumes)
     /// and the passes that read their light, one active per frame.
     techniques: Techniques,
-    /// Copies of the single map's view (1 but in tests of the per-view path).
-    repeated_views: u32,
+    /// What the single map renders (its fitted view but in tests).
+    single_views: SingleViews,
     visibility: VisibilityPass,
     /// Objects in the view frustum (camera passes), refilled per frame.
     camera_list: DrawList,
@@ -139,7 +139,7 @@ impl FrameRenderer {
             bindings,
             views,
             techniques,
-            repeated_views: 1,
+            single_views: SingleViews::Fitted { copies: 1 },
             visibility: VisibilityPass::new(ctx),
             camera_list: DrawList::new(ctx, "Frame::camera_draws"),
             scratch: Vec::new(),
@@ -181,8 +181,7 @@ impl FrameRenderer {
         self.techniques.active = Family::of(input.settings.setup);
         let setup = self.begin_frame(ctx, scene, scene_gpu, input);
         let technique_input = self.technique_input(&setup, scene, scene_gpu, input.camera);
-        self.techniques
-            .arrange(&setup.settings, self.repeated_views);
+        self.techniques.arrange(&setup.settings, &self.single_views);
         let views = self.techniques.active_mut().prepare(ctx, &technique_input);
         let frame_group = self.write_frame(ctx, &setup, input.camera, scene_gpu, &views);
         let mut encoder = ctx
@@ -555,7 +554,20 @@ impl FrameRenderer {
     /// Renders the single map's view `count` times, each into its own layer, culled and
     /// counted on its own ([`SunView`]): a test of the per-view path.
     pub fn set_repeated_views(&mut self, count: u32) {
-        self.repeated_views = count.max(1);
+        self.single_views = SingleViews::Fitted {
+            copies: count.max(1),
+        };
+    }
+
+    /// Renders the single map (`ShadowSetup::Single`) on these views instead of fitting one,
+    /// each into the layer its target names: a test renders a virtual level's texel grid as
+    /// one map. No views: back to the fitted view.
+    pub fn set_single_map_views(&mut self, views: Vec<ShadowView>) {
+        self.single_views = if views.is_empty() {
+            SingleViews::Fitted { copies: 1 }
+        } else {
+            SingleViews::Given(views)
+        };
     }
 
     /// Where FRAG's mask comes from: the prepass's surface targets (the default) or a second

@@ -7,11 +7,20 @@ use super::{FrameSettings, LispsmSettings, ShadowSetup};
 use crate::cascades::{CascadeSettings, Cascades};
 use crate::gpu::GpuContext;
 use crate::layered::LayeredTechnique;
-use crate::shadow_map::{MapTechnique, SunView, ViewLayout, WarpedSunView};
+use crate::shadow_map::{GivenViews, MapTechnique, SunView, ViewLayout, WarpedSunView};
+use crate::shadow_view::ShadowView;
 use crate::technique::ShadowTechnique;
 use crate::truth::LightAtPoints;
 use crate::virtual_maps::VirtualTechnique;
 use crate::volumes::VolumeTechnique;
+
+/// What the single map renders: its view fitted to the camera, `copies` times (more than one
+/// only in tests of the per-view path), or views a test chose (a virtual level's texel grid).
+#[derive(Clone, Debug, PartialEq)]
+pub(super) enum SingleViews {
+    Fitted { copies: u32 },
+    Given(Vec<ShadowView>),
+}
 
 /// Which technique a setup belongs to.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -91,8 +100,8 @@ pub(super) struct Techniques {
     virtual_maps: VirtualTechnique,
     virtual_shading: Shading,
     pub active: Family,
-    /// What the map technique's layout was made for (setup, cascades, LiSPSM, copies).
-    layout_key: Option<(ShadowSetup, CascadeSettings, LispsmSettings, u32)>,
+    /// What the map technique's layout was made for (setup, cascades, LiSPSM, single views).
+    layout_key: Option<(ShadowSetup, CascadeSettings, LispsmSettings, SingleViews)>,
     /// The active one cannot cast the frame's point light's shadows: logged once.
     refusals: crate::gpu::LogOnce,
 }
@@ -124,23 +133,26 @@ impl Techniques {
     }
 
     /// The views `settings` ask of the techniques: the map technique's layout (the single
-    /// map, `copies` of it in tests, LiSPSM, cascades), remade when they change; many lights'
+    /// map as `single` says, LiSPSM, cascades), remade when they change; many lights'
     /// cascades of the sun, where it shines with them.
-    pub fn arrange(&mut self, settings: &FrameSettings, copies: u32) {
-        let key = (settings.setup, settings.cascades, settings.lispsm, copies);
-        if self.layout_key != Some(key) {
-            self.layout_key = Some(key);
-            let layout: Box<dyn ViewLayout> = match key.0 {
-                ShadowSetup::Single
-                | ShadowSetup::Volumes
-                | ShadowSetup::Lights
-                | ShadowSetup::Virtual => Box::new(SunView { copies }),
-                ShadowSetup::Lispsm => Box::new(WarpedSunView {
+    pub fn arrange(&mut self, settings: &FrameSettings, single: &SingleViews) {
+        let key = (
+            settings.setup,
+            settings.cascades,
+            settings.lispsm,
+            single.clone(),
+        );
+        if self.layout_key.as_ref() != Some(&key) {
+            let layout: Box<dyn ViewLayout> = match (key.0, single) {
+                (ShadowSetup::Lispsm, _) => Box::new(WarpedSunView {
                     n_scale: key.2.n_scale,
                 }),
-                ShadowSetup::Cascades => Box::new(Cascades::new(key.1)),
+                (ShadowSetup::Cascades, _) => Box::new(Cascades::new(key.1)),
+                (_, SingleViews::Fitted { copies }) => Box::new(SunView { copies: *copies }),
+                (_, SingleViews::Given(views)) => Box::new(GivenViews(views.clone())),
             };
             self.maps.set_layout(layout);
+            self.layout_key = Some(key);
         }
         let sun = settings
             .layered
