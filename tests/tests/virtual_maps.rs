@@ -166,6 +166,11 @@ fn a_static_scene_draws_no_page_in_its_second_frame_and_its_picture_stays() {
         "{p:?}"
     );
     assert_eq!(p.pages_refused, 0);
+    assert_eq!(
+        p.cache_hit_rate,
+        Some(0.0),
+        "a first frame finds nothing cached"
+    );
     assert!(
         p.caster_pages > 0,
         "the box and the ground are drawn into pages: {p:?}"
@@ -173,6 +178,7 @@ fn a_static_scene_draws_no_page_in_its_second_frame_and_its_picture_stays() {
     let q = second.pages;
     assert_eq!(q.pages_rendered, 0, "{q:?}");
     assert_eq!(q.caster_pages, 0, "{q:?}");
+    assert_eq!(q.cache_hit_rate, Some(1.0), "{q:?}");
     assert_eq!(
         (q.pages_marked, q.pages_resident),
         (p.pages_marked, p.pages_resident)
@@ -200,6 +206,7 @@ fn with_the_cache_off_every_marked_page_is_drawn_each_frame() {
     let second = frames.frame(&scene, &camera(), &settings);
     assert!(second.pages.all_invalidated);
     assert_eq!(second.pages.pages_rendered, second.pages.pages_marked);
+    assert_eq!(second.pages.cache_hit_rate, Some(0.0));
     assert_eq!(second.pages.pages_invalidated, first.pages.pages_resident);
     assert_eq!(first.capture.shadow, second.capture.shadow);
 }
@@ -295,6 +302,7 @@ fn sky_only_marks_no_page() {
         (0, 0, 0),
         "{p:?}"
     );
+    assert_eq!(p.cache_hit_rate, None, "no page marked, no rate");
     assert!(frame.capture.ids.iter().all(|&id| id == 0));
 }
 

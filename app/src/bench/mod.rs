@@ -75,6 +75,9 @@ pub(crate) struct BenchRow {
     /// Virtual maps: the medians of pages marked, resident, drawn and refused, and of the
     /// texels drawn and the texels visible pixels read.
     pub(crate) pages: Option<[f64; 6]>,
+    /// Virtual maps: the share of the measured frames' marked pages that the cache served
+    /// (not drawn, not refused), over all of them.
+    pub(crate) cache_hit_rate: Option<f64>,
 }
 
 pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
@@ -411,6 +414,7 @@ pub(crate) fn summarise(setting: &str, method: &str, reports: &[(f64, FrameRepor
         speed_up: None,
         passes: median_passes(reports),
         pages: pages_medians(reports),
+        cache_hit_rate: cache_hit_rate(reports),
     }
 }
 
@@ -439,6 +443,20 @@ fn pages_medians(reports: &[(f64, FrameReport)]) -> Option<[f64; 6]> {
         of(|p| Some(p.texels_rendered)),
         of(|p| p.texels_sampled),
     ])
+}
+
+fn cache_hit_rate(reports: &[(f64, FrameReport)]) -> Option<f64> {
+    let (hits, marked) =
+        reports
+            .iter()
+            .filter_map(|(_, r)| r.virtual_pages)
+            .fold((0u64, 0u64), |(h, m), p| {
+                let served = p
+                    .pages_marked
+                    .saturating_sub(p.pages_rendered + p.pages_refused);
+                (h + u64::from(served), m + u64::from(p.pages_marked))
+            });
+    (marked > 0).then(|| hits as f64 / marked as f64)
 }
 
 fn median_passes(reports: &[(f64, FrameReport)]) -> Vec<(String, u32, f64)> {

@@ -178,6 +178,9 @@ pub struct VirtualPages {
     pub pages_rendered: u32,
     /// Marked pages the pool had no room for; their pixels read a coarser level.
     pub pages_refused: u32,
+    /// The share of marked pages the cache served: resident with valid depths before the
+    /// frame, so not drawn (none marked: `None`).
+    pub cache_hit_rate: Option<f64>,
     /// Cached pages no pixel marked, evicted where the pool ran out.
     pub pages_evicted: u32,
     /// Cached pages released at the frame's start: moved through, left their level's

@@ -423,6 +423,7 @@ impl ShadowTechnique for VirtualTechnique {
                 pages_resident: c.resident,
                 pages_rendered: c.rendered,
                 pages_refused: c.refused,
+                cache_hit_rate: cache_hit_rate(c),
                 pages_evicted: c.evicted,
                 pages_invalidated: c.invalidated,
                 moved_boxes: cache.map_or(0, |f| f.2),
@@ -493,4 +494,11 @@ impl ShadowTechnique for VirtualTechnique {
             self.lists.ranges_scene = None;
         }
     }
+}
+
+/// Marked pages neither drawn (new or invalidated) nor refused: the share of the marked that
+/// the cache served.
+fn cache_hit_rate(c: &FrameCounts) -> Option<f64> {
+    let hits = c.marked.saturating_sub(c.rendered + c.refused);
+    (c.marked > 0).then(|| f64::from(hits) / f64::from(c.marked))
 }

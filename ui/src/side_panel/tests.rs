@@ -1015,6 +1015,7 @@ fn the_virtual_setup_sets_its_pool_and_cache_and_says_what_its_pages_did() {
         pages_resident: 1024,
         pages_rendered: 12,
         pages_refused: 3,
+        cache_hit_rate: Some(0.893),
         pages_evicted: 5,
         pool_pages: 1024,
         pool_mib: 64.0,
@@ -1025,6 +1026,7 @@ fn the_virtual_setup_sets_its_pool_and_cache_and_says_what_its_pages_did() {
     });
     let mut harness = harness_on(lab, PanelTab::Shadows);
     harness.get_by_label("140 marked, 1,024 resident, 12 drawn");
+    harness.get_by_label("89% of the marked pages were kept");
     harness.get_by_label("3 refused (pool full), 5 evicted");
     harness.get_by_label("100% of 1024 pages");
     harness.get_by_label("64 MiB");

@@ -60,6 +60,14 @@ pub fn rows(ui: &mut egui::Ui, settings: &mut VirtualSettings, report: Option<&F
             thousands(p.pages_rendered.into())
         ),
     );
+    grid::row(
+        ui,
+        "Cache hits",
+        p.cache_hit_rate.map_or_else(
+            || "no page marked".to_owned(),
+            |rate| format!("{:.0}% of the marked pages were kept", 100.0 * rate),
+        ),
+    );
     let refused = if p.pages_refused > 0 {
         format!("{} refused (pool full)", thousands(p.pages_refused.into()))
     } else {
