@@ -36,9 +36,11 @@ pub const FILL_LOW: Swatch = swatch("FILL_LOW", [0.1, 0.3, 1.0]);
 pub const FILL_HIGH: Swatch = swatch("FILL_HIGH", [1.0, 0.9, 0.1]);
 /// The shadow volumes drawn over the view, translucent (Lloyd et al.'s Figure 1).
 pub const VOLUME: Swatch = swatch("VOLUME", [1.0, 0.85, 0.1]);
-/// The virtual maps' page view: pages drawn this frame, cached pages read this frame, cached
-/// pages no pixel read, and pages the pool refused.
+/// The virtual maps' page view: pages drawn this frame, pages whose movable casters alone were
+/// drawn, cached pages read this frame, cached pages no pixel read, and pages the pool
+/// refused.
 pub const PAGE_DRAWN: Swatch = swatch("PAGE_DRAWN", [1.0, 0.55, 0.1]);
+pub const PAGE_REFRESHED: Swatch = swatch("PAGE_REFRESHED", [0.95, 0.9, 0.2]);
 pub const PAGE_CACHED: Swatch = swatch("PAGE_CACHED", [0.15, 0.8, 0.3]);
 pub const PAGE_IDLE: Swatch = swatch("PAGE_IDLE", [0.25, 0.35, 0.6]);
 pub const PAGE_REFUSED: Swatch = swatch("PAGE_REFUSED", [0.95, 0.1, 0.25]);
@@ -57,7 +59,7 @@ pub const VIEWS: [Swatch; 8] = [
     swatch("VIEW_7", [0.6, 0.6, 0.6]),
 ];
 
-const ALL: [Swatch; 20] = [
+const ALL: [Swatch; 21] = [
     RENDERED,
     EXCLUDED,
     CULLED_LIGHT_FRUSTUM,
@@ -75,6 +77,7 @@ const ALL: [Swatch; 20] = [
     FILL_HIGH,
     VOLUME,
     PAGE_DRAWN,
+    PAGE_REFRESHED,
     PAGE_CACHED,
     PAGE_IDLE,
     PAGE_REFUSED,

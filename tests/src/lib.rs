@@ -2,6 +2,7 @@
 //! and world positions of captured pixels.
 
 mod packed;
+pub mod virtual_pages;
 
 use std::sync::OnceLock;
 

@@ -72,9 +72,9 @@ pub(crate) struct BenchRow {
     pub(crate) speed_up: Option<f64>,
     /// Median GPU ms per pass label (and depth: steps inside a pass are 1), in frame order.
     pub(crate) passes: Vec<(String, u32, f64)>,
-    /// Virtual maps: the medians of pages marked, resident, drawn and refused, and of the
-    /// texels drawn and the texels visible pixels read.
-    pub(crate) pages: Option<[f64; 6]>,
+    /// Virtual maps: the medians of pages marked, resident, drawn and refused, of the
+    /// texels drawn and the texels visible pixels read, and of the pages refreshed.
+    pub(crate) pages: Option<[f64; 7]>,
     /// Virtual maps: the share of the measured frames' marked pages that the cache served
     /// (not drawn, not refused), over all of them.
     pub(crate) cache_hit_rate: Option<f64>,
@@ -418,7 +418,7 @@ pub(crate) fn summarise(setting: &str, method: &str, reports: &[(f64, FrameRepor
     }
 }
 
-fn pages_medians(reports: &[(f64, FrameReport)]) -> Option<[f64; 6]> {
+fn pages_medians(reports: &[(f64, FrameReport)]) -> Option<[f64; 7]> {
     let pages: Vec<_> = reports
         .iter()
         .filter_map(|(_, r)| r.virtual_pages)
@@ -442,6 +442,7 @@ fn pages_medians(reports: &[(f64, FrameReport)]) -> Option<[f64; 6]> {
         of(|p| Some(p.pages_refused.into())),
         of(|p| Some(p.texels_rendered)),
         of(|p| p.texels_sampled),
+        of(|p| Some(p.pages_refreshed.into())),
     ])
 }
 
@@ -453,7 +454,7 @@ fn cache_hit_rate(reports: &[(f64, FrameReport)]) -> Option<f64> {
             .fold((0u64, 0u64), |(h, m), p| {
                 let served = p
                     .pages_marked
-                    .saturating_sub(p.pages_rendered + p.pages_refused);
+                    .saturating_sub(p.pages_rendered + p.pages_refreshed + p.pages_refused);
                 (h + u64::from(served), m + u64::from(p.pages_marked))
             });
     (marked > 0).then(|| hits as f64 / marked as f64)

@@ -106,11 +106,16 @@ pub(crate) fn settings(
             let virtual_maps = with_setup(ShadowSetup::Virtual);
             let mut uncached = virtual_maps;
             uncached.virtual_maps.cache = false;
+            // Static casters apart, in the same memory: half the pages, two layers each.
+            let mut apart = virtual_maps;
+            apart.virtual_maps.separate_static = true;
+            apart.virtual_maps.pages = virtual_maps.virtual_maps.pages / 2;
             vec![
                 ("single 8192".to_owned(), single),
                 ("4 cascades 2048".to_owned(), cascades),
                 ("virtual".to_owned(), virtual_maps),
                 ("virtual / cache off".to_owned(), uncached),
+                ("virtual / static apart".to_owned(), apart),
             ]
         }
         Sweep::Setups => ShadowSetup::ALL

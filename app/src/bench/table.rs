@@ -35,7 +35,7 @@ pub(super) fn format_passes(rows: &[BenchRow]) -> String {
     aligned(&lines, 1)
 }
 
-pub(crate) const COLUMNS: [&str; 27] = [
+pub(crate) const COLUMNS: [&str; 28] = [
     "setting",
     "method",
     "frames",
@@ -62,10 +62,11 @@ pub(crate) const COLUMNS: [&str; 27] = [
     "pages_resident",
     "pages_rendered",
     "pages_refused",
+    "pages_refreshed",
     "cache hits",
 ];
 
-pub(crate) fn row_cells(r: &BenchRow) -> [String; 27] {
+pub(crate) fn row_cells(r: &BenchRow) -> [String; 28] {
     let opt =
         |v: Option<f64>, digits: usize| v.map_or_else(|| "n/a".into(), |v| format!("{v:.digits$}"));
     [
@@ -103,13 +104,14 @@ pub(crate) fn row_cells(r: &BenchRow) -> [String; 27] {
         page_cell(r.pages, 1),
         page_cell(r.pages, 2),
         page_cell(r.pages, 3),
+        page_cell(r.pages, 6),
         r.cache_hit_rate
             .map_or_else(|| "-".into(), |v| format!("{:.0}%", 100.0 * v)),
     ]
 }
 
 /// Column `i` of the virtual maps' page medians, `-` for other techniques.
-fn page_cell(pages: Option<[f64; 6]>, i: usize) -> String {
+fn page_cell(pages: Option<[f64; 7]>, i: usize) -> String {
     pages.map_or_else(|| "-".into(), |p| format!("{:.0}", p[i]))
 }
 
@@ -167,7 +169,7 @@ pub(super) fn aligned(lines: &[Vec<String>], left: usize) -> String {
 
 pub(crate) fn format_csv(rows: &[BenchRow]) -> String {
     let mut out = String::from(
-        "setting,method,frames,frame_ms,gpu_frame_ms,shadow_pass_ms,casters_drawn,casters_oracle,tightness,shadow_triangles,error_px_max,casters_total,speed_up,culling_ms,undersampling_p50,undersampling_p95,exact_error_px,exact_error_percent,exact_error_off_edge_px_max,flicker_moved_px,flicker_turned_px,fill_mfragments,fill_mfragments_max,fill_saved_mean,fill_saved_peak,volume_pass_saved_mean,volume_pass_saved_peak,cpu_culling_ms,pages_marked,pages_resident,pages_rendered,pages_refused,texels_rendered,texels_sampled,cache_hit_rate\n",
+        "setting,method,frames,frame_ms,gpu_frame_ms,shadow_pass_ms,casters_drawn,casters_oracle,tightness,shadow_triangles,error_px_max,casters_total,speed_up,culling_ms,undersampling_p50,undersampling_p95,exact_error_px,exact_error_percent,exact_error_off_edge_px_max,flicker_moved_px,flicker_turned_px,fill_mfragments,fill_mfragments_max,fill_saved_mean,fill_saved_peak,volume_pass_saved_mean,volume_pass_saved_peak,cpu_culling_ms,pages_marked,pages_resident,pages_rendered,pages_refused,texels_rendered,texels_sampled,pages_refreshed,cache_hit_rate\n",
     );
     let opt = |v: Option<f64>| v.map_or_else(String::new, |v| format!("{v:.4}"));
     for r in rows {
@@ -204,7 +206,7 @@ pub(crate) fn format_csv(rows: &[BenchRow]) -> String {
             opt(r.volume_pass_saved.map(|f| f.1)),
             opt(r.cpu_culling_ms),
             r.pages.map_or_else(
-                || ",,,,,".to_owned(),
+                || ",,,,,,".to_owned(),
                 |p| p.map(|v| format!("{v:.0}")).join(",")
             ),
             opt(r.cache_hit_rate),

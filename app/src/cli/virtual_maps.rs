@@ -1,5 +1,5 @@
-//! The virtual maps' options: `--pages N`, `--levels N`, `--cache on|off`, `--finest-texel M`
-//! and `--lod-bias OCTAVES`.
+//! The virtual maps' options: `--pages N`, `--levels N`, `--cache on|off`, `--finest-texel M`,
+//! `--lod-bias OCTAVES` and `--separate-static on|off`.
 
 use anyhow::bail;
 use clap::Args;
@@ -27,6 +27,11 @@ pub struct VirtualArgs {
     /// coarser; default -0.5, as Unreal's).
     #[arg(long, value_name = "OCTAVES", allow_hyphen_values = true)]
     pub lod_bias: Option<f32>,
+    /// Virtual maps: keep static casters' depths apart from movable ones' (on), so a moving
+    /// object draws only the movable casters of the pages it touches again, at twice the
+    /// pool's memory; or one layer for all (off, the default).
+    #[arg(long, value_parser = parse_on_off, value_name = "on|off")]
+    pub separate_static: Option<bool>,
 }
 
 impl VirtualArgs {
@@ -36,6 +41,7 @@ impl VirtualArgs {
             || self.cache.is_some()
             || self.finest_texel.is_some()
             || self.lod_bias.is_some()
+            || self.separate_static.is_some()
     }
 
     /// The options into `settings`; any of them without `--shadow` picks `--shadow virtual`.
@@ -70,6 +76,9 @@ impl VirtualArgs {
         }
         if let Some(cache) = self.cache {
             s.cache = cache;
+        }
+        if let Some(apart) = self.separate_static {
+            s.separate_static = apart;
         }
         if let Some(texel) = self.finest_texel {
             if !(texel.is_finite() && texel > 0.0 && texel <= 100.0) {
@@ -128,6 +137,11 @@ mod tests {
         let s = settings(&["--shadow", "virtual", "--lod-bias", "-0.5"]).unwrap();
         assert!((s.virtual_maps.lod_bias + 0.5).abs() < 1e-9);
         assert!(s.virtual_maps.cache);
+        assert!(!s.virtual_maps.separate_static);
+        let s = settings(&["--separate-static", "on"]).unwrap();
+        assert_eq!(s.setup, ShadowSetup::Virtual);
+        assert!(s.virtual_maps.separate_static);
+        assert!(settings(&["--separate-static", "yes"]).is_err());
     }
 
     #[test]

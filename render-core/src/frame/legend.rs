@@ -123,13 +123,28 @@ pub fn legend(settings: &FrameSettings) -> Vec<LegendGroup> {
     if overlays.light_view && settings.setup == super::ShadowSetup::Virtual {
         groups.push(LegendGroup {
             title: "Pages of each level, finest first (top left)",
-            entries: vec![
-                entry(crate::palette::PAGE_DRAWN, "drawn this frame"),
-                entry(crate::palette::PAGE_CACHED, "cached, read this frame"),
-                entry(crate::palette::PAGE_IDLE, "cached, not read"),
-                entry(crate::palette::PAGE_REFUSED, "refused: the pool is full"),
-                entry(MAP_EMPTY, "no page"),
-            ],
+            entries: [
+                Some(entry(crate::palette::PAGE_DRAWN, "drawn this frame")),
+                settings.virtual_maps.separate_static.then(|| {
+                    entry(
+                        crate::palette::PAGE_REFRESHED,
+                        "movable casters drawn again, static kept",
+                    )
+                }),
+                Some(entry(
+                    crate::palette::PAGE_CACHED,
+                    "cached, read this frame",
+                )),
+                Some(entry(crate::palette::PAGE_IDLE, "cached, not read")),
+                Some(entry(
+                    crate::palette::PAGE_REFUSED,
+                    "refused: the pool is full",
+                )),
+                Some(entry(MAP_EMPTY, "no page")),
+            ]
+            .into_iter()
+            .flatten()
+            .collect(),
         });
     } else if overlays.light_view {
         let bits = settings.method.gpu_bits().unwrap_or(0);

@@ -29,6 +29,10 @@ pub struct VirtualSettings {
     pub lod_bias: f32,
     /// Pages persist across frames until something moves through them (`--cache`).
     pub cache: bool,
+    /// Each physical page keeps static casters' depths apart from movable ones', so a moving
+    /// object redraws only the movable casters of the pages it touches (Unreal's
+    /// `Cache.StaticSeparate`, `--separate-static`): twice the pool's memory.
+    pub separate_static: bool,
 }
 
 impl Default for VirtualSettings {
@@ -39,6 +43,7 @@ impl Default for VirtualSettings {
             finest_texel_m: 0.002,
             lod_bias: -0.5,
             cache: true,
+            separate_static: false,
         }
     }
 }
@@ -48,9 +53,14 @@ impl VirtualSettings {
     pub const MAX_PAGES: u32 = 4096;
     pub const MAX_LEVELS: u32 = 24;
 
+    /// Depth layers of a physical page: 2 when static casters are kept apart.
+    pub fn page_layers(&self) -> u32 {
+        1 + u32::from(self.separate_static)
+    }
+
     /// The pool's memory, MiB.
     pub fn pool_mib(&self) -> f64 {
-        (u64::from(self.pages) * PAGE_BYTES) as f64 / (1024.0 * 1024.0)
+        (u64::from(self.pages * self.page_layers()) * PAGE_BYTES) as f64 / (1024.0 * 1024.0)
     }
 
     /// These settings within their ranges (the pool within what the device's textures hold).
@@ -60,7 +70,7 @@ impl VirtualSettings {
         Self {
             pages: self.pages.clamp(
                 Self::MIN_PAGES,
-                Self::MAX_PAGES.min(side_pages * side_pages),
+                Self::MAX_PAGES.min(side_pages * side_pages / self.page_layers()),
             ),
             levels: self.levels.clamp(1, Self::MAX_LEVELS),
             finest_texel_m: if self.finest_texel_m.is_finite() && self.finest_texel_m > 0.0 {
@@ -74,12 +84,14 @@ impl VirtualSettings {
                 0.0
             },
             cache: self.cache,
+            separate_static: self.separate_static,
         }
     }
 
-    /// Pages along the physical atlas's side, columns and rows: as square as the pool allows.
+    /// Pages along the physical atlas's side, columns and rows of one layer: as square as
+    /// the pool allows with its layers one below the other.
     pub fn atlas_pages(&self) -> [u32; 2] {
-        let columns = (f64::from(self.pages).sqrt().ceil() as u32).max(1);
+        let columns = (f64::from(self.pages * self.page_layers()).sqrt().ceil() as u32).max(1);
         [columns, self.pages.div_ceil(columns)]
     }
 }
@@ -108,5 +120,38 @@ mod tests {
         let [c, r] = odd.atlas_pages();
         assert!(c * r >= 1000 && c * (r - 1) < 1000, "{c} x {r}");
         assert_eq!(VirtualSettings { pages: 1, ..s }.clamped(8192).pages, 16);
+        let apart = VirtualSettings {
+            separate_static: true,
+            ..s
+        };
+        assert_eq!(apart.clamped(8192).pages, 2048, "two layers of 8192 x 4096");
+        assert!(
+            (VirtualSettings {
+                pages: 512,
+                ..apart
+            }
+            .pool_mib()
+                - 64.0)
+                .abs()
+                < 1e-12
+        );
+        for side in [2048, 4096, 8192] {
+            for pages in VirtualSettings::MIN_PAGES..=VirtualSettings::MAX_PAGES {
+                for separate_static in [false, true] {
+                    let s = VirtualSettings {
+                        pages,
+                        separate_static,
+                        ..s
+                    }
+                    .clamped(side);
+                    let [c, r] = s.atlas_pages();
+                    assert!(c * r >= s.pages, "{s:?}");
+                    assert!(
+                        c * PAGE_TEXELS <= side && r * s.page_layers() * PAGE_TEXELS <= side,
+                        "{s:?} on {side}: {c} x {r}"
+                    );
+                }
+            }
+        }
     }
 }

@@ -174,12 +174,15 @@ pub struct VirtualPages {
     pub pages_marked: u32,
     /// Pages holding a physical page after allocation (cached ones included).
     pub pages_resident: u32,
-    /// Pages drawn this frame: new, or invalidated.
+    /// Pages drawn this frame, every layer: new, or invalidated.
     pub pages_rendered: u32,
+    /// Cached pages whose movable casters' layer alone was drawn this frame (static casters
+    /// kept apart, [`crate::shadow_view::VirtualSettings::separate_static`]).
+    pub pages_refreshed: u32,
     /// Marked pages the pool had no room for; their pixels read a coarser level.
     pub pages_refused: u32,
-    /// The share of marked pages the cache served: resident with valid depths before the
-    /// frame, so not drawn (none marked: `None`).
+    /// The share of marked pages the cache served whole: resident with valid depths before
+    /// the frame, so not drawn, not even refreshed (none marked: `None`).
     pub cache_hit_rate: Option<f64>,
     /// Cached pages no pixel marked, evicted where the pool ran out.
     pub pages_evicted: u32,
@@ -197,7 +200,8 @@ pub struct VirtualPages {
     pub levels: u32,
     pub finest_texel_m: f32,
     pub cache: bool,
-    /// Texels of the pages drawn.
+    pub separate_static: bool,
+    /// Texels of the pages drawn, each layer's.
     pub texels_rendered: u64,
     /// Texels of resident pages that visible pixels' taps read (when the frame measured).
     pub texels_sampled: Option<u64>,

@@ -8,7 +8,8 @@
 // more later.
 #import virtual_maps/tables.wgsl
 
-// x: box, y: level. Every entry whose page the box covers is invalid this frame.
+// x: box, y: level. Every entry whose page the box covers is invalid this frame, or, where
+// static casters are kept apart, its movable casters' layer is stale.
 @compute @workgroup_size(64)
 fn invalidate_moved(@builtin(global_invocation_id) id: vec3<u32>) {
     let boxes = u32(params.tuning.z);
@@ -18,7 +19,8 @@ fn invalidate_moved(@builtin(global_invocation_id) id: vec3<u32>) {
     let pages = box_pages(id.y, moved[2u * id.x].xyz, moved[2u * id.x + 1u].xyz);
     for (var y = pages.y; y <= pages.w; y++) {
         for (var x = pages.x; x <= pages.z; x++) {
-            atomicOr(&page_flags[entry_of(id.y, vec2<i32>(x, y))], PAGE_INVALID);
+            let stale = select(PAGE_INVALID, PAGE_DYNAMIC_STALE, static_apart());
+            atomicOr(&page_flags[entry_of(id.y, vec2<i32>(x, y))], stale);
         }
     }
 }
@@ -50,7 +52,7 @@ fn begin_pages(@builtin(global_invocation_id) id: vec3<u32>) {
         atomicAdd(&counters.invalidated, 1u);
         return;
     }
-    atomicStore(&page_flags[e], PAGE_RESIDENT);
+    atomicStore(&page_flags[e], PAGE_RESIDENT | (flags & PAGE_DYNAMIC_STALE));
 }
 
 // Every free physical page into the free list. The second round runs only where the first
@@ -164,20 +166,34 @@ fn tally_pages(@builtin(global_invocation_id) id: vec3<u32>) {
     if ((flags & PAGE_REFUSED) != 0u) {
         atomicAdd(&counters.refused, 1u);
     }
+    // A page drawn whole needs no refresh; a marked page with a stale movable layer, cached
+    // otherwise, has that layer drawn. Unmarked, it stays stale (and unread: light.wgsl).
+    let stale_and_read = PAGE_RESIDENT | PAGE_MARKED | PAGE_DYNAMIC_STALE;
+    var item = e;
     if ((flags & PAGE_RENDERED) != 0u) {
-        let level = e / LEVEL_ENTRIES;
-        rendered_list[atomicAdd(&counters.rendered, 1u)] = e;
-        atomicAdd(&counters.level_rendered[level], 1u);
-        let page = window_page(e);
-        atomicMax(&counters.rects[level][0], u32(LEVEL_PAGES - page.x));
-        atomicMax(&counters.rects[level][1], u32(LEVEL_PAGES - page.y));
-        atomicMax(&counters.rects[level][2], u32(page.x + 1));
-        atomicMax(&counters.rects[level][3], u32(page.y + 1));
+        atomicAnd(&page_flags[e], ~PAGE_DYNAMIC_STALE);
+        atomicAdd(&counters.rendered, 1u);
+    } else if ((flags & stale_and_read) == stale_and_read) {
+        atomicAnd(&page_flags[e], ~PAGE_DYNAMIC_STALE);
+        atomicOr(&page_flags[e], PAGE_REFRESHED);
+        atomicAdd(&counters.refreshed, 1u);
+        item = e | DYNAMIC_ONLY;
+    } else {
+        return;
     }
+    let level = e / LEVEL_ENTRIES;
+    rendered_list[atomicAdd(&counters.listed, 1u)] = item;
+    atomicAdd(&counters.level_rendered[level], 1u);
+    let page = window_page(e);
+    atomicMax(&counters.rects[level][0], u32(LEVEL_PAGES - page.x));
+    atomicMax(&counters.rects[level][1], u32(LEVEL_PAGES - page.y));
+    atomicMax(&counters.rects[level][2], u32(page.x + 1));
+    atomicMax(&counters.rects[level][3], u32(page.y + 1));
 }
 
 @compute @workgroup_size(1)
 fn finish_pages() {
-    atomicStore(&counters.clear_args[0], 6u);
-    atomicStore(&counters.clear_args[1], atomicLoad(&counters.rendered));
+    // A quad per layer of each listed page (draw.wgsl `vs_clear`).
+    atomicStore(&counters.clear_args[0], 6u + 6u * params.limits.y);
+    atomicStore(&counters.clear_args[1], atomicLoad(&counters.listed));
 }

@@ -12,14 +12,17 @@ struct DrawIndexedArgs {
     first_instance: u32,
 }
 
-// Per instance: first index, index count, base vertex (i32 bits), 1 when left out.
+// Per instance: first index, index count, base vertex (i32 bits), bit 0 when left out, bit 1
+// when it may move (its depths go to the movable casters' layer where static ones are apart).
 @group(2) @binding(0) var<storage, read> ranges: array<vec4<u32>>;
 @group(2) @binding(1) var<storage, read> bounds: array<InstanceBounds>;
 @group(2) @binding(2) var<storage, read_write> pairs: array<vec2<u32>>;
 @group(2) @binding(3) var<storage, read_write> draws: array<DrawIndexedArgs>;
 
-fn page_drawn(level: u32, x: i32, y: i32) -> bool {
-    return (atomicLoad(&page_flags[entry_of(level, vec2<i32>(x, y))]) & PAGE_RENDERED) != 0u;
+// Whether the caster draws into the page this frame: a page drawn whole, or for a movable
+// caster also a refreshed one.
+fn page_drawn(level: u32, x: i32, y: i32, wanted: u32) -> bool {
+    return (atomicLoad(&page_flags[entry_of(level, vec2<i32>(x, y))]) & wanted) != 0u;
 }
 
 @compute @workgroup_size(64)
@@ -30,9 +33,13 @@ fn cull_pages(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let b = bounds[instance];
-    if ((b.flags & FLAG_CASTER) == 0u || ranges[instance].w != 0u || atomicLoad(&counters.level_rendered[level]) == 0u) {
+    let range = ranges[instance];
+    if ((b.flags & FLAG_CASTER) == 0u || (range.w & 1u) != 0u || atomicLoad(&counters.level_rendered[level]) == 0u) {
         return;
     }
+    let movable = (range.w & 2u) != 0u;
+    let wanted = select(PAGE_RENDERED, PAGE_RENDERED | PAGE_REFRESHED, movable);
+    let layer = select(0u, DYNAMIC_ONLY, movable && static_apart());
     let drawn = vec4<i32>(
         LEVEL_PAGES - i32(atomicLoad(&counters.rects[level][0])),
         LEVEL_PAGES - i32(atomicLoad(&counters.rects[level][1])),
@@ -45,7 +52,7 @@ fn cull_pages(@builtin(global_invocation_id) id: vec3<u32>) {
     var count = 0u;
     for (var y = first.y; y <= last.y; y++) {
         for (var x = first.x; x <= last.x; x++) {
-            count += select(0u, 1u, page_drawn(level, x, y));
+            count += select(0u, 1u, page_drawn(level, x, y, wanted));
         }
     }
     if (count == 0u) {
@@ -65,13 +72,12 @@ fn cull_pages(@builtin(global_invocation_id) id: vec3<u32>) {
     var next = base;
     for (var y = first.y; y <= last.y; y++) {
         for (var x = first.x; x <= last.x; x++) {
-            if (page_drawn(level, x, y)) {
-                pairs[next] = vec2<u32>(instance, entry_of(level, vec2<i32>(x, y)));
+            if (page_drawn(level, x, y, wanted)) {
+                pairs[next] = vec2<u32>(instance, entry_of(level, vec2<i32>(x, y)) | layer);
                 next++;
             }
         }
     }
-    let range = ranges[instance];
     draws[draw] = DrawIndexedArgs(range.y, count, range.x, bitcast<i32>(range.z), base);
     atomicAdd(&counters.level_pairs[level], count);
 }

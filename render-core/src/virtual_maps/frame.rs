@@ -40,7 +40,12 @@ impl VirtualTechnique {
             rows as f32,
         ];
         // The coarsest level's pages that refused pixels fall back to: a few cover the scene.
-        params.limits = [FALLBACK_PAGES.min(self.settings.pages / 4), 0, 0, 0];
+        params.limits = [
+            FALLBACK_PAGES.min(self.settings.pages / 4),
+            u32::from(self.settings.separate_static),
+            0,
+            0,
+        ];
         for (slot, first) in params.first_page.iter_mut().zip(&self.first_pages) {
             *slot = [first[0], first[1], 0, 0];
         }
@@ -341,7 +346,8 @@ impl ShadowTechnique for VirtualTechnique {
         if let Some((pairs, draws)) = self.grow_to.take() {
             self.lists.grow(&ctx.device, pairs, draws);
         }
-        self.lists.follow_scene(ctx, scene_gpu, &self.excluded);
+        self.lists
+            .follow_scene(ctx, (input.scene, scene_gpu), &self.excluded);
         let moved = (boxes.len() / 2) as u32;
         let Some(tables) = self.tables.as_ref() else {
             unreachable!("prepare made the tables");
@@ -422,6 +428,7 @@ impl ShadowTechnique for VirtualTechnique {
                 pages_marked: c.marked,
                 pages_resident: c.resident,
                 pages_rendered: c.rendered,
+                pages_refreshed: c.refreshed,
                 pages_refused: c.refused,
                 cache_hit_rate: cache_hit_rate(c),
                 pages_evicted: c.evicted,
@@ -434,7 +441,9 @@ impl ShadowTechnique for VirtualTechnique {
                 levels: self.settings.levels,
                 finest_texel_m: self.settings.finest_texel_m,
                 cache: self.settings.cache,
-                texels_rendered: u64::from(c.rendered) * u64::from(PAGE_TEXELS * PAGE_TEXELS),
+                separate_static: self.settings.separate_static,
+                texels_rendered: u64::from(c.rendered * self.settings.page_layers() + c.refreshed)
+                    * u64::from(PAGE_TEXELS * PAGE_TEXELS),
                 texels_sampled: cache
                     .is_some_and(|f| f.3)
                     .then_some(u64::from(c.texels_sampled)),
@@ -496,9 +505,11 @@ impl ShadowTechnique for VirtualTechnique {
     }
 }
 
-/// Marked pages neither drawn (new or invalidated) nor refused: the share of the marked that
-/// the cache served.
+/// Marked pages neither drawn (new or invalidated), refreshed nor refused: the share of the
+/// marked that the cache served whole.
 fn cache_hit_rate(c: &FrameCounts) -> Option<f64> {
-    let hits = c.marked.saturating_sub(c.rendered + c.refused);
+    let hits = c
+        .marked
+        .saturating_sub(c.rendered + c.refreshed + c.refused);
     (c.marked > 0).then(|| f64::from(hits) / f64::from(c.marked))
 }

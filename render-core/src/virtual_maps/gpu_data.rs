@@ -13,7 +13,8 @@ pub(super) struct VirtualParams {
     pub counts: [u32; 4],
     /// The finest texel (m), the level bias (octaves), moved boxes, the atlas's rows of pages.
     pub tuning: [f32; 4],
-    /// Physical pages kept back for fallback pages; unused.
+    /// Physical pages kept back for fallback pages; 1 when static casters are kept apart;
+    /// unused.
     pub limits: [u32; 4],
     /// Per level, the absolute position of its square's first page.
     pub first_page: [[i32; 4]; VirtualSettings::MAX_LEVELS as usize],
@@ -38,8 +39,9 @@ pub(super) mod word {
     pub const LEVEL_PAIRS: usize = LEVEL_RENDERED + 24;
     pub const RECTS: usize = LEVEL_PAIRS + 24;
     pub const TEXELS_SAMPLED: usize = RECTS + 4 * 24;
+    pub const REFRESHED: usize = TEXELS_SAMPLED + 1;
     /// Words in all.
-    pub const COUNT: usize = TEXELS_SAMPLED + 1;
+    pub const COUNT: usize = REFRESHED + 2;
 }
 
 /// The pages' counts of one frame, as the GPU left them.
@@ -48,6 +50,8 @@ pub(super) struct FrameCounts {
     pub marked: u32,
     pub resident: u32,
     pub rendered: u32,
+    /// Cached pages whose movable casters' layer alone was drawn again.
+    pub refreshed: u32,
     pub refused: u32,
     /// Free physical pages before allocation (after the eviction, where one ran).
     pub free: u32,
@@ -72,6 +76,7 @@ impl FrameCounts {
             marked: words[word::MARKED],
             resident: words[word::RESIDENT],
             rendered: words[word::RENDERED],
+            refreshed: words[word::REFRESHED],
             refused: words[word::REFUSED],
             free: words[word::FREE],
             pairs: words[word::PAIRS],

@@ -27,7 +27,10 @@ fn taps_resident(l: ShadowLookup) -> bool {
     let pages = tap_pages(l);
     for (var y = pages[0].y; y <= pages[1].y; y++) {
         for (var x = pages[0].x; x <= pages[1].x; x++) {
-            if ((page_flags[entry_of(l.view, vec2<i32>(x, y))] & PAGE_RESIDENT) == 0u) {
+            // A page whose movable layer is stale (no pixel read it when it went stale) is
+            // not read until it is drawn again.
+            let flags = page_flags[entry_of(l.view, vec2<i32>(x, y))];
+            if ((flags & (PAGE_RESIDENT | PAGE_DYNAMIC_STALE)) != PAGE_RESIDENT) {
                 return false;
             }
         }
@@ -35,10 +38,19 @@ fn taps_resident(l: ShadowLookup) -> bool {
     return true;
 }
 
-// Tap `t` (texels of the level's square) in the atlas.
-fn atlas_texel(l: ShadowLookup, t: vec2<i32>) -> vec2<i32> {
+// Tap `t` (texels of the level's square) in the atlas's layer `layer`.
+fn atlas_texel(l: ShadowLookup, t: vec2<i32>, layer: u32) -> vec2<i32> {
     let page = t / PAGE_TEXELS;
-    return slot_origin(page_slots[entry_of(l.view, page)]) + (t - page * PAGE_TEXELS);
+    return layer_origin(page_slots[entry_of(l.view, page)], layer) + (t - page * PAGE_TEXELS);
+}
+
+// The nearest caster's depth at tap `t`: of both layers where static casters are apart.
+fn stored_depth(l: ShadowLookup, t: vec2<i32>) -> f32 {
+    let first = textureLoad(page_atlas, atlas_texel(l, t, 0u), 0);
+    if (!static_apart()) {
+        return first;
+    }
+    return min(first, textureLoad(page_atlas, atlas_texel(l, t, 1u), 0));
 }
 
 // Fraction of kernel taps that see the light.
@@ -47,7 +59,7 @@ fn page_factor(l: ShadowLookup) -> f32 {
     for (var j = 0; j < l.kernel; j++) {
         for (var i = 0; i < l.kernel; i++) {
             let t = l.first + vec2<i32>(i, j);
-            let stored = textureLoad(page_atlas, atlas_texel(l, t), 0);
+            let stored = stored_depth(l, t);
             lit += select(0.0, 1.0, tap_threshold(l, t) <= stored);
         }
     }

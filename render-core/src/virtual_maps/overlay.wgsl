@@ -41,6 +41,8 @@ fn fs_pages(in: VsOut) -> @location(0) vec4<f32> {
         colour = PALETTE_PAGE_REFUSED;
     } else if ((flags & PAGE_RENDERED) != 0u) {
         colour = PALETTE_PAGE_DRAWN;
+    } else if ((flags & PAGE_REFRESHED) != 0u) {
+        colour = PALETTE_PAGE_REFRESHED;
     } else if ((flags & PAGE_RESIDENT) != 0u && (flags & PAGE_MARKED) != 0u) {
         colour = PALETTE_PAGE_CACHED;
     } else if ((flags & PAGE_RESIDENT) != 0u) {

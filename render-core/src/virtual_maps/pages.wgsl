@@ -9,13 +9,21 @@ const PAGE_TEXELS: i32 = 128;
 const LEVEL_PAGES: i32 = 32;
 const LEVEL_ENTRIES: u32 = 1024u;
 
-// An entry's flags: marked by a visible pixel this frame; holding a physical page with valid
-// depths; drawn this frame; marked but given no physical page; touched by a moving box.
+// An entry's flags: marked by a visible pixel this frame; holding a physical page; drawn this
+// frame (every layer); marked but given no physical page; touched by a moving box. Where
+// static casters are kept apart, a moving box leaves the page resident but its movable
+// casters' layer stale, and a marked stale page has that layer alone drawn (refreshed).
 const PAGE_MARKED: u32 = 1u;
 const PAGE_RESIDENT: u32 = 2u;
 const PAGE_RENDERED: u32 = 4u;
 const PAGE_REFUSED: u32 = 8u;
 const PAGE_INVALID: u32 = 16u;
+const PAGE_DYNAMIC_STALE: u32 = 32u;
+const PAGE_REFRESHED: u32 = 64u;
+// A drawn page's item in the list of drawn pages (and a pair's entry): its entry, and this
+// bit for the movable casters' layer alone.
+const DYNAMIC_ONLY: u32 = 0x40000000u;
+const ENTRY_BITS: u32 = 0xffffu;
 
 // Keep in sync with virtual_maps/gpu_data.rs (VirtualParams).
 struct VirtualParams {
@@ -26,7 +34,8 @@ struct VirtualParams {
     // frame; w: the atlas's rows of pages.
     tuning: vec4<f32>,
     // x: physical pages kept back from the first allocations for the fallback pages of
-    // pixels whose own pages were refused; y, z, w: unused.
+    // pixels whose own pages were refused; y: 1 when static casters are kept apart (a second
+    // layer of pages, below the first in the atlas, holds the movable ones); z, w: unused.
     limits: vec4<u32>,
     // Per level, xy: the absolute position of its square's first page (column, row).
     first_page: array<vec4<i32>, 24>,
@@ -60,10 +69,20 @@ fn window_page(e: u32) -> vec2<i32> {
     return wrap_pages(wrapped - params.first_page[e / LEVEL_ENTRIES].xy);
 }
 
-// The first texel of physical page `slot` in the atlas.
+// The first texel of physical page `slot` in the atlas (layer 0: static casters, or every
+// caster where they are not kept apart; layer 1: movable casters).
 fn slot_origin(slot: u32) -> vec2<i32> {
     let columns = params.counts.z;
     return vec2<i32>(i32(slot % columns), i32(slot / columns)) * PAGE_TEXELS;
+}
+
+fn layer_origin(slot: u32, layer: u32) -> vec2<i32> {
+    let rows = i32(params.tuning.w);
+    return slot_origin(slot) + vec2<i32>(0, i32(layer) * rows * PAGE_TEXELS);
+}
+
+fn static_apart() -> bool {
+    return params.limits.y != 0u;
 }
 
 // Resolution matching: the finest level whose texel is no larger than the point's pixel, as

@@ -7,6 +7,7 @@
 use super::gpu_data::{VirtualParams, word};
 use super::pipelines::Pipelines;
 use crate::gpu::{AsyncReadback, GpuContext, buffer, buffer_entry, view_entry};
+use crate::scene::{Mobility, Scene};
 use crate::scene_gpu::SceneGpu;
 use crate::shadow_view::{LEVEL_PAGES, PAGE_TEXELS, SHADOW_FORMAT, VirtualSettings};
 
@@ -18,6 +19,7 @@ const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE;
 /// The pool and tables of one (pages, levels).
 pub(super) struct Tables {
     pub pages: u32,
+    pub page_layers: u32,
     pub levels: u32,
     pub params: wgpu::Buffer,
     pub flags: wgpu::Buffer,
@@ -43,7 +45,7 @@ impl Tables {
             label: Some("VirtualMaps::atlas"),
             size: wgpu::Extent3d {
                 width: atlas_pages[0] * PAGE_TEXELS,
-                height: atlas_pages[1] * PAGE_TEXELS,
+                height: atlas_pages[1] * settings.page_layers() * PAGE_TEXELS,
                 depth_or_array_layers: 1,
             },
             mip_level_count: 1,
@@ -58,6 +60,7 @@ impl Tables {
         let counters_size = (word::COUNT * 4) as u64;
         Self {
             pages: settings.pages,
+            page_layers: settings.page_layers(),
             levels: settings.levels,
             params: buffer(
                 device,
@@ -95,7 +98,9 @@ impl Tables {
     }
 
     pub fn fits(&self, settings: &VirtualSettings) -> bool {
-        self.pages == settings.pages && self.levels == settings.levels
+        self.pages == settings.pages
+            && self.levels == settings.levels
+            && self.page_layers == settings.page_layers()
     }
 
     pub fn write_params(&self, ctx: &GpuContext, params: &VirtualParams) {
@@ -153,17 +158,28 @@ impl Lists {
         }
     }
 
-    /// Each instance's indices in the scene's buffers, for the cull's draws, and whether it
-    /// is left out (`excluded`, sorted).
-    pub fn follow_scene(&mut self, ctx: &GpuContext, scene_gpu: &SceneGpu, excluded: &[u32]) {
+    /// Each instance's indices in the scene's buffers, for the cull's draws, whether it is
+    /// left out (`excluded`, sorted) and whether it may move.
+    pub fn follow_scene(
+        &mut self,
+        ctx: &GpuContext,
+        (scene, scene_gpu): (&Scene, &SceneGpu),
+        excluded: &[u32],
+    ) {
         if self.ranges_scene == Some(scene_gpu.id) {
             return;
         }
         let ranges: Vec<[u32; 4]> = (0..)
-            .zip(&scene_gpu.instance_ranges)
-            .map(|(i, r)| {
+            .zip(scene_gpu.instance_ranges.iter().zip(&scene.instances))
+            .map(|(i, (r, instance))| {
                 let out = u32::from(excluded.binary_search(&i).is_ok());
-                [r.first_index, r.index_count, r.base_vertex as u32, out]
+                let movable = u32::from(instance.mobility != Mobility::Static);
+                [
+                    r.first_index,
+                    r.index_count,
+                    r.base_vertex as u32,
+                    out | movable << 1,
+                ]
             })
             .collect();
         self.ranges = buffer(

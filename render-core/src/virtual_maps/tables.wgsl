@@ -29,6 +29,10 @@ struct Counters {
     rects: array<array<atomic<u32>, 4>, 24>,
     // When measuring: the texels of physical pages that visible pixels' taps read.
     texels_sampled: atomic<u32>,
+    // Cached pages whose movable casters' layer alone is drawn this frame.
+    refreshed: atomic<u32>,
+    // Items in the list of drawn pages (drawn and refreshed).
+    listed: atomic<u32>,
 }
 
 @group(1) @binding(1) var<storage, read_write> page_flags: array<atomic<u32>>;

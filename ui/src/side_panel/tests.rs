@@ -1021,12 +1021,15 @@ fn the_virtual_setup_sets_its_pool_and_cache_and_says_what_its_pages_did() {
         pool_mib: 64.0,
         levels: 16,
         cache: true,
+        separate_static: true,
+        pages_refreshed: 31,
         caster_pages: 2500,
         ..Default::default()
     });
     let mut harness = harness_on(lab, PanelTab::Shadows);
     harness.get_by_label("140 marked, 1,024 resident, 12 drawn");
     harness.get_by_label("89% of the marked pages were kept");
+    harness.get_by_label("31 pages' movable casters alone drawn");
     harness.get_by_label("3 refused (pool full), 5 evicted");
     harness.get_by_label("100% of 1024 pages");
     harness.get_by_label("64 MiB");
@@ -1036,6 +1039,11 @@ fn the_virtual_setup_sets_its_pool_and_cache_and_says_what_its_pages_did() {
         .click();
     harness.run();
     assert!(!harness.state().settings.virtual_maps.cache);
+    harness
+        .get_by_role_and_label(Role::CheckBox, "Static apart")
+        .click();
+    harness.run();
+    assert!(harness.state().settings.virtual_maps.separate_static);
 }
 
 #[test]

@@ -19,6 +19,9 @@ const BIAS_HELP: &str = "Octaves added to the level resolution matching picks: a
     ResolutionLodBiasDirectional";
 const CACHE_HELP: &str = "Pages stay drawn across frames until something moves through them \
     or the light moves; off draws every needed page each frame";
+const APART_HELP: &str = "Each page keeps static casters' depths apart from movable ones', so a \
+    moving object draws only the movable casters of the pages it touches again (Unreal's \
+    static separation); the pool takes twice the memory";
 
 /// The rows (inside the tab's grid).
 pub fn rows(ui: &mut egui::Ui, settings: &mut VirtualSettings, report: Option<&FrameReport>) {
@@ -47,6 +50,12 @@ pub fn rows(ui: &mut egui::Ui, settings: &mut VirtualSettings, report: Option<&F
     grid::labelled(ui, "Cache", CACHE_HELP, |ui| {
         ui.checkbox(&mut settings.cache, "keep pages")
     });
+    grid::labelled(ui, "Static apart", APART_HELP, |ui| {
+        ui.checkbox(
+            &mut settings.separate_static,
+            "static casters in a layer of their own",
+        )
+    });
     let Some(p) = report.and_then(|r| r.virtual_pages) else {
         return;
     };
@@ -60,6 +69,16 @@ pub fn rows(ui: &mut egui::Ui, settings: &mut VirtualSettings, report: Option<&F
             thousands(p.pages_rendered.into())
         ),
     );
+    if p.separate_static {
+        grid::row(
+            ui,
+            "Refreshed",
+            format!(
+                "{} pages' movable casters alone drawn",
+                thousands(p.pages_refreshed.into())
+            ),
+        );
+    }
     grid::row(
         ui,
         "Cache hits",

@@ -1,0 +1,198 @@
+//! Virtual maps with static casters kept apart (`--separate-static on`, Unreal's
+//! `Cache.StaticSeparate`): a moving box leaves the pages it touches resident and draws only
+//! itself into them again (their movable layer), the static ground's depths stay cached, and
+//! the picture equals a full re-render with one layer. A page that goes stale while no pixel
+//! reads it is drawn again when one does.
+
+use glam::{Mat4, Vec3};
+use render_core::geom::Camera;
+use render_core::scene::{Scene, Sun};
+use render_core::shadow_view::{ShadowView, VirtualSettings};
+use shadowlab_tests::gpu;
+use shadowlab_tests::virtual_pages::{
+    Frame, Frames, MARKED, REFRESHED, RENDERED, RESIDENT, camera, entries_with, scene, settings,
+    touched_entries,
+};
+
+/// A page whose movable layer a moved box left stale (`virtual_maps/pages.wgsl`).
+const DYNAMIC_STALE: u32 = 32;
+
+fn apart() -> VirtualSettings {
+    VirtualSettings {
+        separate_static: true,
+        ..VirtualSettings::default()
+    }
+}
+
+/// Moves the box (instance 1) 0.9 m along x and 0.4 m along z, across page borders; returns
+/// the page-table entries its old and new bounds touch.
+fn move_box(frames: &mut Frames, scene: &mut Scene, views: &[ShadowView]) -> Vec<usize> {
+    let old = scene.instances[1].aabb_in_world;
+    let moved =
+        Mat4::from_translation(Vec3::new(0.9, 0.0, 0.4)) * scene.instances[1].world_from_local;
+    scene.set_world_from_local(1, moved);
+    frames.scene_gpu.update_instances(gpu(), scene, &[1]);
+    let new = scene.instances[1].aabb_in_world;
+    let (before, after) = (
+        touched_entries(views, old.min, old.max),
+        touched_entries(views, new.min, new.max),
+    );
+    assert_ne!(before, after, "the box crosses page borders");
+    let mut touched = [before, after].concat();
+    touched.sort_unstable();
+    touched.dedup();
+    touched
+}
+
+/// Pixels whose light differs between two pictures.
+fn differing(a: &[u8], b: &[u8]) -> usize {
+    assert_eq!(a.len(), b.len());
+    a.iter().zip(b).filter(|(x, y)| x != y).count()
+}
+
+fn contains(sorted: &[usize], e: usize) -> bool {
+    sorted.binary_search(&e).is_ok()
+}
+
+/// The (caster, page) pairs a frame draws: the static ground into the pages drawn whole, the
+/// movable box into those and the refreshed ones its bounds touch.
+fn expected_pairs(scene: &Scene, frame: &Frame) -> u32 {
+    let rendered = entries_with(&frame.flags, RENDERED);
+    let refreshed = entries_with(&frame.flags, REFRESHED);
+    let over = |instance: usize| {
+        let b = scene.instances[instance].aabb_in_world;
+        touched_entries(&frame.views, b.min, b.max)
+    };
+    let ground = over(0)
+        .into_iter()
+        .filter(|&e| contains(&rendered, e))
+        .count();
+    let boxed = over(1)
+        .into_iter()
+        .filter(|&e| contains(&rendered, e) || contains(&refreshed, e))
+        .count();
+    (ground + boxed) as u32
+}
+
+#[test]
+fn a_moving_box_draws_only_itself_again_into_the_pages_it_touches() {
+    let mut scene = scene(Sun::default());
+    let settings = settings(apart());
+    let mut frames = Frames::new(&scene);
+    let first = frames.frame(&scene, &camera(), &settings);
+    let p = first.pages;
+    assert!(p.separate_static);
+    assert!(
+        p.pages_marked > 0 && p.pages_rendered == p.pages_marked,
+        "{p:?}"
+    );
+    assert_eq!(p.pages_refreshed, 0);
+    assert_eq!(p.caster_pages, expected_pairs(&scene, &first));
+
+    let touched = move_box(&mut frames, &mut scene, &first.views);
+    let second = frames.frame(&scene, &camera(), &settings);
+    let q = second.pages;
+    assert_eq!(q.moved_boxes, 2);
+    assert_eq!(q.pages_invalidated, 0, "no page is released: {q:?}");
+    let resident_before = entries_with(&first.flags, RESIDENT);
+    let marked = entries_with(&second.flags, MARKED);
+    // Whole: only the marked pages that were not there before. Refreshed: the marked pages
+    // the box's old or new bounds touch.
+    let new_pages: Vec<usize> = marked
+        .iter()
+        .copied()
+        .filter(|&e| !contains(&resident_before, e))
+        .collect();
+    let refreshed: Vec<usize> = marked
+        .iter()
+        .copied()
+        .filter(|&e| contains(&touched, e) && contains(&resident_before, e))
+        .collect();
+    assert!(!refreshed.is_empty());
+    assert_eq!(entries_with(&second.flags, RENDERED), new_pages);
+    assert_eq!(entries_with(&second.flags, REFRESHED), refreshed);
+    assert_eq!(q.pages_refreshed as usize, refreshed.len());
+    assert_eq!(q.caster_pages, expected_pairs(&scene, &second));
+    let hits = marked.len() - new_pages.len() - refreshed.len();
+    let rate = q.cache_hit_rate.expect("pages were marked");
+    assert!(
+        (rate - hits as f64 / marked.len() as f64).abs() < 1e-12,
+        "{q:?}"
+    );
+
+    // No stale shadow: the same picture as one layer drawn from scratch.
+    let fresh = Frames::new(&scene).frame(&scene, &camera(), &settings_one_layer());
+    assert_eq!(differing(&second.capture.shadow, &fresh.capture.shadow), 0);
+    assert!(
+        differing(&first.capture.shadow, &second.capture.shadow) > 0,
+        "the shadow moved"
+    );
+
+    // Nothing moves: nothing is drawn.
+    let third = frames.frame(&scene, &camera(), &settings);
+    assert_eq!(
+        (third.pages.pages_rendered, third.pages.pages_refreshed),
+        (0, 0)
+    );
+    assert_eq!(third.pages.caster_pages, 0);
+    assert_eq!(differing(&third.capture.shadow, &second.capture.shadow), 0);
+}
+
+/// The default: one layer for every caster.
+fn settings_one_layer() -> render_core::frame::FrameSettings {
+    settings(VirtualSettings::default())
+}
+
+/// The box moves while the camera looks at the sky: its pages go stale unread and are not
+/// drawn; when the camera looks back, exactly those it reads are refreshed.
+#[test]
+fn a_page_left_stale_while_unread_is_refreshed_when_read_again() {
+    let mut scene = scene(Sun::default());
+    let settings = settings(apart());
+    let mut frames = Frames::new(&scene);
+    let first = frames.frame(&scene, &camera(), &settings);
+    let look = camera();
+    let sky = Camera::look_at(
+        look.eye,
+        look.eye + Vec3::new(0.05, 1.0, 0.02),
+        60f32.to_radians(),
+        0.1,
+        500.0,
+    );
+    let touched = move_box(&mut frames, &mut scene, &first.views);
+    let away = frames.frame(&scene, &sky, &settings);
+    assert_eq!(away.pages.pages_marked, 0, "{:?}", away.pages);
+    assert_eq!(
+        (away.pages.pages_rendered, away.pages.pages_refreshed),
+        (0, 0)
+    );
+    let resident = entries_with(&away.flags, RESIDENT);
+    assert_eq!(resident, entries_with(&first.flags, RESIDENT));
+    let stale: Vec<usize> = resident
+        .iter()
+        .copied()
+        .filter(|&e| contains(&touched, e))
+        .collect();
+    assert!(!stale.is_empty());
+    assert_eq!(entries_with(&away.flags, DYNAMIC_STALE), stale);
+
+    let back = frames.frame(&scene, &camera(), &settings);
+    let marked = entries_with(&back.flags, MARKED);
+    let refreshed: Vec<usize> = marked
+        .iter()
+        .copied()
+        .filter(|&e| contains(&stale, e))
+        .collect();
+    assert!(!refreshed.is_empty());
+    assert_eq!(entries_with(&back.flags, REFRESHED), refreshed);
+    assert_eq!(
+        entries_with(&back.flags, RENDERED),
+        marked
+            .iter()
+            .copied()
+            .filter(|&e| !contains(&resident, e))
+            .collect::<Vec<_>>()
+    );
+    let fresh = Frames::new(&scene).frame(&scene, &camera(), &settings_one_layer());
+    assert_eq!(differing(&back.capture.shadow, &fresh.capture.shadow), 0);
+}
