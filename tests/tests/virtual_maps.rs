@@ -7,11 +7,11 @@
 use glam::{Mat4, Vec3};
 use render_core::geom::Camera;
 use render_core::scene::{Scene, Sun};
-use render_core::shadow_view::{LEVEL_PAGES, PAGE_TEXELS, ShadowView, VirtualSettings};
+use render_core::shadow_view::VirtualSettings;
 use render_core::technique::VirtualPages;
 use shadowlab_tests::virtual_pages::{
-    Frames, MARKED, RENDERED, RESIDENT, SIZE, camera, entries_with, scene, settings,
-    touched_entries,
+    Frames, MARKED, Marking, RENDERED, RESIDENT, SIZE, box_scene_normal, camera, entries_with,
+    scene, settings, touched_entries,
 };
 use shadowlab_tests::{against_truth, box_on_plane, gpu, translated};
 
@@ -251,145 +251,6 @@ fn the_hard_cases_give_the_exact_shadow() {
         10.0,
     );
     near_exact(&small, &close, 0.002);
-}
-
-/// What `mark.wgsl` reads of the frame, for the CPU's marking.
-struct Marking<'a> {
-    camera: &'a Camera,
-    views: &'a [ShadowView],
-    virtual_maps: VirtualSettings,
-    /// A pixel's width one metre from the eye.
-    pixel_at_1m: f64,
-    normal_offset_texels: f64,
-    kernel: i64,
-}
-
-/// Where level `view` places `p`: its texel (x right, y down), in f64.
-fn level_texel(view: &ShadowView, p: Vec3) -> [f64; 2] {
-    let light = &view.light;
-    let grid = light.grid.expect("a level has a texel grid");
-    let rows = light.light_from_world.transpose();
-    let t = light.light_from_world.w_axis;
-    let half = f64::from(LEVEL_PAGES * PAGE_TEXELS) * 0.5;
-    let x = f64::from(rows.x_axis.truncate().dot(p) + t.x) * f64::from(grid.per_metre[0]);
-    let y = f64::from(rows.y_axis.truncate().dot(p) + t.y) * f64::from(grid.per_metre[1]);
-    [
-        x - f64::from(grid.centre_texel[0]) + half,
-        half - (y - f64::from(grid.centre_texel[1])),
-    ]
-}
-
-/// The entry of page `page` of level `level`'s square.
-fn entry(views: &[ShadowView], level: usize, page: [i64; 2]) -> usize {
-    let grid = views[level].light.grid.expect("grid");
-    let side = i64::from(LEVEL_PAGES);
-    let half = f64::from(LEVEL_PAGES * PAGE_TEXELS) * 0.5;
-    let first = [
-        (f64::from(grid.centre_texel[0]) - half) as i64 / i64::from(PAGE_TEXELS),
-        -((f64::from(grid.centre_texel[1]) - half) as i64 / i64::from(PAGE_TEXELS)) - side,
-    ];
-    let wrapped = [
-        (first[0] + page[0]).rem_euclid(side),
-        (first[1] + page[1]).rem_euclid(side),
-    ];
-    level * (side * side) as usize + (wrapped[1] * side + wrapped[0]) as usize
-}
-
-impl Marking<'_> {
-    /// The entries the pixel at `p` with normal `n` marks, and whether the answer is certain:
-    /// false where its level's octave or a tap's texel lies so near a boundary that the GPU's
-    /// f32 (from its own surface point, not this one read back from depth) may fall either side.
-    fn marks(&self, p: Vec3, n: Vec3) -> Marks {
-        let (p64, n64) = (p.as_dvec3(), n.as_dvec3());
-        let to_eye = self.camera.eye.as_dvec3() - p64;
-        let distance = to_eye.length();
-        let cos_view = n64.dot(to_eye / distance).abs().max(0.02);
-        let light_dir = self.views[0].light.light_direction.as_dvec3();
-        let cos_light = n64.dot(light_dir).abs().max(0.02);
-        let texel_m = distance * self.pixel_at_1m * (cos_light / cos_view).sqrt();
-        let v = self.virtual_maps;
-        let octaves = (texel_m / f64::from(v.finest_texel_m)).log2() + f64::from(v.lod_bias);
-        let mut certain = (octaves - octaves.round()).abs() > 0.003;
-        let last = v.levels as usize - 1;
-        let matched = (octaves.floor().max(0.0) as usize).min(last);
-        let side = i64::from(LEVEL_PAGES * PAGE_TEXELS);
-        let taps = |level: usize, certain: &mut bool| {
-            let texel = f64::from(self.views[level].light.texel_size_m[0]);
-            let q = p64 + n64 * (self.normal_offset_texels * texel);
-            let t = level_texel(&self.views[level], q.as_vec3());
-            let start = t.map(|c| c - 0.5 * (self.kernel - 1) as f64);
-            // Near a whole texel the first tap may be either; that matters where the first or
-            // the last tap then lands on another page.
-            let page_edge = |r: i64| {
-                r.rem_euclid(i64::from(PAGE_TEXELS)) == 0
-                    || (r + self.kernel - 1).rem_euclid(i64::from(PAGE_TEXELS)) == 0
-            };
-            let near_whole = |c: &f64| (c - c.round()).abs() < 0.05;
-            if start
-                .iter()
-                .any(|c| near_whole(c) && page_edge(c.round() as i64))
-            {
-                *certain = false;
-            }
-            let texels_certain = !start.iter().any(near_whole);
-            let first = start.map(|c| c.floor() as i64);
-            let last_tap = first.map(|f| f + self.kernel - 1);
-            let held = first.iter().all(|&f| f >= 0) && last_tap.iter().all(|&l| l < side);
-            held.then(|| {
-                let pages = |t: i64| t.div_euclid(i64::from(PAGE_TEXELS));
-                let mut entries = Vec::new();
-                for y in pages(first[1])..=pages(last_tap[1]) {
-                    for x in pages(first[0])..=pages(last_tap[0]) {
-                        entries.push(entry(self.views, level, [x, y]));
-                    }
-                }
-                let mut texels = Vec::new();
-                for y in first[1]..=last_tap[1] {
-                    for x in first[0]..=last_tap[0] {
-                        texels.push((level, x, y));
-                    }
-                }
-                (entries, texels, texels_certain)
-            })
-        };
-        // No pixel's page is refused here: no fallback marks.
-        let (entries, texels, texels_certain) = (matched..=last)
-            .find_map(|level| taps(level, &mut certain))
-            .unwrap_or_default();
-        Marks {
-            entries,
-            texels,
-            certain,
-            texels_certain: texels_certain && certain,
-        }
-    }
-}
-
-/// What one pixel marks, and whether the CPU can be sure of it.
-struct Marks {
-    entries: Vec<usize>,
-    /// The texels its taps read: level, x, y.
-    texels: Vec<(usize, i64, i64)>,
-    certain: bool,
-    texels_certain: bool,
-}
-
-/// The geometric normal of the box-on-plane scene at `p` on instance `id - 1`, towards the eye.
-fn box_scene_normal(scene: &Scene, id: u32, p: Vec3) -> Vec3 {
-    let b = scene.instances[id as usize - 1].aabb_in_world;
-    let faces = [
-        (p.x - b.min.x, Vec3::NEG_X),
-        (b.max.x - p.x, Vec3::X),
-        (p.y - b.min.y, Vec3::NEG_Y),
-        (b.max.y - p.y, Vec3::Y),
-        (p.z - b.min.z, Vec3::NEG_Z),
-        (b.max.z - p.z, Vec3::Z),
-    ];
-    faces
-        .iter()
-        .min_by(|a, b| a.0.abs().total_cmp(&b.0.abs()))
-        .map(|f| f.1)
-        .expect("six faces")
 }
 
 #[test]

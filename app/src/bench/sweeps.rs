@@ -110,12 +110,22 @@ pub(crate) fn settings(
             let mut apart = virtual_maps;
             apart.virtual_maps.separate_static = true;
             apart.virtual_maps.pages = virtual_maps.virtual_maps.pages / 2;
+            // The receiver mask where it culls: with the cache off, and on the movable layer.
+            let mut masked = uncached;
+            masked.virtual_maps.receiver_mask = true;
+            let mut apart_masked = apart;
+            apart_masked.virtual_maps.receiver_mask = true;
             vec![
                 ("single 8192".to_owned(), single),
                 ("4 cascades 2048".to_owned(), cascades),
                 ("virtual".to_owned(), virtual_maps),
                 ("virtual / cache off".to_owned(), uncached),
+                ("virtual / cache off, receiver mask".to_owned(), masked),
                 ("virtual / static apart".to_owned(), apart),
+                (
+                    "virtual / static apart, receiver mask".to_owned(),
+                    apart_masked,
+                ),
             ]
         }
         Sweep::Setups => ShadowSetup::ALL

@@ -1,5 +1,5 @@
 //! The virtual maps' options: `--pages N`, `--levels N`, `--cache on|off`, `--finest-texel M`,
-//! `--lod-bias OCTAVES` and `--separate-static on|off`.
+//! `--lod-bias OCTAVES`, `--separate-static on|off` and `--receiver-mask on|off`.
 
 use anyhow::bail;
 use clap::Args;
@@ -32,6 +32,12 @@ pub struct VirtualArgs {
     /// pool's memory; or one layer for all (off, the default).
     #[arg(long, value_parser = parse_on_off, value_name = "on|off")]
     pub separate_static: Option<bool>,
+    /// Virtual maps: cull casters per block of 16 x 16 texels that visible pixels read, not
+    /// per page (on; Unreal 5.6's receiver mask), in the layer drawn again anyway: every
+    /// caster's with the cache off, the movable casters' with static casters apart; a page
+    /// it leaves partial is drawn again the next frame. Off by default.
+    #[arg(long, value_parser = parse_on_off, value_name = "on|off")]
+    pub receiver_mask: Option<bool>,
 }
 
 impl VirtualArgs {
@@ -42,6 +48,7 @@ impl VirtualArgs {
             || self.finest_texel.is_some()
             || self.lod_bias.is_some()
             || self.separate_static.is_some()
+            || self.receiver_mask.is_some()
     }
 
     /// The options into `settings`; any of them without `--shadow` picks `--shadow virtual`.
@@ -79,6 +86,9 @@ impl VirtualArgs {
         }
         if let Some(apart) = self.separate_static {
             s.separate_static = apart;
+        }
+        if let Some(mask) = self.receiver_mask {
+            s.receiver_mask = mask;
         }
         if let Some(texel) = self.finest_texel {
             if !(texel.is_finite() && texel > 0.0 && texel <= 100.0) {
@@ -142,6 +152,8 @@ mod tests {
         assert_eq!(s.setup, ShadowSetup::Virtual);
         assert!(s.virtual_maps.separate_static);
         assert!(settings(&["--separate-static", "yes"]).is_err());
+        let s = settings(&["--receiver-mask", "on", "--cache", "off"]).unwrap();
+        assert!(s.virtual_maps.receiver_mask && !s.virtual_maps.cache);
     }
 
     #[test]

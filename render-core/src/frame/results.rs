@@ -152,6 +152,12 @@ impl FrameRenderer {
         self.techniques.virtual_maps().read_page_flags(ctx)
     }
 
+    /// The virtual maps' receiver masks as the last frame left them (two words per entry).
+    /// Blocks: for tests.
+    pub fn virtual_receiver_masks(&self, ctx: &GpuContext) -> Result<Vec<[u32; 2]>, GpuError> {
+        self.techniques.virtual_maps().read_receiver_masks(ctx)
+    }
+
     /// The triangles per-layer culling kept for each slot (a view, or a multiview group) in
     /// the last frame that culled. Blocks: for tests and reports.
     pub fn lights_kept_triangles(&self, ctx: &GpuContext) -> Result<Vec<u32>, GpuError> {

@@ -33,6 +33,11 @@ pub struct VirtualSettings {
     /// object redraws only the movable casters of the pages it touches (Unreal's
     /// `Cache.StaticSeparate`, `--separate-static`): twice the pool's memory.
     pub separate_static: bool,
+    /// Casters are culled per block of 16 x 16 texels that visible pixels read, not per page
+    /// (Unreal 5.6's receiver mask, `--receiver-mask`): only in the layer drawn again anyway
+    /// (every caster's with the cache off, the movable casters' with static casters apart);
+    /// a page the mask left a caster out of is drawn again the next frame.
+    pub receiver_mask: bool,
 }
 
 impl Default for VirtualSettings {
@@ -44,6 +49,7 @@ impl Default for VirtualSettings {
             lod_bias: -0.5,
             cache: true,
             separate_static: false,
+            receiver_mask: false,
         }
     }
 }
@@ -85,6 +91,7 @@ impl VirtualSettings {
             },
             cache: self.cache,
             separate_static: self.separate_static,
+            receiver_mask: self.receiver_mask,
         }
     }
 

@@ -195,6 +195,10 @@ pub struct VirtualPages {
     pub all_invalidated: bool,
     /// (caster, page) pairs drawn.
     pub caster_pages: u32,
+    /// (caster, page) pairs the receiver mask left out: the caster covers none of the
+    /// page's blocks that pixels read.
+    pub caster_pages_masked: u32,
+    pub receiver_mask: bool,
     pub pool_pages: u32,
     pub pool_mib: f64,
     pub levels: u32,

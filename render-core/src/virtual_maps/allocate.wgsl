@@ -40,6 +40,8 @@ fn begin_pages(@builtin(global_invocation_id) id: vec3<u32>) {
     if (e >= entry_count()) {
         return;
     }
+    atomicStore(&receiver_masks[2u * e], 0u);
+    atomicStore(&receiver_masks[2u * e + 1u], 0u);
     let flags = atomicLoad(&page_flags[e]);
     if ((flags & PAGE_RESIDENT) == 0u) {
         atomicStore(&page_flags[e], 0u);
@@ -47,12 +49,15 @@ fn begin_pages(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let level = e / LEVEL_ENTRIES;
     let same_page = all(page_tags[e] == absolute_page(level, window_page(e)));
-    if (params.counts.w != 0u || (flags & PAGE_INVALID) != 0u || !same_page) {
+    // A page the receiver mask left partial: drawn again whole, or its movable layer.
+    let partial = (flags & PAGE_PARTIAL) != 0u;
+    if (params.counts.w != 0u || (flags & PAGE_INVALID) != 0u || !same_page || (partial && !static_apart())) {
         release(e);
         atomicAdd(&counters.invalidated, 1u);
         return;
     }
-    atomicStore(&page_flags[e], PAGE_RESIDENT | (flags & PAGE_DYNAMIC_STALE));
+    let stale = select(flags & PAGE_DYNAMIC_STALE, PAGE_DYNAMIC_STALE, partial);
+    atomicStore(&page_flags[e], PAGE_RESIDENT | stale);
 }
 
 // Every free physical page into the free list. The second round runs only where the first

@@ -1,7 +1,9 @@
-// Per-page caster culling (virtual_maps/passes.rs): each caster against the pages drawn this
-// frame at each level, through the level's square of drawn pages and then page by page; a
-// caster over any of them gets one indirect draw with an instance per page, its (caster,
-// entry) pairs listed for the page shader (virtual_maps/draw.wgsl). x: instance, y: level.
+// Per-page caster culling (virtual_maps/frame.rs): each caster against the pages drawn this
+// frame at each level, through the level's square of drawn pages and then page by page, and
+// with the receiver mask on, against the blocks of the page that pixels read (Unreal 5.6's
+// receiver mask); a caster over any of them gets one indirect draw with an instance per
+// page, its (caster, entry) pairs listed for the page shader (virtual_maps/draw.wgsl).
+// x: instance, y: level.
 #import virtual_maps/tables.wgsl
 
 struct DrawIndexedArgs {
@@ -19,10 +21,20 @@ struct DrawIndexedArgs {
 @group(2) @binding(2) var<storage, read_write> pairs: array<vec2<u32>>;
 @group(2) @binding(3) var<storage, read_write> draws: array<DrawIndexedArgs>;
 
-// Whether the caster draws into the page this frame: a page drawn whole, or for a movable
-// caster also a refreshed one.
-fn page_drawn(level: u32, x: i32, y: i32, wanted: u32) -> bool {
-    return (atomicLoad(&page_flags[entry_of(level, vec2<i32>(x, y))]) & wanted) != 0u;
+// Whether the caster draws into page (x, y) this frame: the page drawn whole, or for a
+// movable caster also refreshed (`wanted`); with the receiver mask (`masked`), only where its
+// texels `texels` cover a block that pixels read.
+fn page_wanted(e: u32, wanted: u32) -> bool {
+    return (atomicLoad(&page_flags[e]) & wanted) != 0u;
+}
+
+fn blocks_read(e: u32, page: vec2<i32>, texels: vec4<f32>, masked: bool) -> bool {
+    if (!masked) {
+        return true;
+    }
+    let covered = block_bits(page, vec2<i32>(floor(texels.xy)), vec2<i32>(floor(texels.zw)));
+    let read = vec2<u32>(atomicLoad(&receiver_masks[2u * e]), atomicLoad(&receiver_masks[2u * e + 1u]));
+    return any((covered & read) != vec2<u32>(0u));
 }
 
 @compute @workgroup_size(64)
@@ -40,19 +52,32 @@ fn cull_pages(@builtin(global_invocation_id) id: vec3<u32>) {
     let movable = (range.w & 2u) != 0u;
     let wanted = select(PAGE_RENDERED, PAGE_RENDERED | PAGE_REFRESHED, movable);
     let layer = select(0u, DYNAMIC_ONLY, movable && static_apart());
+    // The mask culls within the layer that is drawn again anyway: every caster's, or the
+    // movable casters' where static ones are apart (their layer is not kept whole).
+    let masked = receiver_mask_on() && (movable || !static_apart());
     let drawn = vec4<i32>(
         LEVEL_PAGES - i32(atomicLoad(&counters.rects[level][0])),
         LEVEL_PAGES - i32(atomicLoad(&counters.rects[level][1])),
         i32(atomicLoad(&counters.rects[level][2])) - 1,
         i32(atomicLoad(&counters.rects[level][3])) - 1,
     );
-    let box = box_pages(level, b.min, b.max);
+    let texels = box_texels(level, b.min, b.max);
+    let box = texel_pages(texels);
     let first = max(box.xy, drawn.xy);
     let last = min(box.zw, drawn.zw);
     var count = 0u;
     for (var y = first.y; y <= last.y; y++) {
         for (var x = first.x; x <= last.x; x++) {
-            count += select(0u, 1u, page_drawn(level, x, y, wanted));
+            let e = entry_of(level, vec2<i32>(x, y));
+            if (!page_wanted(e, wanted)) {
+                continue;
+            }
+            if (blocks_read(e, vec2<i32>(x, y), texels, masked)) {
+                count++;
+            } else {
+                atomicOr(&page_flags[e], PAGE_PARTIAL);
+                atomicAdd(&counters.mask_culled, 1u);
+            }
         }
     }
     if (count == 0u) {
@@ -72,8 +97,9 @@ fn cull_pages(@builtin(global_invocation_id) id: vec3<u32>) {
     var next = base;
     for (var y = first.y; y <= last.y; y++) {
         for (var x = first.x; x <= last.x; x++) {
-            if (page_drawn(level, x, y, wanted)) {
-                pairs[next] = vec2<u32>(instance, entry_of(level, vec2<i32>(x, y)) | layer);
+            let e = entry_of(level, vec2<i32>(x, y));
+            if (page_wanted(e, wanted) && blocks_read(e, vec2<i32>(x, y), texels, masked)) {
+                pairs[next] = vec2<u32>(instance, e | layer);
                 next++;
             }
         }

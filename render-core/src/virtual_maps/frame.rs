@@ -43,7 +43,7 @@ impl VirtualTechnique {
         params.limits = [
             FALLBACK_PAGES.min(self.settings.pages / 4),
             u32::from(self.settings.separate_static),
-            0,
+            u32::from(self.settings.receiver_mask),
             0,
         ];
         for (slot, first) in params.first_page.iter_mut().zip(&self.first_pages) {
@@ -222,6 +222,7 @@ impl VirtualTechnique {
                     buffer_entry(6, &tables.free_list),
                     buffer_entry(7, &tables.rendered),
                     buffer_entry(8, &l.moved),
+                    buffer_entry(9, &tables.receiver_masks),
                 ],
             ),
             group(
@@ -429,6 +430,8 @@ impl ShadowTechnique for VirtualTechnique {
                 pages_resident: c.resident,
                 pages_rendered: c.rendered,
                 pages_refreshed: c.refreshed,
+                caster_pages_masked: c.mask_culled,
+                receiver_mask: self.settings.receiver_mask,
                 pages_refused: c.refused,
                 cache_hit_rate: cache_hit_rate(c),
                 pages_evicted: c.evicted,

@@ -14,7 +14,7 @@ pub(super) struct VirtualParams {
     /// The finest texel (m), the level bias (octaves), moved boxes, the atlas's rows of pages.
     pub tuning: [f32; 4],
     /// Physical pages kept back for fallback pages; 1 when static casters are kept apart;
-    /// unused.
+    /// 1 when the receiver mask culls; unused.
     pub limits: [u32; 4],
     /// Per level, the absolute position of its square's first page.
     pub first_page: [[i32; 4]; VirtualSettings::MAX_LEVELS as usize],
@@ -40,8 +40,9 @@ pub(super) mod word {
     pub const RECTS: usize = LEVEL_PAIRS + 24;
     pub const TEXELS_SAMPLED: usize = RECTS + 4 * 24;
     pub const REFRESHED: usize = TEXELS_SAMPLED + 1;
+    pub const MASK_CULLED: usize = REFRESHED + 2;
     /// Words in all.
-    pub const COUNT: usize = REFRESHED + 2;
+    pub const COUNT: usize = MASK_CULLED + 1;
 }
 
 /// The pages' counts of one frame, as the GPU left them.
@@ -52,6 +53,8 @@ pub(super) struct FrameCounts {
     pub rendered: u32,
     /// Cached pages whose movable casters' layer alone was drawn again.
     pub refreshed: u32,
+    /// (caster, page) pairs the receiver mask left out.
+    pub mask_culled: u32,
     pub refused: u32,
     /// Free physical pages before allocation (after the eviction, where one ran).
     pub free: u32,
@@ -77,6 +80,7 @@ impl FrameCounts {
             resident: words[word::RESIDENT],
             rendered: words[word::RENDERED],
             refreshed: words[word::REFRESHED],
+            mask_culled: words[word::MASK_CULLED],
             refused: words[word::REFUSED],
             free: words[word::FREE],
             pairs: words[word::PAIRS],

@@ -11,14 +11,25 @@
 // When measuring: per physical page, a bit per texel that a visible pixel's tap reads.
 @group(2) @binding(3) var<storage, read_write> texel_bits: array<atomic<u32>>;
 
+// The pages lookup `l`'s taps read marked, and with the receiver mask on, their blocks.
 fn mark_taps(l: ShadowLookup) {
     let pages = tap_pages(l);
+    let last = l.first + vec2<i32>(l.kernel - 1);
     for (var y = pages[0].y; y <= pages[1].y; y++) {
         for (var x = pages[0].x; x <= pages[1].x; x++) {
             let e = entry_of(l.view, vec2<i32>(x, y));
             if ((atomicOr(&page_flags[e], PAGE_MARKED) & PAGE_MARKED) == 0u) {
                 atomicAdd(&counters.marked, 1u);
                 atomicAdd(&counters.level_marked[l.view], 1u);
+            }
+            if (receiver_mask_on()) {
+                let blocks = block_bits(vec2<i32>(x, y), l.first, last);
+                if (blocks.x != 0u) {
+                    atomicOr(&receiver_masks[2u * e], blocks.x);
+                }
+                if (blocks.y != 0u) {
+                    atomicOr(&receiver_masks[2u * e + 1u], blocks.y);
+                }
             }
         }
     }

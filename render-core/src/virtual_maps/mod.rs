@@ -148,14 +148,34 @@ impl VirtualTechnique {
 
     /// Each page-table entry's flags (level by level, 1,024 entries each, wrapped by the
     /// page's absolute position) as the last frame left them: bit 0 marked, 1 resident,
-    /// 2 drawn this frame, 3 refused. Blocks: for tests.
+    /// 2 drawn this frame, 3 refused (`pages.wgsl`'s `PAGE_*`). Blocks: for tests.
     pub fn read_page_flags(&self, ctx: &GpuContext) -> Result<Vec<u32>, crate::gpu::GpuError> {
+        self.read_table(ctx, |t| &t.flags, 1)
+    }
+
+    /// Each entry's receiver mask as the last frame left it: two words, a bit per block of
+    /// 16 x 16 texels (row by row, 8 x 8) that a visible pixel read. Blocks: for tests.
+    pub fn read_receiver_masks(
+        &self,
+        ctx: &GpuContext,
+    ) -> Result<Vec<[u32; 2]>, crate::gpu::GpuError> {
+        let words = self.read_table(ctx, |t| &t.receiver_masks, 2)?;
+        Ok(words.chunks_exact(2).map(|w| [w[0], w[1]]).collect())
+    }
+
+    fn read_table(
+        &self,
+        ctx: &GpuContext,
+        buffer: impl Fn(&Tables) -> &wgpu::Buffer,
+        words_per_entry: u32,
+    ) -> Result<Vec<u32>, crate::gpu::GpuError> {
         let Some(tables) = &self.tables else {
             return Ok(Vec::new());
         };
-        let bytes = crate::gpu::read_buffer(ctx, &tables.flags, tables.flags.size(), "page flags")?;
+        let buffer = buffer(tables);
+        let bytes = crate::gpu::read_buffer(ctx, buffer, buffer.size(), "page table")?;
         let mut words: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes);
-        words.truncate((tables.levels * resources::LEVEL_ENTRIES) as usize);
+        words.truncate((tables.levels * resources::LEVEL_ENTRIES * words_per_entry) as usize);
         Ok(words)
     }
 

@@ -20,6 +20,12 @@ const PAGE_REFUSED: u32 = 8u;
 const PAGE_INVALID: u32 = 16u;
 const PAGE_DYNAMIC_STALE: u32 = 32u;
 const PAGE_REFRESHED: u32 = 64u;
+// The receiver mask left a caster out of the page: it holds the depths of the blocks pixels
+// read this frame only, so the next frame draws it again (its movable layer where static
+// casters are apart).
+const PAGE_PARTIAL: u32 = 128u;
+// The receiver mask's blocks: 8 x 8 per page, 16 texels square.
+const BLOCK_TEXELS: i32 = 16;
 // A drawn page's item in the list of drawn pages (and a pair's entry): its entry, and this
 // bit for the movable casters' layer alone.
 const DYNAMIC_ONLY: u32 = 0x40000000u;
@@ -35,7 +41,8 @@ struct VirtualParams {
     tuning: vec4<f32>,
     // x: physical pages kept back from the first allocations for the fallback pages of
     // pixels whose own pages were refused; y: 1 when static casters are kept apart (a second
-    // layer of pages, below the first in the atlas, holds the movable ones); z, w: unused.
+    // layer of pages, below the first in the atlas, holds the movable ones); z: 1 when the
+    // receiver mask culls casters per block of a page; w: unused.
     limits: vec4<u32>,
     // Per level, xy: the absolute position of its square's first page (column, row).
     first_page: array<vec4<i32>, 24>,
@@ -83,6 +90,10 @@ fn layer_origin(slot: u32, layer: u32) -> vec2<i32> {
 
 fn static_apart() -> bool {
     return params.limits.y != 0u;
+}
+
+fn receiver_mask_on() -> bool {
+    return params.limits.z != 0u;
 }
 
 // Resolution matching: the finest level whose texel is no larger than the point's pixel, as

@@ -29,6 +29,8 @@ pub(super) struct Tables {
     pub owners: wgpu::Buffer,
     pub free_list: wgpu::Buffer,
     pub rendered: wgpu::Buffer,
+    /// Per entry, two words: the blocks of its page that pixels read (the receiver mask).
+    pub receiver_masks: wgpu::Buffer,
     /// When measuring: a bit per texel of each physical page that a tap reads.
     pub texel_bits: wgpu::Buffer,
     pub atlas: wgpu::Texture,
@@ -85,6 +87,12 @@ impl Tables {
             owners: buffer(device, "VirtualMaps::owners", pages * 4, STORAGE),
             free_list: buffer(device, "VirtualMaps::free_list", pages * 4, STORAGE),
             rendered: buffer(device, "VirtualMaps::rendered", entries * 4, STORAGE),
+            receiver_masks: buffer(
+                device,
+                "VirtualMaps::receiver_masks",
+                entries * 8,
+                STORAGE | wgpu::BufferUsages::COPY_SRC,
+            ),
             texel_bits: buffer(
                 device,
                 "VirtualMaps::texel_bits",

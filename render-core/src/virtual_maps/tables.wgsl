@@ -33,6 +33,8 @@ struct Counters {
     refreshed: atomic<u32>,
     // Items in the list of drawn pages (drawn and refreshed).
     listed: atomic<u32>,
+    // (caster, page) pairs the receiver mask left out.
+    mask_culled: atomic<u32>,
 }
 
 @group(1) @binding(1) var<storage, read_write> page_flags: array<atomic<u32>>;
@@ -45,6 +47,9 @@ struct Counters {
 @group(1) @binding(7) var<storage, read_write> rendered_list: array<u32>;
 // Boxes that moved this frame, world min and max (xyz) in pairs.
 @group(1) @binding(8) var<storage, read> moved: array<vec4<f32>>;
+// Per entry, two words: a bit per block of the page (row by row, 8 x 8) that a visible
+// pixel's taps read this frame (the receiver mask; kept only when it is on).
+@group(1) @binding(9) var<storage, read_write> receiver_masks: array<atomic<u32>>;
 
 // Where level `level`'s square places a world point, texels (x right, y down the map).
 fn level_texel(level: u32, p: vec3<f32>) -> vec2<f32> {
@@ -54,9 +59,9 @@ fn level_texel(level: u32, p: vec3<f32>) -> vec2<f32> {
     return vec2<f32>(c.x * 0.5 + 0.5, 0.5 - c.y * 0.5) * size;
 }
 
-// The pages of level `level`'s square that the world box `lo..hi` covers, widened by a
-// texel, as first and last page (x > z: none).
-fn box_pages(level: u32, lo: vec3<f32>, hi: vec3<f32>) -> vec4<i32> {
+// The texels of level `level`'s square that the world box `lo..hi` covers, widened by a
+// texel: first (xy) and last (zw), unclamped.
+fn box_texels(level: u32, lo: vec3<f32>, hi: vec3<f32>) -> vec4<f32> {
     var t_lo = vec2<f32>(1e30);
     var t_hi = vec2<f32>(-1e30);
     for (var i = 0u; i < 8u; i++) {
@@ -65,7 +70,39 @@ fn box_pages(level: u32, lo: vec3<f32>, hi: vec3<f32>) -> vec4<i32> {
         t_lo = min(t_lo, t);
         t_hi = max(t_hi, t);
     }
-    let first = clamp(vec2<i32>(floor((t_lo - 1.0) / f32(PAGE_TEXELS))), vec2<i32>(0), vec2<i32>(LEVEL_PAGES));
-    let last = clamp(vec2<i32>(floor((t_hi + 1.0) / f32(PAGE_TEXELS))), vec2<i32>(-1), vec2<i32>(LEVEL_PAGES - 1));
+    return vec4<f32>(t_lo - 1.0, t_hi + 1.0);
+}
+
+// The pages of `texels` (`box_texels`) in its level's square, first and last (x > z: none).
+fn texel_pages(texels: vec4<f32>) -> vec4<i32> {
+    let first = clamp(vec2<i32>(floor(texels.xy / f32(PAGE_TEXELS))), vec2<i32>(0), vec2<i32>(LEVEL_PAGES));
+    let last = clamp(vec2<i32>(floor(texels.zw / f32(PAGE_TEXELS))), vec2<i32>(-1), vec2<i32>(LEVEL_PAGES - 1));
     return vec4<i32>(first, last);
+}
+
+// The pages of level `level`'s square that the world box `lo..hi` covers, widened by a
+// texel, as first and last page (x > z: none).
+fn box_pages(level: u32, lo: vec3<f32>, hi: vec3<f32>) -> vec4<i32> {
+    return texel_pages(box_texels(level, lo, hi));
+}
+
+// The blocks of page `page` that texels `first..=last` (relative to the level's square,
+// any range) cover, as the receiver mask's two words.
+fn block_bits(page: vec2<i32>, first: vec2<i32>, last: vec2<i32>) -> vec2<u32> {
+    let origin = page * PAGE_TEXELS;
+    let lo = clamp((first - origin) / BLOCK_TEXELS, vec2<i32>(0), vec2<i32>(7));
+    let hi = clamp((last - origin) / BLOCK_TEXELS, vec2<i32>(0), vec2<i32>(7));
+    var words = vec2<u32>(0u);
+    if (any(last < origin) || any(first >= origin + PAGE_TEXELS)) {
+        return words;
+    }
+    let row = ((1u << u32(hi.x - lo.x + 1)) - 1u) << u32(lo.x);
+    for (var y = lo.y; y <= hi.y; y++) {
+        if (y < 4) {
+            words.x |= row << u32(8 * y);
+        } else {
+            words.y |= row << u32(8 * (y - 4));
+        }
+    }
+    return words;
 }

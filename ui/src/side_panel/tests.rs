@@ -1023,6 +1023,8 @@ fn the_virtual_setup_sets_its_pool_and_cache_and_says_what_its_pages_did() {
         cache: true,
         separate_static: true,
         pages_refreshed: 31,
+        receiver_mask: true,
+        caster_pages_masked: 700,
         caster_pages: 2500,
         ..Default::default()
     });
@@ -1030,6 +1032,7 @@ fn the_virtual_setup_sets_its_pool_and_cache_and_says_what_its_pages_did() {
     harness.get_by_label("140 marked, 1,024 resident, 12 drawn");
     harness.get_by_label("89% of the marked pages were kept");
     harness.get_by_label("31 pages' movable casters alone drawn");
+    harness.get_by_label("2,500 (caster, page) draws, 700 left out by the receiver mask");
     harness.get_by_label("3 refused (pool full), 5 evicted");
     harness.get_by_label("100% of 1024 pages");
     harness.get_by_label("64 MiB");

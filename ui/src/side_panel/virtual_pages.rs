@@ -19,6 +19,10 @@ const BIAS_HELP: &str = "Octaves added to the level resolution matching picks: a
     ResolutionLodBiasDirectional";
 const CACHE_HELP: &str = "Pages stay drawn across frames until something moves through them \
     or the light moves; off draws every needed page each frame";
+const MASK_HELP: &str = "Casters are culled against the blocks of 16 x 16 texels that \
+    visible pixels read, not whole pages (Unreal 5.6's receiver mask): in every page with the \
+    cache off, in the movable casters' layer with static casters apart. A page it leaves \
+    partial is drawn again next frame";
 const APART_HELP: &str = "Each page keeps static casters' depths apart from movable ones', so a \
     moving object draws only the movable casters of the pages it touches again (Unreal's \
     static separation); the pool takes twice the memory";
@@ -54,6 +58,12 @@ pub fn rows(ui: &mut egui::Ui, settings: &mut VirtualSettings, report: Option<&F
         ui.checkbox(
             &mut settings.separate_static,
             "static casters in a layer of their own",
+        )
+    });
+    grid::labelled(ui, "Receiver mask", MASK_HELP, |ui| {
+        ui.checkbox(
+            &mut settings.receiver_mask,
+            "cull casters per 16-texel block",
         )
     });
     let Some(p) = report.and_then(|r| r.virtual_pages) else {
@@ -106,9 +116,14 @@ pub fn rows(ui: &mut egui::Ui, settings: &mut VirtualSettings, report: Option<&F
             p.pool_pages
         ),
     );
-    grid::row(
-        ui,
-        "Casters",
-        format!("{} (caster, page) draws", thousands(p.caster_pages.into())),
-    );
+    let casters = format!("{} (caster, page) draws", thousands(p.caster_pages.into()));
+    let masked = if p.receiver_mask {
+        format!(
+            ", {} left out by the receiver mask",
+            thousands(p.caster_pages_masked.into())
+        )
+    } else {
+        String::new()
+    };
+    grid::row(ui, "Casters", format!("{casters}{masked}"));
 }
