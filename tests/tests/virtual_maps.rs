@@ -195,9 +195,8 @@ fn a_camera_cut_leaves_no_stale_page() {
 
 /// The exact shadow's error: wrong pixels off the exact picture's edges, at most `share`
 /// of the visible ones.
-fn near_exact(scene: &Scene, camera: &Camera, share: f64) -> VirtualPages {
-    let (error, shadowed, _, report) =
-        against_truth(scene, camera, &settings(VirtualSettings::default()), SIZE);
+fn near_exact(scene: &Scene, camera: &Camera, share: f64, v: VirtualSettings) -> VirtualPages {
+    let (error, shadowed, _, report) = against_truth(scene, camera, &settings(v), SIZE);
     assert!(
         shadowed > 100,
         "the case has a shadow to get right: {shadowed}"
@@ -228,18 +227,34 @@ fn the_hard_cases_give_the_exact_shadow() {
             c.far_m,
         )
     };
+    // Also with static casters apart and the receiver mask culling the movable box.
+    let variants = [
+        VirtualSettings::default(),
+        VirtualSettings {
+            separate_static: true,
+            receiver_mask: true,
+            ..VirtualSettings::default()
+        },
+    ];
+    for v in variants {
+        hard_cases(v, far, at_far);
+    }
+}
+
+fn hard_cases(v: VirtualSettings, far: Vec3, at_far: impl Fn(Camera) -> Camera) {
     for (name, sun) in [
         ("default", Sun::default()),
         ("zenith", Sun::from_direction(Vec3::Y)),
         ("1 degree", Sun::from_azimuth_elevation_deg(35.0, 1.0)),
     ] {
-        let p = near_exact(&scene(sun), &camera(), 0.002);
+        let p = near_exact(&scene(sun), &camera(), 0.002, v);
         assert!(p.pages_marked > 0, "{name}: {p:?}");
     }
     near_exact(
         &translated(&scene(Sun::default()), far),
         &at_far(camera()),
         0.002,
+        v,
     );
     // A 1 m scene: a 10 cm box 5 cm above a 1 m ground, seen from 1 m.
     let small = box_on_plane(0.5, Vec3::new(0.1, 0.15, 0.075), 0.05, Sun::default());
@@ -250,7 +265,7 @@ fn the_hard_cases_give_the_exact_shadow() {
         0.01,
         10.0,
     );
-    near_exact(&small, &close, 0.002);
+    near_exact(&small, &close, 0.002, v);
 }
 
 #[test]

@@ -120,10 +120,10 @@ pub(crate) fn settings(
                 ("4 cascades 2048".to_owned(), cascades),
                 ("virtual".to_owned(), virtual_maps),
                 ("virtual / cache off".to_owned(), uncached),
-                ("virtual / cache off, receiver mask".to_owned(), masked),
+                ("virtual / cache off + receiver mask".to_owned(), masked),
                 ("virtual / static apart".to_owned(), apart),
                 (
-                    "virtual / static apart, receiver mask".to_owned(),
+                    "virtual / static apart + receiver mask".to_owned(),
                     apart_masked,
                 ),
             ]

@@ -167,6 +167,16 @@ pub(super) fn aligned(lines: &[Vec<String>], left: usize) -> String {
     out
 }
 
+/// A text field of a CSV row: quoted (quotes doubled) where it holds a comma, a quote or a
+/// line break (RFC 4180).
+fn csv_text(text: &str) -> std::borrow::Cow<'_, str> {
+    if text.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", text.replace('"', "\"\"")).into()
+    } else {
+        text.into()
+    }
+}
+
 pub(crate) fn format_csv(rows: &[BenchRow]) -> String {
     let mut out = String::from(
         "setting,method,frames,frame_ms,gpu_frame_ms,shadow_pass_ms,casters_drawn,casters_oracle,tightness,shadow_triangles,error_px_max,casters_total,speed_up,culling_ms,undersampling_p50,undersampling_p95,exact_error_px,exact_error_percent,exact_error_off_edge_px_max,flicker_moved_px,flicker_turned_px,fill_mfragments,fill_mfragments_max,fill_saved_mean,fill_saved_peak,volume_pass_saved_mean,volume_pass_saved_peak,cpu_culling_ms,pages_marked,pages_resident,pages_rendered,pages_refused,texels_rendered,texels_sampled,pages_refreshed,cache_hit_rate\n",
@@ -176,8 +186,8 @@ pub(crate) fn format_csv(rows: &[BenchRow]) -> String {
         let _ = writeln!(
             out,
             "{},{},{},{:.4},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-            r.setting,
-            r.method,
+            csv_text(&r.setting),
+            csv_text(&r.method),
             r.frames,
             r.frame_ms,
             opt(r.gpu_frame_ms),
@@ -213,4 +223,16 @@ pub(crate) fn format_csv(rows: &[BenchRow]) -> String {
         );
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::csv_text;
+
+    #[test]
+    fn a_csv_field_with_a_comma_or_a_quote_is_quoted() {
+        assert_eq!(csv_text("virtual / cache off"), "virtual / cache off");
+        assert_eq!(csv_text("a, b"), "\"a, b\"");
+        assert_eq!(csv_text("say \"x\""), "\"say \"\"x\"\"\"");
+    }
 }
