@@ -33,9 +33,9 @@ pub struct VirtualArgs {
     #[arg(long, value_parser = parse_on_off, value_name = "on|off")]
     pub separate_static: Option<bool>,
     /// Virtual maps: cull casters per block of 16 x 16 texels that visible pixels read, not
-    /// per page (on; Unreal 5.6's receiver mask), in the layer drawn again anyway: every
-    /// caster's with the cache off, the movable casters' with static casters apart; a page
-    /// it leaves partial is drawn again the next frame. Off by default.
+    /// per page (on; Unreal 5.6's receiver mask): every caster with one layer per page, the
+    /// movable casters with static casters apart (all of them in frames that draw every
+    /// page); a page it leaves partial is drawn again the next frame. Off by default.
     #[arg(long, value_parser = parse_on_off, value_name = "on|off")]
     pub receiver_mask: Option<bool>,
 }

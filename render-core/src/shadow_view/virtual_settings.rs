@@ -35,8 +35,9 @@ pub struct VirtualSettings {
     pub separate_static: bool,
     /// Casters are culled per block of 16 x 16 texels that visible pixels read, not per page
     /// (Unreal 5.6's receiver mask, `--receiver-mask`): only in the layer drawn again anyway
-    /// (every caster's with the cache off, the movable casters' with static casters apart);
-    /// a page the mask left a caster out of is drawn again the next frame.
+    /// (every caster's with one layer or where every page is invalid, the movable casters'
+    /// with static casters apart); a page the mask left a caster out of is drawn again the
+    /// next frame.
     pub receiver_mask: bool,
 }
 

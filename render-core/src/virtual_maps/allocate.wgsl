@@ -49,9 +49,10 @@ fn begin_pages(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let level = e / LEVEL_ENTRIES;
     let same_page = all(page_tags[e] == absolute_page(level, window_page(e)));
-    // A page the receiver mask left partial: drawn again whole, or its movable layer.
+    // A page the receiver mask left partial was made invalid (released here), or where its
+    // movable layer alone is partial, that layer is stale.
     let partial = (flags & PAGE_PARTIAL) != 0u;
-    if (params.counts.w != 0u || (flags & PAGE_INVALID) != 0u || !same_page || (partial && !static_apart())) {
+    if (params.counts.w != 0u || (flags & PAGE_INVALID) != 0u || !same_page) {
         release(e);
         atomicAdd(&counters.invalidated, 1u);
         return;

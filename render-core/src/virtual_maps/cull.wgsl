@@ -53,8 +53,12 @@ fn cull_pages(@builtin(global_invocation_id) id: vec3<u32>) {
     let wanted = select(PAGE_RENDERED, PAGE_RENDERED | PAGE_REFRESHED, movable);
     let layer = select(0u, DYNAMIC_ONLY, movable && static_apart());
     // The mask culls within the layer that is drawn again anyway: every caster's, or the
-    // movable casters' where static ones are apart (their layer is not kept whole).
-    let masked = receiver_mask_on() && (movable || !static_apart());
+    // movable casters' where static ones are apart (their layer is not kept whole), or every
+    // caster's in a frame where every page is invalid (the cache off, the light moving).
+    let masked = receiver_mask_on() && (movable || !static_apart() || params.counts.w != 0u);
+    // A page partial in its movable layer alone has that layer drawn again next frame; else
+    // the page is released.
+    let partial = select(PAGE_PARTIAL | PAGE_INVALID, PAGE_PARTIAL, movable && static_apart());
     let drawn = vec4<i32>(
         LEVEL_PAGES - i32(atomicLoad(&counters.rects[level][0])),
         LEVEL_PAGES - i32(atomicLoad(&counters.rects[level][1])),
@@ -75,7 +79,7 @@ fn cull_pages(@builtin(global_invocation_id) id: vec3<u32>) {
             if (blocks_read(e, vec2<i32>(x, y), texels, masked)) {
                 count++;
             } else {
-                atomicOr(&page_flags[e], PAGE_PARTIAL);
+                atomicOr(&page_flags[e], partial);
                 atomicAdd(&counters.mask_culled, 1u);
             }
         }

@@ -21,8 +21,8 @@ const PAGE_INVALID: u32 = 16u;
 const PAGE_DYNAMIC_STALE: u32 = 32u;
 const PAGE_REFRESHED: u32 = 64u;
 // The receiver mask left a caster out of the page: it holds the depths of the blocks pixels
-// read this frame only, so the next frame draws it again (its movable layer where static
-// casters are apart).
+// read this frame only, so the next frame draws it again: whole (the cull also made it
+// invalid), or its movable layer where only movable casters were left out.
 const PAGE_PARTIAL: u32 = 128u;
 // The receiver mask's blocks: 8 x 8 per page, 16 texels square.
 const BLOCK_TEXELS: i32 = 16;

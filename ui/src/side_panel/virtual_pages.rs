@@ -20,9 +20,9 @@ const BIAS_HELP: &str = "Octaves added to the level resolution matching picks: a
 const CACHE_HELP: &str = "Pages stay drawn across frames until something moves through them \
     or the light moves; off draws every needed page each frame";
 const MASK_HELP: &str = "Casters are culled against the blocks of 16 x 16 texels that \
-    visible pixels read, not whole pages (Unreal 5.6's receiver mask): in every page with the \
-    cache off, in the movable casters' layer with static casters apart. A page it leaves \
-    partial is drawn again next frame";
+    visible pixels read, not whole pages (Unreal 5.6's receiver mask): every caster with one \
+    layer per page, the movable casters with static casters apart. A page it leaves partial is \
+    drawn again next frame";
 const APART_HELP: &str = "Each page keeps static casters' depths apart from movable ones', so a \
     moving object draws only the movable casters of the pages it touches again (Unreal's \
     static separation); the pool takes twice the memory";
