@@ -2,7 +2,8 @@
 # Regenerates the virtual maps' figures in screenshots/: the goals' run along the city's
 # streets (a single map of 8192, four cascades of 2048, the virtual maps with the cache on and
 # off, in one run each), still, with every car driving, and with a sun that turns 0.5 degree
-# a second; each run's table (.txt) and rows (.csv); and the page view. Minutes each on a
+# a second, and with every car driving past a still camera (the page view's); each run's
+# table (.txt) and rows (.csv); and the page view. Minutes each on a
 # software adapter.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -19,6 +20,7 @@ bench() {
 bench still
 bench cars --animate
 bench moving-sun --moving-sun 0.5
+bench cars-still --animate --path scripts/paths/city-street-still.csv
 ./target/release/shadowlab shot builtin:city --shadow virtual --size 1280x720 \
     --eye=-330,3.5,8 --target=-200,12,8 --overlay light-view \
     --out "$out/virtual-pages.png" --stats "$out/virtual-pages.json"

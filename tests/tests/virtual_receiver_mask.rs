@@ -33,8 +33,9 @@ fn mask_has(masks: &[[u32; 2]], (e, bit): Block) -> bool {
     masks[e][(bit / 32) as usize] & (1 << (bit % 32)) != 0
 }
 
-/// The blocks the CPU is sure pixels read, and those they may read (a tap a texel either
-/// side where the CPU cannot be sure of it).
+/// The blocks the CPU is sure marking sets (those of the taps widened by a texel, in the pages
+/// the taps read), and those it may set (a texel more where the CPU cannot be sure of the
+/// first tap).
 fn cpu_blocks(scene: &Scene, frame: &Frame, v: VirtualSettings) -> (Vec<Block>, Vec<Block>) {
     let camera = camera();
     let shadow = render_core::shadow_view::ShadowSettings::default();
@@ -54,14 +55,20 @@ fn cpu_blocks(scene: &Scene, frame: &Frame, v: VirtualSettings) -> (Vec<Block>, 
                 continue;
             };
             let marks = marking.marks(p, box_scene_normal(scene, id, p));
-            let reach = i64::from(!marks.texels_certain);
+            // The taps widened by a texel (as marking widens them) within the pages the taps
+            // read, and one more where the CPU cannot be sure of the first tap.
+            let reach = 1 + i64::from(!marks.texels_certain);
             for &(level, tx, ty) in &marks.texels {
-                if marks.texels_certain {
-                    sure.push(block_of(&frame.views, level, tx, ty));
-                }
                 for dy in -reach..=reach {
                     for dx in -reach..=reach {
-                        possible.push(block_of(&frame.views, level, tx + dx, ty + dy));
+                        let block = block_of(&frame.views, level, tx + dx, ty + dy);
+                        if !marks.entries.contains(&block.0) {
+                            continue;
+                        }
+                        if marks.texels_certain && dx.abs() <= 1 && dy.abs() <= 1 {
+                            sure.push(block);
+                        }
+                        possible.push(block);
                     }
                 }
             }
