@@ -4,13 +4,11 @@
 
 use glam::Vec3;
 use render_core::frame::{FrameCapture, FrameInput, FrameRenderer, FrameSettings, ShadowSetup};
-use render_core::geom::Camera;
 use render_core::scene::{Scene, Sun};
 use render_core::scene_gpu::SceneGpu;
 use render_core::shadow_view::{LEVEL_PAGES, PAGE_TEXELS, VirtualSettings};
+use shadowlab_tests::virtual_pages::{SIZE, camera};
 use shadowlab_tests::{box_on_plane, gpu};
-
-const SIZE: (u32, u32) = (256, 192);
 
 fn render(
     renderer: &mut FrameRenderer,
@@ -18,13 +16,7 @@ fn render(
     settings: &FrameSettings,
 ) -> (FrameCapture, Option<render_core::technique::VirtualPages>) {
     let ctx = gpu();
-    let camera = Camera::look_at(
-        Vec3::new(-9.0, 7.0, 11.0),
-        Vec3::new(0.0, 0.5, 0.0),
-        60f32.to_radians(),
-        0.1,
-        500.0,
-    );
+    let camera = camera();
     let input = FrameInput {
         camera: &camera,
         width: SIZE.0,
