@@ -452,10 +452,10 @@ fn cache_hit_rate(reports: &[(f64, FrameReport)]) -> Option<f64> {
             .iter()
             .filter_map(|(_, r)| r.virtual_pages)
             .fold((0u64, 0u64), |(h, m), p| {
-                let served = p
-                    .pages_marked
-                    .saturating_sub(p.pages_rendered + p.pages_refreshed + p.pages_refused);
-                (h + u64::from(served), m + u64::from(p.pages_marked))
+                (
+                    h + u64::from(p.pages_served()),
+                    m + u64::from(p.pages_marked),
+                )
             });
     (marked > 0).then(|| hits as f64 / marked as f64)
 }

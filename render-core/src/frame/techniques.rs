@@ -136,23 +136,26 @@ impl Techniques {
     /// map as `single` says, LiSPSM, cascades), remade when they change; many lights'
     /// cascades of the sun, where it shines with them.
     pub fn arrange(&mut self, settings: &FrameSettings, single: &SingleViews) {
-        let key = (
-            settings.setup,
-            settings.cascades,
-            settings.lispsm,
-            single.clone(),
-        );
-        if self.layout_key.as_ref() != Some(&key) {
-            let layout: Box<dyn ViewLayout> = match (key.0, single) {
+        let same = self.layout_key.as_ref().is_some_and(|k| {
+            (k.0, k.1, k.2) == (settings.setup, settings.cascades, settings.lispsm)
+                && k.3 == *single
+        });
+        if !same {
+            let layout: Box<dyn ViewLayout> = match (settings.setup, single) {
                 (ShadowSetup::Lispsm, _) => Box::new(WarpedSunView {
-                    n_scale: key.2.n_scale,
+                    n_scale: settings.lispsm.n_scale,
                 }),
-                (ShadowSetup::Cascades, _) => Box::new(Cascades::new(key.1)),
+                (ShadowSetup::Cascades, _) => Box::new(Cascades::new(settings.cascades)),
                 (_, SingleViews::Fitted { copies }) => Box::new(SunView { copies: *copies }),
                 (_, SingleViews::Given(views)) => Box::new(GivenViews(views.clone())),
             };
             self.maps.set_layout(layout);
-            self.layout_key = Some(key);
+            self.layout_key = Some((
+                settings.setup,
+                settings.cascades,
+                settings.lispsm,
+                single.clone(),
+            ));
         }
         let sun = settings
             .layered

@@ -181,8 +181,8 @@ pub struct VirtualPages {
     pub pages_refreshed: u32,
     /// Marked pages the pool had no room for; their pixels read a coarser level.
     pub pages_refused: u32,
-    /// The share of marked pages the cache served whole: resident with valid depths before
-    /// the frame, so not drawn, not even refreshed (none marked: `None`).
+    /// The share of marked pages the cache served whole ([`VirtualPages::pages_served`]; none
+    /// marked: `None`).
     pub cache_hit_rate: Option<f64>,
     /// Cached pages no pixel marked, evicted where the pool ran out.
     pub pages_evicted: u32,
@@ -209,6 +209,14 @@ pub struct VirtualPages {
     pub texels_rendered: u64,
     /// Texels of resident pages that visible pixels' taps read (when the frame measured).
     pub texels_sampled: Option<u64>,
+}
+
+impl VirtualPages {
+    /// Marked pages the cache served whole: neither drawn, refreshed nor refused.
+    pub fn pages_served(&self) -> u32 {
+        self.pages_marked
+            .saturating_sub(self.pages_rendered + self.pages_refreshed + self.pages_refused)
+    }
 }
 
 /// How the many-lights technique rendered a frame's maps.

@@ -40,8 +40,10 @@ fn begin_pages(@builtin(global_invocation_id) id: vec3<u32>) {
     if (e >= entry_count()) {
         return;
     }
-    atomicStore(&receiver_masks[2u * e], 0u);
-    atomicStore(&receiver_masks[2u * e + 1u], 0u);
+    if (receiver_mask_on()) {
+        atomicStore(&receiver_masks[2u * e], 0u);
+        atomicStore(&receiver_masks[2u * e + 1u], 0u);
+    }
     let flags = atomicLoad(&page_flags[e]);
     if ((flags & PAGE_RESIDENT) == 0u) {
         atomicStore(&page_flags[e], 0u);

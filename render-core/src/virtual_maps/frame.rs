@@ -425,7 +425,7 @@ impl ShadowTechnique for VirtualTechnique {
                     c.overflow
                 ));
             }
-            VirtualPages {
+            let mut pages = VirtualPages {
                 pages_marked: c.marked,
                 pages_resident: c.resident,
                 pages_rendered: c.rendered,
@@ -433,7 +433,7 @@ impl ShadowTechnique for VirtualTechnique {
                 caster_pages_masked: c.mask_culled,
                 receiver_mask: self.settings.receiver_mask,
                 pages_refused: c.refused,
-                cache_hit_rate: cache_hit_rate(c),
+                cache_hit_rate: None,
                 pages_evicted: c.evicted,
                 pages_invalidated: c.invalidated,
                 moved_boxes: cache.map_or(0, |f| f.2),
@@ -450,7 +450,10 @@ impl ShadowTechnique for VirtualTechnique {
                 texels_sampled: cache
                     .is_some_and(|f| f.3)
                     .then_some(u64::from(c.texels_sampled)),
-            }
+            };
+            pages.cache_hit_rate = (c.marked > 0)
+                .then(|| f64::from(pages.pages_served()) / f64::from(c.marked));
+            pages
         });
         ShadowReport {
             casters_total: self.casters_total,
@@ -506,13 +509,4 @@ impl ShadowTechnique for VirtualTechnique {
             self.lists.ranges_scene = None;
         }
     }
-}
-
-/// Marked pages neither drawn (new or invalidated), refreshed nor refused: the share of the
-/// marked that the cache served whole.
-fn cache_hit_rate(c: &FrameCounts) -> Option<f64> {
-    let hits = c
-        .marked
-        .saturating_sub(c.rendered + c.refreshed + c.refused);
-    (c.marked > 0).then(|| f64::from(hits) / f64::from(c.marked))
 }
