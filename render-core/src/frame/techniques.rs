@@ -50,17 +50,14 @@ impl Family {
     /// draws the point light's light without shadows and reports this.
     pub fn point_light_refusal(self) -> Option<&'static str> {
         match self {
-            Self::Virtual => Some(
-                "virtual shadow maps cast the sun's shadows only (a point light's pages are to \
-                 come): drawn without shadows; `--shadow volumes` casts a point light's",
-            ),
             Self::Maps => Some(
                 "shadow maps cast the sun's shadows only: a point light's need `--shadow volumes` \
-                 (cube maps come with many lights, issue 14); drawn without shadows",
+                 or `--shadow virtual` (cube maps come with many lights, issue 14); drawn \
+                 without shadows",
             ),
-            Self::Volumes => None,
+            Self::Volumes | Self::Virtual => None,
             Self::Lights => Some(
-                "`--light point` is for shadow volumes: the many-lights technique shadows every \
+                "`--light point` is for shadow volumes and virtual maps: the many-lights technique shadows every \
                  light of the scene, and drops the one light in place of the sun",
             ),
         }

@@ -70,15 +70,7 @@ fn view_of(r: LightRecord, p: vec3<f32>) -> u32 {
     if (r.views.y < 6u) {
         return r.views.x;
     }
-    let d = p - r.position_range.xyz;
-    let a = abs(d);
-    var face = 4u + select(0u, 1u, d.z < 0.0);
-    if (a.x >= a.y && a.x >= a.z) {
-        face = select(0u, 1u, d.x < 0.0);
-    } else if (a.y >= a.z) {
-        face = 2u + select(0u, 1u, d.y < 0.0);
-    }
-    return r.views.x + face;
+    return r.views.x + cube_face(p - r.position_range.xyz);
 }
 
 // Fraction of the kernel's taps that see the light: x in the method's maps, y in the

@@ -47,10 +47,20 @@ fn count_undersampling(v: u32, world_pos: vec3<f32>, n: vec3<f32>) {
     let distance = length(to_eye);
     let pixel_m = distance * frame.camera_forward.w;
     let cos_view = max(abs(dot(n, to_eye / max(distance, 1e-6))), 0.02);
-    let cos_light = max(abs(dot(n, view.light_dir.xyz)), 0.02);
-    // Texels of a warped view grow with w across and w squared along (shadow_view/lookup.wgsl).
+    // A perspective view's light comes from its centre of projection, the world point its
+    // clip space puts at (0, 0, z, 0).
+    let perspective = view.index.y == 1u;
+    var to_light = view.light_dir.xyz;
+    if (perspective) {
+        let centre = view.world_from_light_clip * vec4<f32>(0.0, 0.0, 1.0, 0.0);
+        to_light = normalize(world_pos - centre.xyz / centre.w);
+    }
+    let cos_light = max(abs(dot(n, to_light)), 0.02);
+    // Texels of a warped view grow with w across and w squared along, a perspective view's
+    // with w both ways (shadow_view/lookup.wgsl).
     let w = (view.light_clip_from_world * vec4<f32>(world_pos, 1.0)).w;
-    let texel_area = view.light_right.w * view.light_up.w * w * w * w / cos_light;
+    let along = select(w, 1.0, perspective);
+    let texel_area = view.light_right.w * view.light_up.w * w * w * along / cos_light;
     let pixel_area = pixel_m * pixel_m / cos_view;
     let octaves = 0.5 * log2(max(texel_area, 1e-30) / max(pixel_area, 1e-30));
     var bin = 0u;

@@ -49,3 +49,16 @@ fn light_clip(view: ShadowView, world: vec3<f32>) -> vec4<f32> {
     let half = 0.5 * f32(view.square.w);
     return vec4<f32>(texels / half, clip.z, 1.0);
 }
+
+// The cube face (geom/punctual.rs CUBE_FACES: +X, -X, +Y, -Y, +Z, -Z) of the major axis of
+// `d`, a direction from a point light: the face whose view holds the point.
+fn cube_face(d: vec3<f32>) -> u32 {
+    let a = abs(d);
+    if (a.x >= a.y && a.x >= a.z) {
+        return select(0u, 1u, d.x < 0.0);
+    }
+    if (a.y >= a.z) {
+        return 2u + select(0u, 1u, d.y < 0.0);
+    }
+    return 4u + select(0u, 1u, d.z < 0.0);
+}

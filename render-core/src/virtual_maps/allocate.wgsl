@@ -152,11 +152,11 @@ fn allocate_refused(@builtin(global_invocation_id) id: vec3<u32>) {
 }
 
 // The coarsest level's pages that refused pixels marked (mark.wgsl `mark_fallback`), from
-// the pages kept back.
+// the pages kept back. x: entry of the level, y: chain.
 @compute @workgroup_size(64)
 fn allocate_fallback(@builtin(global_invocation_id) id: vec3<u32>) {
-    let e = (level_count() - 1u) * LEVEL_ENTRIES + id.x;
-    if (id.x < LEVEL_ENTRIES && atomicLoad(&counters.first_refused) > 0u && wants_page(e)) {
+    let e = (chain_levels(id.y).y - 1u) * LEVEL_ENTRIES + id.x;
+    if (id.x < LEVEL_ENTRIES && id.y < chain_count() && atomicLoad(&counters.first_refused) > 0u && wants_page(e)) {
         take_page(e, 0u);
     }
 }

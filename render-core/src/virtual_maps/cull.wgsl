@@ -66,7 +66,7 @@ fn cull_pages(@builtin(global_invocation_id) id: vec3<u32>) {
         i32(atomicLoad(&counters.rects[level][3])) - 1,
     );
     let texels = box_texels(level, b.min, b.max);
-    let box = texel_pages(texels);
+    let box = texel_pages(level, texels);
     let first = max(box.xy, drawn.xy);
     let last = min(box.zw, drawn.zw);
     var count = 0u;

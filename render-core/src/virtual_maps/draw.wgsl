@@ -1,7 +1,8 @@
 // Drawing the pages (virtual_maps/frame.rs): one pass over the physical atlas that keeps
 // what it holds. First each page drawn this frame is cleared (a quad at the far depth per
 // layer; a refreshed page's movable layer alone), then every (caster, page) pair the cull
-// listed is drawn: the caster in its level's view, moved from its page of the level's square
+// listed is drawn: the caster in its level's view (the sun's orthographic, a point light's
+// face in perspective), moved from its page of the level's square
 // to the page's place in the atlas (in the movable layer for a movable caster where static
 // ones are apart), clip distances at the page's edges keeping it there. Composed with
 // `enable clip_distances;` first.
@@ -16,20 +17,18 @@ struct PageOut {
     @builtin(clip_distances) edges: array<f32, 4>,
 }
 
-// The atlas's clip position of `local` (texels from the first of entry `e`'s page) in the
-// page's layer `layer`, at depth `z`.
-fn in_atlas(e: u32, layer: u32, local: vec2<f32>, z: f32) -> PageOut {
+// The atlas's clip position of `local` (texels from the first of entry `e`'s page, times
+// `w`) in the page's layer `layer`, at clip depth `z` and clip w `w`: the level's clip
+// position moved to the page's place, still homogeneous, so that a face of a point light
+// rasterises with its perspective and is clipped at its near plane (w is 1 for the sun's).
+fn in_atlas(e: u32, layer: u32, local: vec2<f32>, z: f32, w: f32) -> PageOut {
     var out: PageOut;
-    out.edges = array<f32, 4>(
-        local.x,
-        f32(PAGE_TEXELS) - local.x,
-        local.y,
-        f32(PAGE_TEXELS) - local.y,
-    );
+    let side = f32(PAGE_TEXELS) * w;
+    out.edges = array<f32, 4>(local.x, side - local.x, local.y, side - local.y);
     let layers = f32(1u + params.limits.y);
     let atlas = vec2<f32>(f32(params.counts.z), params.tuning.w * layers) * f32(PAGE_TEXELS);
-    let t = vec2<f32>(layer_origin(page_slots[e], layer)) + local;
-    out.clip = vec4<f32>(2.0 * t.x / atlas.x - 1.0, 1.0 - 2.0 * t.y / atlas.y, z, 1.0);
+    let t = vec2<f32>(layer_origin(page_slots[e], layer)) * w + local;
+    out.clip = vec4<f32>(2.0 * t.x / atlas.x - w, w - 2.0 * t.y / atlas.y, z, w);
     return out;
 }
 
@@ -39,11 +38,11 @@ fn vs_page(@location(0) position: vec3<f32>, @builtin(instance_index) pair_index
     let e = pair.y & ENTRY_BITS;
     let layer = select(0u, 1u, (pair.y & DYNAMIC_ONLY) != 0u);
     let view = shadow_views[e / LEVEL_ENTRIES];
-    // An orthographic level: w is 1.
     let c = shadow_clip_position(view, pair.x, position);
     let size = f32(view.square.w);
-    let texel = vec2<f32>(c.x * 0.5 + 0.5, 0.5 - c.y * 0.5) * size;
-    return in_atlas(e, layer, texel - vec2<f32>(window_page(e) * PAGE_TEXELS), c.z);
+    let texel = vec2<f32>(c.x * 0.5 + 0.5 * c.w, 0.5 * c.w - c.y * 0.5) * size;
+    let origin = vec2<f32>(window_page(e) * PAGE_TEXELS);
+    return in_atlas(e, layer, texel - origin * c.w, c.z, c.w);
 }
 
 @vertex
@@ -56,7 +55,7 @@ fn vs_clear(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> P
     // refreshed page keeps its layer 0 (its quad clipped away).
     let item = rendered_list[i];
     let layer = v / 6u;
-    var out = in_atlas(item & ENTRY_BITS, layer, corner[v % 6u] * f32(PAGE_TEXELS), 1.0);
+    var out = in_atlas(item & ENTRY_BITS, layer, corner[v % 6u] * f32(PAGE_TEXELS), 1.0, 1.0);
     let kept = layer == 0u && (item & DYNAMIC_ONLY) != 0u;
     let edge = select(1.0, -1.0, kept);
     out.edges = array<f32, 4>(edge, edge, edge, edge);

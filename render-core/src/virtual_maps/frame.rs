@@ -9,7 +9,7 @@ use super::resources::{LEVEL_ENTRIES, Tables};
 use super::{LIGHT_WGSL, VirtualTechnique};
 
 use crate::culling::{CasterOutcome, Method};
-use crate::geom::fit_clipmap_level;
+use crate::geom::{CUBE_FACES, cube_face_frustum, fit_clipmap_level};
 use crate::gpu::{GpuContext, pass_label};
 use crate::shadow_view::{LEVEL_PAGES, PAGE_TEXELS, ShadowView, ViewTarget};
 use crate::technique::{
@@ -18,10 +18,41 @@ use crate::technique::{
 };
 
 /// Physical pages kept back from the first allocations for the fallback pages of pixels whose
-/// own pages the pool refused (a quarter of a smaller pool).
+/// own pages the pool refused (a quarter of a smaller pool); per face of a point light.
 const FALLBACK_PAGES: u32 = 16;
 
+/// Mips of each face of a point light's cube at most: 4096 texels square down to 128, one
+/// page, so that the six coarsest pages hold every point the light reaches (the fallback of
+/// pixels whose pages the pool refused).
+pub const POINT_MIPS: u32 = 6;
+
 impl VirtualTechnique {
+    /// A point light's levels: each face of its cube (`CUBE_FACES`' order) a chain of mips,
+    /// 4096 texels square, 2048, ..., out to the scene's farthest corner. Their pages stay
+    /// where they are (no window moves with the camera).
+    fn point_views(&mut self, position: glam::Vec3, bounds: &crate::geom::Aabb) -> Vec<ShadowView> {
+        let far = bounds
+            .corners()
+            .iter()
+            .map(|c| c.distance(position))
+            .fold(0.0f32, f32::max)
+            * 1.001
+            + 0.1;
+        let mut views = Vec::new();
+        for (face, (name, _, _)) in CUBE_FACES.iter().enumerate() {
+            for mip in 0..self.face_mips {
+                let side = (LEVEL_PAGES * PAGE_TEXELS) >> mip;
+                self.first_pages.push([0, 0]);
+                views.push(ShadowView::covering_all_depths(
+                    &format!("point {name} mip {mip}"),
+                    cube_face_frustum(position, face, far, side),
+                    ViewTarget::layer(0, side),
+                ));
+            }
+        }
+        views
+    }
+
     /// This frame's parameters: the levels' squares, the pool, and whether every page is
     /// invalid.
     fn params(&self, invalidate_all: bool, moved: u32) -> VirtualParams {
@@ -39,12 +70,14 @@ impl VirtualTechnique {
             moved as f32,
             rows as f32,
         ];
-        // The coarsest level's pages that refused pixels fall back to: a few cover the scene.
+        // The coarsest level's pages that refused pixels fall back to: a few cover the scene
+        // (a few per face of a point light's cube).
+        let chains = if self.face_mips > 0 { 6 } else { 1 };
         params.limits = [
-            FALLBACK_PAGES.min(self.settings.pages / 4),
+            (FALLBACK_PAGES * chains).min(self.settings.pages / 4),
             u32::from(self.settings.separate_static),
             u32::from(self.settings.receiver_mask),
-            0,
+            self.face_mips,
         ];
         for (slot, first) in params.first_page.iter_mut().zip(&self.first_pages) {
             *slot = [first[0], first[1], 0, 0];
@@ -74,7 +107,7 @@ impl VirtualTechnique {
             [1, 1],
             [pages, 1],
             [entries, 1],
-            [level_entries, 1],
+            [level_entries, if self.face_mips > 0 { 6 } else { 1 }],
             [entries, 1],
             [1, 1],
         ];
@@ -298,11 +331,19 @@ impl ShadowTechnique for VirtualTechnique {
     fn prepare(&mut self, ctx: &GpuContext, input: &TechniqueInput<'_>) -> Vec<ShadowView> {
         let limits = ctx.device.limits();
         self.settings = input.virtual_maps.clamped(limits.max_texture_dimension_2d);
+        self.face_mips = 0;
+        self.first_pages.clear();
+        let bounds = input.scene.bounds();
+        if let Some(point) = input.point_light {
+            // A point light's cube: `--levels` mips per face, at most POINT_MIPS.
+            self.face_mips = self.settings.levels.min(POINT_MIPS);
+            self.settings.levels = 6 * self.face_mips;
+            self.ensure_tables(ctx);
+            return self.point_views(point.position, &bounds);
+        }
         self.ensure_tables(ctx);
         let side = LEVEL_PAGES * PAGE_TEXELS;
-        let bounds = input.scene.bounds();
         let mut views = Vec::new();
-        self.first_pages.clear();
         for k in 0..self.settings.levels {
             let texel = f64::from(self.settings.finest_texel_m) * 2f64.powi(k as i32);
             let level = fit_clipmap_level(

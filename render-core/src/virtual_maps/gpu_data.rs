@@ -3,7 +3,10 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use crate::shadow_view::VirtualSettings;
+/// Levels the parameters and counters hold: the sun's clipmap's at most
+/// (`VirtualSettings::MAX_LEVELS`, 24), or a point light's six faces of six mips.
+pub(super) const LEVEL_SLOTS: usize = 36;
+const _: () = assert!(crate::shadow_view::VirtualSettings::MAX_LEVELS as usize <= LEVEL_SLOTS);
 
 /// `VirtualParams` in `pages.wgsl`.
 #[repr(C)]
@@ -14,15 +17,17 @@ pub(super) struct VirtualParams {
     /// The finest texel (m), the level bias (octaves), moved boxes, the atlas's rows of pages.
     pub tuning: [f32; 4],
     /// Physical pages kept back for fallback pages; 1 when static casters are kept apart;
-    /// 1 when the receiver mask culls; unused.
+    /// 1 when the receiver mask culls; mips per face of a point light's cube (0: the sun).
     pub limits: [u32; 4],
     /// Per level, the absolute position of its square's first page.
-    pub first_page: [[i32; 4]; VirtualSettings::MAX_LEVELS as usize],
+    pub first_page: [[i32; 4]; LEVEL_SLOTS],
 }
-const _: () = assert!(size_of::<VirtualParams>() == 48 + 16 * 24);
+const _: () = assert!(size_of::<VirtualParams>() == 48 + 16 * 36);
 
 /// Word offsets in `Counters` (`tables.wgsl`).
 pub(super) mod word {
+    use super::LEVEL_SLOTS;
+
     pub const MARKED: usize = 0;
     pub const RESIDENT: usize = 1;
     pub const RENDERED: usize = 2;
@@ -35,10 +40,10 @@ pub(super) mod word {
     pub const INVALIDATED: usize = 11;
     pub const CLEAR_ARGS: usize = 12;
     pub const LEVEL_MARKED: usize = 16;
-    pub const LEVEL_RENDERED: usize = LEVEL_MARKED + 24;
-    pub const LEVEL_PAIRS: usize = LEVEL_RENDERED + 24;
-    pub const RECTS: usize = LEVEL_PAIRS + 24;
-    pub const TEXELS_SAMPLED: usize = RECTS + 4 * 24;
+    pub const LEVEL_RENDERED: usize = LEVEL_MARKED + LEVEL_SLOTS;
+    pub const LEVEL_PAIRS: usize = LEVEL_RENDERED + LEVEL_SLOTS;
+    pub const RECTS: usize = LEVEL_PAIRS + LEVEL_SLOTS;
+    pub const TEXELS_SAMPLED: usize = RECTS + 4 * LEVEL_SLOTS;
     pub const REFRESHED: usize = TEXELS_SAMPLED + 1;
     pub const MASK_CULLED: usize = REFRESHED + 2;
     /// Words in all.
@@ -74,7 +79,7 @@ impl FrameCounts {
         if words.len() < word::COUNT {
             return None;
         }
-        let per_level = |first: usize| words[first..first + levels.min(24)].to_vec();
+        let per_level = |first: usize| words[first..first + levels.min(LEVEL_SLOTS)].to_vec();
         Some(Self {
             marked: words[word::MARKED],
             resident: words[word::RESIDENT],

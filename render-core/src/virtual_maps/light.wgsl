@@ -1,5 +1,6 @@
 // The virtual maps' "light reaching this point" (virtual_maps/mod.rs): the level resolution
-// matching picks, or the first coarser one whose square holds every tap and whose pages are
+// matching picks, or the first coarser one of its chain (the sun's clipmap, or a point
+// light's face) whose square holds every tap and whose pages are
 // resident (a refused page falls back, never to a hole), its PCF taps read through the page
 // table from the physical atlas. The reference is the method's own: the technique culls no
 // caster a page needs, so its error is measured against the exact shadow (truth/).
@@ -68,7 +69,8 @@ fn page_factor(l: ShadowLookup) -> f32 {
 
 fn light_reaching(world_pos: vec3<f32>, geometric: vec3<f32>, measuring: bool) -> LightReaching {
     var out = LightReaching(1.0, 1.0, 0u, false, vec3<f32>(0.0));
-    for (var level = matched_level(world_pos, geometric); level < level_count(); level++) {
+    let first = matched_level(world_pos, geometric);
+    for (var level = first; level < chain_end(first); level++) {
         let l = shadow_lookup(world_pos, geometric, level);
         if (!lookup_contained(l) || !taps_resident(l)) {
             continue;

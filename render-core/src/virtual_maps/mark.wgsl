@@ -1,6 +1,6 @@
 // Page marking (virtual_maps/frame.rs): each visible receiver pixel marks the pages its PCF
 // taps read at the level shading will read (`holding_level`); after allocation, a pixel one of
-// whose pages the pool refused marks the coarsest level's pages under it, which take physical
+// whose pages the pool refused marks the coarsest level's pages under it (of its chain), which take physical
 // pages kept back for them, so that it falls back to a coarser level, never to a hole. One
 // thread per pixel.
 #import virtual_maps/tables.wgsl
@@ -102,7 +102,8 @@ fn mark_sampled(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let p = surface[0].xyz;
     let n = surface[1].xyz;
-    for (var level = matched_level(p, n); level < level_count(); level++) {
+    let first = matched_level(p, n);
+    for (var level = first; level < chain_end(first); level++) {
         let l = shadow_lookup(p, n, level);
         if (!lookup_contained(l) || !taps_resident(l)) {
             continue;
@@ -140,13 +141,13 @@ fn mark_fallback(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let surface = receiver_at(id.xy);
-    let last = level_count() - 1u;
     if (surface[0].w == 0.0) {
         return;
     }
     let p = surface[0].xyz;
     let n = surface[1].xyz;
     let level = holding_level(p, n);
+    let last = chain_levels(chain_of(p)).y - 1u;
     if (level < last && taps_refused(shadow_lookup(p, n, level))) {
         let coarsest = shadow_lookup(p, n, last);
         if (lookup_contained(coarsest)) {

@@ -61,6 +61,8 @@ pub(crate) fn shader_sources() -> Vec<(String, String)> {
 struct CacheKey {
     scene: u64,
     direction_to_sun: [u32; 3],
+    /// Where the point light is, when one casts the shadows.
+    point_light: Option<[u32; 3]>,
     finest_texel_m: u32,
     exclusions: u64,
     /// The scene's bounds, which fix every level's depth range.
@@ -93,6 +95,8 @@ pub struct VirtualTechnique {
     views: Vec<ShadowView>,
     shadow: crate::shadow_view::ShadowSettings,
     first_pages: Vec<[i32; 2]>,
+    /// Mips per face of the point light's cube this frame; 0 for the sun's clipmap.
+    face_mips: u32,
     latest: Option<(u64, FrameCounts)>,
     /// Recent frames: index, every page invalid, moved boxes, measured.
     frame_tags: Vec<(u64, bool, u32, bool)>,
@@ -133,6 +137,7 @@ impl VirtualTechnique {
             views: Vec::new(),
             shadow: crate::shadow_view::ShadowSettings::default(),
             first_pages: Vec::new(),
+            face_mips: 0,
             latest: None,
             frame_tags: Vec::new(),
             casters_total: 0,
@@ -218,6 +223,9 @@ impl VirtualTechnique {
         CacheKey {
             scene: input.scene_gpu.id,
             direction_to_sun: input.direction_to_sun.to_array().map(f32::to_bits),
+            point_light: input
+                .point_light
+                .map(|p| p.position.to_array().map(f32::to_bits)),
             finest_texel_m: self.settings.finest_texel_m.to_bits(),
             exclusions: self.exclusions_version,
             bounds: [b.min, b.max].map(|v| v.to_array().map(f32::to_bits)),

@@ -1,5 +1,6 @@
 // The virtual maps' page view (virtual_maps/overlay.rs), the `light-view` overlay of this
-// technique: every level's square side by side, finest first, left to right and down, each
+// technique: every level's square side by side, finest first, left to right and down (a
+// point light's: each face's mips in turn), each
 // page in the colour of what it did this frame (palette.rs PAGE_*), dark where it is empty.
 #import virtual_maps/pages.wgsl
 #import palette.wgsl
@@ -34,7 +35,8 @@ fn fs_pages(in: VsOut) -> @location(0) vec4<f32> {
     if (level >= level_count() || any(local < vec2<f32>(0.015)) || any(local > vec2<f32>(0.985))) {
         return vec4<f32>(0.0, 0.0, 0.0, 1.0);
     }
-    let page = vec2<i32>(local * f32(LEVEL_PAGES));
+    let side = f32(level_pages(level));
+    let page = vec2<i32>(local * side);
     let flags = page_flags[entry_of(level, page)];
     var colour = PALETTE_MAP_EMPTY;
     if ((flags & PAGE_REFUSED) != 0u) {
@@ -49,7 +51,7 @@ fn fs_pages(in: VsOut) -> @location(0) vec4<f32> {
         colour = PALETTE_PAGE_IDLE;
     }
     // Page borders, faint, where pages are not tiny.
-    let in_page = fract(local * f32(LEVEL_PAGES));
+    let in_page = fract(local * side);
     if (any(in_page < vec2<f32>(0.06))) {
         colour *= 0.7;
     }

@@ -1,13 +1,19 @@
 // Virtual shadow maps' page grid (virtual_maps/mod.rs): every level is a shadow view of the
-// frame (shadow_views[level], a 4096-texel square on a fixed texel grid), cut into 32 x 32
-// pages of 128 texels. A page's entry in its level's table is wrapped by its absolute page
-// position, so a page keeps its entry (and its physical page) while the square moves with
-// the camera. Every user binds `params` here; the tables it binds as it needs them.
+// frame (shadow_views[level]), cut into pages of 128 texels. The sun's levels are a clipmap:
+// each a 4096-texel square of 32 x 32 pages on a fixed texel grid, and a page's entry in its
+// level's table is wrapped by its absolute page position, so a page keeps its entry (and its
+// physical page) while the square moves with the camera. A point light's levels are its
+// cube's six faces, each a chain of mips (4096 texels square, 2048, ...; a perspective view
+// from the light), whose pages never move. A chain is the levels that may shade a point,
+// finest first: the sun's whole clipmap, or one face's mips. Every user binds `params` here;
+// the tables it binds as it needs them.
 #import shadow_view/lookup.wgsl
 
 const PAGE_TEXELS: i32 = 128;
 const LEVEL_PAGES: i32 = 32;
 const LEVEL_ENTRIES: u32 = 1024u;
+// The near plane of a point light's faces, metres (geom/punctual.rs NEAR_M).
+const POINT_NEAR_M: f32 = 0.05;
 
 // An entry's flags: marked by a visible pixel this frame; holding a physical page; drawn this
 // frame (every layer); marked but given no physical page; touched by a moving box. Where
@@ -42,16 +48,47 @@ struct VirtualParams {
     // x: physical pages kept back from the first allocations for the fallback pages of
     // pixels whose own pages were refused; y: 1 when static casters are kept apart (a second
     // layer of pages, below the first in the atlas, holds the movable ones); z: 1 when the
-    // receiver mask culls casters per block of a page; w: unused.
+    // receiver mask culls casters per block of a page; w: mips per face of a point light's
+    // cube (0: the sun's clipmap).
     limits: vec4<u32>,
     // Per level, xy: the absolute position of its square's first page (column, row).
-    first_page: array<vec4<i32>, 24>,
+    first_page: array<vec4<i32>, 36>,
 }
 
 @group(1) @binding(0) var<uniform> params: VirtualParams;
 
 fn level_count() -> u32 {
     return params.counts.x;
+}
+
+// Mips per face of a point light's cube, 0 for the sun.
+fn face_mips() -> u32 {
+    return params.limits.w;
+}
+
+// Chains of levels: one for the sun's clipmap, a face each for a point light.
+fn chain_count() -> u32 {
+    return select(1u, 6u, face_mips() != 0u);
+}
+
+fn chain_length() -> u32 {
+    return select(level_count(), face_mips(), face_mips() != 0u);
+}
+
+// The chain that shades world point `p`: the sun's, or the face of its major axis from the
+// light.
+fn chain_of(p: vec3<f32>) -> u32 {
+    return select(0u, cube_face(p - frame.point_light.xyz), face_mips() != 0u);
+}
+
+// The levels of chain `c`: its finest and one past its coarsest.
+fn chain_levels(c: u32) -> vec2<u32> {
+    return vec2<u32>(c * chain_length(), (c + 1u) * chain_length());
+}
+
+// Pages along level `level`'s side (a point light's coarser mips have fewer).
+fn level_pages(level: u32) -> i32 {
+    return i32(shadow_views[level].square.w) / PAGE_TEXELS;
 }
 
 fn wrap_pages(p: vec2<i32>) -> vec2<i32> {
@@ -96,25 +133,42 @@ fn receiver_mask_on() -> bool {
     return params.limits.z != 0u;
 }
 
-// Resolution matching: the finest level whose texel is no larger than the point's pixel, as
-// areas on the surface (the measure's own terms, metrics/measure.wgsl), plus the bias.
+// Resolution matching: the finest level of the point's chain whose texel is no larger than
+// the point's pixel, as areas on the surface (the measure's own terms, metrics/measure.wgsl),
+// plus the bias. The sun's finest texel is a setting; a face's grows with the distance along
+// its axis.
 fn matched_level(world_pos: vec3<f32>, n: vec3<f32>) -> u32 {
+    let chain = chain_levels(chain_of(world_pos));
     let to_eye = frame.eye_world.xyz - world_pos;
     let distance = length(to_eye);
     let pixel_m = distance * frame.camera_forward.w;
     let cos_view = max(abs(dot(n, to_eye / max(distance, 1e-6))), 0.02);
-    let cos_light = max(abs(dot(n, shadow_views[0].light_dir.xyz)), 0.02);
+    let finest = shadow_views[chain.x];
+    var to_light = finest.light_dir.xyz;
+    var finest_m = params.tuning.x;
+    if (face_mips() != 0u) {
+        let d = world_pos - frame.point_light.xyz;
+        to_light = d / max(length(d), 1e-12);
+        finest_m = finest.light_right.w * max(dot(d, finest.light_dir.xyz), 1e-6);
+    }
+    let cos_light = max(abs(dot(n, to_light)), 0.02);
     let texel_m = pixel_m * sqrt(cos_light / cos_view);
-    let octaves = log2(max(texel_m, 1e-30) / params.tuning.x) + params.tuning.y;
+    let octaves = log2(max(texel_m, 1e-30) / finest_m) + params.tuning.y;
     // NaN (a broken surface) takes the finest level, which the lookup then rejects.
     let level = select(0.0, floor(octaves), octaves == octaves);
-    return u32(clamp(level, 0.0, f32(level_count() - 1u)));
+    return chain.x + u32(clamp(level, 0.0, f32(chain.y - chain.x - 1u)));
+}
+
+// One past the coarsest level that may shade a point whose matched level is `level`.
+fn chain_end(level: u32) -> u32 {
+    return (level / chain_length() + 1u) * chain_length();
 }
 
 // The level a point is shaded from when its pages are there: the matched one, or the first
-// coarser level whose square holds every tap (`level_count()` when none does).
+// coarser level of its chain whose square holds every tap (`level_count()` when none does).
 fn holding_level(world_pos: vec3<f32>, n: vec3<f32>) -> u32 {
-    for (var level = matched_level(world_pos, n); level < level_count(); level++) {
+    let first = matched_level(world_pos, n);
+    for (var level = first; level < chain_end(first); level++) {
         if (lookup_contained(shadow_lookup(world_pos, n, level))) {
             return level;
         }

@@ -21,12 +21,12 @@ struct Counters {
     invalidated: atomic<u32>,
     // Draw arguments of the clears: 6 vertices, an instance per drawn page.
     clear_args: array<atomic<u32>, 4>,
-    level_marked: array<atomic<u32>, 24>,
-    level_rendered: array<atomic<u32>, 24>,
-    level_pairs: array<atomic<u32>, 24>,
+    level_marked: array<atomic<u32>, 36>,
+    level_rendered: array<atomic<u32>, 36>,
+    level_pairs: array<atomic<u32>, 36>,
     // Per level, the drawn pages' square: 32 less the first column and row, and one past
     // the last column and row (all 0: none drawn), so that zeroed counters start empty.
-    rects: array<array<atomic<u32>, 4>, 24>,
+    rects: array<array<atomic<u32>, 4>, 36>,
     // When measuring: the texels of physical pages that visible pixels' taps read.
     texels_sampled: atomic<u32>,
     // Cached pages whose movable casters' layer alone is drawn this frame.
@@ -51,39 +51,56 @@ struct Counters {
 // pixel's taps read this frame (the receiver mask; kept only when it is on).
 @group(1) @binding(9) var<storage, read_write> receiver_masks: array<atomic<u32>>;
 
-// Where level `level`'s square places a world point, texels (x right, y down the map).
-fn level_texel(level: u32, p: vec3<f32>) -> vec2<f32> {
+// Where level `level`'s square places a world point, texels (x right, y down the map); z:
+// the point's clip w (1 for the sun's levels; a face's distance along its axis).
+fn level_texel(level: u32, p: vec3<f32>) -> vec3<f32> {
     let view = shadow_views[level];
     let c = light_clip(view, p);
     let size = f32(view.square.w);
-    return vec2<f32>(c.x * 0.5 + 0.5, 0.5 - c.y * 0.5) * size;
+    let ndc = c.xy / c.w;
+    return vec3<f32>(vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5) * size, c.w);
 }
 
 // The texels of level `level`'s square that the world box `lo..hi` covers, widened by a
-// texel: first (xy) and last (zw), unclamped.
+// texel: first (xy) and last (zw), unclamped. A box wholly behind a face's near plane covers
+// none; one across it, the whole square.
 fn box_texels(level: u32, lo: vec3<f32>, hi: vec3<f32>) -> vec4<f32> {
     var t_lo = vec2<f32>(1e30);
     var t_hi = vec2<f32>(-1e30);
+    var behind = 0u;
     for (var i = 0u; i < 8u; i++) {
         let corner = select(lo, hi, vec3<bool>((i & 1u) != 0u, (i & 2u) != 0u, (i & 4u) != 0u));
         let t = level_texel(level, corner);
-        t_lo = min(t_lo, t);
-        t_hi = max(t_hi, t);
+        if (t.z < POINT_NEAR_M) {
+            behind++;
+            continue;
+        }
+        t_lo = min(t_lo, t.xy);
+        t_hi = max(t_hi, t.xy);
+    }
+    if (behind == 8u) {
+        return vec4<f32>(1.0, 1.0, -1.0, -1.0);
+    }
+    if (behind > 0u) {
+        let size = f32(shadow_views[level].square.w);
+        return vec4<f32>(-1.0, -1.0, size + 1.0, size + 1.0);
     }
     return vec4<f32>(t_lo - 1.0, t_hi + 1.0);
 }
 
-// The pages of `texels` (`box_texels`) in its level's square, first and last (x > z: none).
-fn texel_pages(texels: vec4<f32>) -> vec4<i32> {
-    let first = clamp(vec2<i32>(floor(texels.xy / f32(PAGE_TEXELS))), vec2<i32>(0), vec2<i32>(LEVEL_PAGES));
-    let last = clamp(vec2<i32>(floor(texels.zw / f32(PAGE_TEXELS))), vec2<i32>(-1), vec2<i32>(LEVEL_PAGES - 1));
+// The pages of `texels` (`box_texels`) in level `level`'s square, first and last (x > z:
+// none).
+fn texel_pages(level: u32, texels: vec4<f32>) -> vec4<i32> {
+    let side = level_pages(level);
+    let first = clamp(vec2<i32>(floor(texels.xy / f32(PAGE_TEXELS))), vec2<i32>(0), vec2<i32>(side));
+    let last = clamp(vec2<i32>(floor(texels.zw / f32(PAGE_TEXELS))), vec2<i32>(-1), vec2<i32>(side - 1));
     return vec4<i32>(first, last);
 }
 
 // The pages of level `level`'s square that the world box `lo..hi` covers, widened by a
 // texel, as first and last page (x > z: none).
 fn box_pages(level: u32, lo: vec3<f32>, hi: vec3<f32>) -> vec4<i32> {
-    return texel_pages(box_texels(level, lo, hi));
+    return texel_pages(level, box_texels(level, lo, hi));
 }
 
 // The blocks of page `page` that texels `first..=last` (relative to the level's square,

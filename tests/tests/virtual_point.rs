@@ -1,0 +1,235 @@
+//! Virtual shadow maps of a point light (`--shadow virtual --light point`): its cube's six
+//! faces, each a chain of mips, through the same pages, pool, cull and cache as the sun's
+//! clipmap. The exact shadow of a light inside the view; a static second frame draws nothing;
+//! a moving box draws again exactly the pages its old and new bounds touch in every face; a
+//! moving light draws every page; a pool too small falls back to coarser mips, no hole.
+
+use glam::{DVec4, Mat4, Vec3};
+use render_core::frame::FrameSettings;
+use render_core::geom::{Camera, NEAR_M};
+use render_core::scene::{PointShadow, Scene, Sun};
+use render_core::shadow_view::{LEVEL_PAGES, PAGE_TEXELS, ShadowView, VirtualSettings};
+use render_core::truth::SurfacePoint;
+use shadowlab_tests::virtual_pages::{
+    Frames, MARKED, RENDERED, RESIDENT, entries_with, scene, settings,
+};
+use shadowlab_tests::{against_truth, gpu};
+
+const SIZE: (u32, u32) = (256, 192);
+/// Beside and above the box (2 x 3 x 1.5 m, 1 m above the ground at the origin), in the view.
+const LIGHT: Vec3 = Vec3::new(3.0, 6.0, 0.5);
+
+fn point_settings(v: VirtualSettings, light: Vec3) -> FrameSettings {
+    FrameSettings {
+        point_light: Some(PointShadow {
+            position: light,
+            intensity_cd: 2.0e6,
+        }),
+        ..settings(v)
+    }
+}
+
+/// Above and beside the box, the light in the picture.
+fn overlooking() -> Camera {
+    Camera::look_at(
+        Vec3::new(-10.0, 7.0, 10.0),
+        Vec3::new(0.0, 2.0, 0.0),
+        60f32.to_radians(),
+        0.1,
+        200.0,
+    )
+}
+
+fn ground(x: f32, z: f32) -> SurfacePoint {
+    SurfacePoint {
+        position: [x, 0.0, z, 1.0],
+        normal: [0.0, 1.0, 0.0, 0.0],
+    }
+}
+
+/// The entries of face levels `views` whose pages the world box `lo..hi` covers, widened by a
+/// texel, as `box_pages` in `virtual_maps/tables.wgsl` finds them: none for a box wholly
+/// behind a face's near plane, the whole square for one across it.
+fn touched_face_entries(views: &[ShadowView], lo: Vec3, hi: Vec3) -> Vec<usize> {
+    let mut out = Vec::new();
+    for (level, view) in views.iter().enumerate() {
+        let m = view.light.light_clip_from_world.as_dmat4();
+        let size = f64::from(view.target.size);
+        let (mut min, mut max) = ([f64::MAX; 2], [f64::MIN; 2]);
+        let mut behind = 0;
+        for i in 0..8 {
+            let c = m * DVec4::new(
+                f64::from(if i & 1 == 0 { lo.x } else { hi.x }),
+                f64::from(if i & 2 == 0 { lo.y } else { hi.y }),
+                f64::from(if i & 4 == 0 { lo.z } else { hi.z }),
+                1.0,
+            );
+            if c.w < f64::from(NEAR_M) {
+                behind += 1;
+                continue;
+            }
+            let t = [
+                (c.x / c.w * 0.5 + 0.5) * size,
+                (0.5 - c.y / c.w * 0.5) * size,
+            ];
+            for k in 0..2 {
+                min[k] = min[k].min(t[k] - 1.0);
+                max[k] = max[k].max(t[k] + 1.0);
+            }
+        }
+        if behind == 8 {
+            continue;
+        }
+        if behind > 0 {
+            (min, max) = ([-1.0; 2], [size + 1.0; 2]);
+        }
+        let side = (size as i64) / i64::from(PAGE_TEXELS);
+        let page = |v: f64| (v / f64::from(PAGE_TEXELS)).floor() as i64;
+        for y in page(min[1]).max(0)..=page(max[1]).min(side - 1) {
+            for x in page(min[0]).max(0)..=page(max[0]).min(side - 1) {
+                let per_level = i64::from(LEVEL_PAGES * LEVEL_PAGES) as usize;
+                out.push(level * per_level + (y * i64::from(LEVEL_PAGES) + x) as usize);
+            }
+        }
+    }
+    out.sort_unstable();
+    out.dedup();
+    out
+}
+
+#[test]
+fn a_point_light_in_the_view_casts_the_exact_shadow_through_its_cube_of_pages() {
+    let scene = scene(Sun::default());
+    let camera = overlooking();
+    // The ground where the ray from the light through the box's centre lands; under the
+    // light, and far out on its side.
+    let centre = Vec3::new(0.0, 2.5, 0.0);
+    let behind = LIGHT + (centre - LIGHT) * (LIGHT.y / (LIGHT.y - centre.y));
+    let known = [
+        ground(behind.x, behind.z),
+        ground(LIGHT.x, LIGHT.z),
+        ground(8.0, 6.0),
+    ];
+    for v in [
+        VirtualSettings::default(),
+        VirtualSettings {
+            separate_static: true,
+            receiver_mask: true,
+            ..VirtualSettings::default()
+        },
+    ] {
+        let settings = point_settings(v, LIGHT);
+        let (error, shadowed, renderer, report) = against_truth(&scene, &camera, &settings, SIZE);
+        assert_eq!(report.shadow_failure, None);
+        assert!(shadowed > 500, "{shadowed} exact shadowed points");
+        let off_edge = error.off_edge_px.expect("against the exact shadow");
+        assert!(off_edge * 500 <= error.visible_px, "{v:?}: {error:?}");
+        let light = renderer.light_at(gpu(), &known).expect("read back");
+        assert_eq!(
+            light,
+            [0.0, 1.0, 1.0],
+            "behind the box, under the light, far out"
+        );
+        let views = renderer.last_views();
+        assert_eq!(views.len(), 36, "six faces of six mips");
+        assert_eq!(views[6].name, "point -X mip 0");
+        assert_eq!((views[6].target.size, views[11].target.size), (4096, 128));
+        let p = report.virtual_pages.expect("pages");
+        assert_eq!((p.levels, p.pages_refused), (36, 0), "{p:?}");
+        assert!(p.pages_marked > 0 && p.caster_pages > 0, "{p:?}");
+        let under = report.undersampling.expect("measured");
+        assert!(under.p95_octaves <= 0.5, "{under:?}");
+    }
+}
+
+#[test]
+fn a_static_point_light_draws_no_page_in_the_second_frame_and_a_moved_one_every_page() {
+    let scene = scene(Sun::default());
+    let camera = overlooking();
+    let settings = point_settings(VirtualSettings::default(), LIGHT);
+    let mut frames = Frames::new(&scene);
+    let first = frames.frame(&scene, &camera, &settings);
+    let second = frames.frame(&scene, &camera, &settings);
+    assert_eq!(first.pages.pages_rendered, first.pages.pages_marked);
+    // Pages in the faces below and beside the light, none in the one looking up.
+    let faces_marked = |flags: &[u32]| {
+        let marked = entries_with(flags, MARKED);
+        (0..6)
+            .map(|f| marked.iter().filter(|&&e| e / (6 * 1024) == f).count())
+            .collect::<Vec<_>>()
+    };
+    let faces = faces_marked(&first.flags);
+    assert_eq!(faces[2], 0, "+Y looks at the sky: {faces:?}");
+    assert!(faces[3] > 0 && faces[1] > 0, "{faces:?}");
+    assert_eq!(second.pages.pages_rendered, 0, "{:?}", second.pages);
+    assert_eq!(second.pages.caster_pages, 0);
+    assert_eq!(second.pages.cache_hit_rate, Some(1.0));
+    assert_eq!(first.capture.shadow, second.capture.shadow);
+    // The light moves 10 cm: every page is drawn again.
+    let moved = point_settings(VirtualSettings::default(), LIGHT + Vec3::X * 0.1);
+    let third = frames.frame(&scene, &camera, &moved);
+    assert!(third.pages.all_invalidated);
+    assert_eq!(third.pages.pages_rendered, third.pages.pages_marked);
+    let fresh = Frames::new(&scene).frame(&scene, &camera, &moved);
+    assert_eq!(third.capture.shadow, fresh.capture.shadow);
+}
+
+#[test]
+fn moving_a_box_draws_again_exactly_the_face_pages_its_old_and_new_bounds_touch() {
+    let mut scene = scene(Sun::default());
+    let camera = overlooking();
+    let settings = point_settings(VirtualSettings::default(), LIGHT);
+    let mut frames = Frames::new(&scene);
+    let first = frames.frame(&scene, &camera, &settings);
+    let old = scene.instances[1].aabb_in_world;
+    let moved =
+        Mat4::from_translation(Vec3::new(0.9, 0.0, 0.4)) * scene.instances[1].world_from_local;
+    scene.set_world_from_local(1, moved);
+    frames.scene_gpu.update_instances(gpu(), &scene, &[1]);
+    let new = scene.instances[1].aabb_in_world;
+    let second = frames.frame(&scene, &camera, &settings);
+    assert_eq!(second.pages.moved_boxes, 2);
+    let mut touched = [
+        touched_face_entries(&second.views, old.min, old.max),
+        touched_face_entries(&second.views, new.min, new.max),
+    ]
+    .concat();
+    touched.sort_unstable();
+    touched.dedup();
+    let resident_before = entries_with(&first.flags, RESIDENT);
+    let expected: Vec<usize> = entries_with(&second.flags, MARKED)
+        .into_iter()
+        .filter(|e| touched.binary_search(e).is_ok() || resident_before.binary_search(e).is_err())
+        .collect();
+    assert!(!expected.is_empty());
+    assert_eq!(entries_with(&second.flags, RENDERED), expected);
+    let invalidated = resident_before
+        .iter()
+        .filter(|e| touched.binary_search(e).is_ok())
+        .count() as u32;
+    assert_eq!(second.pages.pages_invalidated, invalidated);
+    assert!(second.pages.pages_rendered < second.pages.pages_marked);
+    let fresh = Frames::new(&scene).frame(&scene, &camera, &settings);
+    assert_eq!(second.capture.shadow, fresh.capture.shadow);
+    assert_ne!(first.capture.shadow, second.capture.shadow);
+}
+
+#[test]
+fn a_pool_too_small_for_a_point_light_falls_back_to_coarser_mips_and_leaves_no_hole() {
+    let scene: Scene = scene(Sun::default());
+    let settings = point_settings(
+        VirtualSettings {
+            pages: 32,
+            lod_bias: -2.0,
+            ..VirtualSettings::default()
+        },
+        LIGHT,
+    );
+    let frame = Frames::new(&scene).frame(&scene, &overlooking(), &settings);
+    let p = frame.pages;
+    assert!(p.pages_refused > 0, "{p:?}");
+    assert!(p.pages_resident <= 32, "{p:?}");
+    let error = frame.report.error.expect("measured");
+    let shaded = frame.report.undersampling.expect("measured").pixels;
+    assert_eq!(shaded, error.visible_px, "every receiver pixel is shaded");
+}
