@@ -115,9 +115,20 @@ pub(crate) fn settings(
             masked.virtual_maps.receiver_mask = true;
             let mut apart_masked = apart;
             apart_masked.virtual_maps.receiver_mask = true;
-            vec![
-                ("single 8192".to_owned(), single),
-                ("4 cascades 2048".to_owned(), cascades),
+            // A point light's shadows: shadow volumes, exact, where the maps would have none.
+            let against = if base.point_light.is_some() {
+                vec![(
+                    "shadow volumes".to_owned(),
+                    with_setup(ShadowSetup::Volumes),
+                )]
+            } else {
+                vec![
+                    ("single 8192".to_owned(), single),
+                    ("4 cascades 2048".to_owned(), cascades),
+                ]
+            };
+            let mut rows = against;
+            rows.extend([
                 ("virtual".to_owned(), virtual_maps),
                 ("virtual / cache off".to_owned(), uncached),
                 ("virtual / cache off + receiver mask".to_owned(), masked),
@@ -126,7 +137,8 @@ pub(crate) fn settings(
                     "virtual / static apart + receiver mask".to_owned(),
                     apart_masked,
                 ),
-            ]
+            ]);
+            rows
         }
         Sweep::Setups => ShadowSetup::ALL
             .into_iter()
@@ -215,6 +227,20 @@ mod tests {
         assert_eq!(labels, ["single", "lispsm", "2 cascades", "4 cascades"]);
         assert_eq!(cascades[3].1.cascades.count, 4);
         let slices = settings(Sweep::Slices, &base, &values()).unwrap();
+        // The virtual maps against the maps of the sun, or a point light's shadow volumes.
+        let names = |base: &FrameSettings| {
+            let rows = settings(Sweep::Virtual, base, &values()).unwrap();
+            rows.iter().map(|(_, s)| s.setup).collect::<Vec<_>>()[..2].to_vec()
+        };
+        assert_eq!(names(&base), [ShadowSetup::Single, ShadowSetup::Cascades]);
+        let point = FrameSettings {
+            point_light: Some(render_core::scene::PointShadow {
+                position: glam::Vec3::Y,
+                intensity_cd: 1.0,
+            }),
+            ..base
+        };
+        assert_eq!(names(&point), [ShadowSetup::Volumes, ShadowSetup::Virtual]);
         assert_eq!(slices.len(), SLICES.len());
         assert_eq!(slices[5].1.volumes.slices, 32);
         assert_eq!(slices[5].1.volumes.clamp, VolumeClamp::Conservative);

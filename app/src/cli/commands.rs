@@ -190,7 +190,8 @@ pub enum Sweep {
     /// flags.
     Setups,
     /// The virtual maps' goals in one run: a single map of 8192, 4 cascades of 2048 (the
-    /// pool's memory), then the virtual maps with the cache on and off.
+    /// pool's memory; with `--light point`, shadow volumes instead), then the virtual maps with
+    /// the cache on and off, the receiver mask and static casters apart.
     Virtual,
     /// Shadow volumes with each clamping (none, continuous, discrete, conservative).
     Clamp,

@@ -13,7 +13,8 @@ pub struct VirtualArgs {
     /// to 4096, 64 KiB each (default 1024: 64 MiB, as four cascades of 2048).
     #[arg(long, value_name = "N")]
     pub pages: Option<u32>,
-    /// Virtual maps: clipmap levels, 1 to 24, each with texels twice the last's (default 16).
+    /// Virtual maps: clipmap levels, 1 to 24, each with texels twice the last's (default 16);
+    /// from a point light (`--light point`), mips per face of its cube, at most 6.
     #[arg(long, value_name = "N")]
     pub levels: Option<u32>,
     /// Virtual maps: keep drawn pages across frames until something moves through them (on,

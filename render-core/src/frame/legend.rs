@@ -122,7 +122,11 @@ pub fn legend(settings: &FrameSettings) -> Vec<LegendGroup> {
     }
     if overlays.light_view && settings.setup == super::ShadowSetup::Virtual {
         groups.push(LegendGroup {
-            title: "Pages of each level, finest first (top left)",
+            title: if settings.point_light.is_some() {
+                "Pages of each cube face (a row each: +X, -X, +Y, -Y, +Z, -Z), finest mip first"
+            } else {
+                "Pages of each level, finest first (top left)"
+            },
             entries: [
                 Some(entry(crate::palette::PAGE_DRAWN, "drawn this frame")),
                 settings.virtual_maps.separate_static.then(|| {

@@ -1,6 +1,6 @@
 // The virtual maps' page view (virtual_maps/overlay.rs), the `light-view` overlay of this
 // technique: every level's square side by side, finest first, left to right and down (a
-// point light's: each face's mips in turn), each
+// point light's: a row per face, +X, -X, +Y, -Y, +Z, -Z, its mips finest first), each
 // page in the colour of what it did this frame (palette.rs PAGE_*), dark where it is empty.
 #import virtual_maps/pages.wgsl
 #import palette.wgsl
@@ -21,16 +21,28 @@ fn vs_pages(@builtin(vertex_index) index: u32) -> VsOut {
     return out;
 }
 
-// Levels per row of the view: the smallest square that holds them all.
+// Levels per row of the view: the smallest square that holds them all; for a point light,
+// six, a face per row.
 fn columns() -> u32 {
+    if (face_mips() != 0u) {
+        return 6u;
+    }
     return u32(ceil(sqrt(f32(level_count())) - 1e-4));
+}
+
+// The level of the view's cell `cell` (`level_count()` where none is).
+fn cell_level(cell: vec2<u32>) -> u32 {
+    if (face_mips() != 0u) {
+        return select(level_count(), cell.y * face_mips() + cell.x, cell.x < face_mips());
+    }
+    return cell.y * columns() + cell.x;
 }
 
 @fragment
 fn fs_pages(in: VsOut) -> @location(0) vec4<f32> {
     let n = f32(columns());
     let cell = vec2<u32>(min(in.uv * n, vec2<f32>(n - 1.0)));
-    let level = cell.y * columns() + cell.x;
+    let level = cell_level(cell);
     let local = fract(in.uv * n);
     if (level >= level_count() || any(local < vec2<f32>(0.015)) || any(local > vec2<f32>(0.985))) {
         return vec4<f32>(0.0, 0.0, 0.0, 1.0);

@@ -305,7 +305,7 @@ fn heading(ui: &mut egui::Ui, title: &str) {
 }
 
 /// Whether the scene's first point light casts the shadows and lights the view instead of the
-/// sun (shadow volumes only: shadow maps report that they cannot).
+/// sun (shadow volumes and virtual maps: shadow maps report that they cannot).
 fn point_light_ui(
     ui: &mut egui::Ui,
     point: Option<render_core::scene::PointShadow>,
@@ -318,7 +318,7 @@ fn point_light_ui(
     let p = point.position;
     let help = format!(
         "Cast the shadows from the scene's point light at {:.1}, {:.1}, {:.1} m \
-         ({:.0} cd) instead of the sun: shadow volumes only",
+         ({:.0} cd) instead of the sun: shadow volumes and virtual maps (a cube of pages)",
         p.x, p.y, p.z, point.intensity_cd
     );
     if ui
