@@ -2,8 +2,9 @@
 # Regenerates the virtual maps' figures in screenshots/: the goals' run along the city's
 # streets (a single map of 8192, four cascades of 2048, the virtual maps with the cache on and
 # off, in one run each), still, with every car driving, and with a sun that turns 0.5 degree
-# a second, and with every car driving past a still camera (the page view's); each run's
-# table (.txt) and rows (.csv); and the page view. Minutes each on a
+# a second, and with every car driving past a still camera (the page view's); the corridor's
+# point light against shadow volumes; each run's table (.txt) and rows (.csv); and the page
+# views. Minutes each on a
 # software adapter.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -21,6 +22,13 @@ bench still
 bench cars --animate
 bench moving-sun --moving-sun 0.5
 bench cars-still --animate --path scripts/paths/city-street-still.csv
+# The corridor's point light, its cube of pages against shadow volumes (exact).
+./target/release/shadowlab bench builtin:corridor --light point --sweep virtual --size 640x360 \
+    --methods none --frames 30 --warmup 2 --passes --csv "$out/virtual-point-corridor.csv" \
+    > "$out/virtual-point-corridor.txt"
+./target/release/shadowlab shot builtin:corridor --light point --shadow virtual --size 1280x720 \
+    --eye=-30,2.5,-3 --target=-5,2,2 --overlay light-view \
+    --out "$out/virtual-point-pages.png" --stats "$out/virtual-point-pages.json"
 ./target/release/shadowlab shot builtin:city --shadow virtual --size 1280x720 \
     --eye=-330,3.5,8 --target=-200,12,8 --overlay light-view \
     --out "$out/virtual-pages.png" --stats "$out/virtual-pages.json"

@@ -143,6 +143,34 @@ fn a_point_light_in_the_view_casts_the_exact_shadow_through_its_cube_of_pages() 
 }
 
 #[test]
+fn a_light_touching_the_box_casts_its_exact_shadow_from_every_face_the_box_crosses() {
+    // 2 cm beside the box's +X side (x 1), at half its height: the box's bounds cross the
+    // near plane of every face but +X (behind which it lies), whose casters are then drawn
+    // over the whole square.
+    let light = Vec3::new(1.02, 2.5, 0.0);
+    let scene = scene(Sun::default());
+    let camera = overlooking();
+    let settings = point_settings(VirtualSettings::default(), light);
+    let (error, shadowed, renderer, report) = against_truth(&scene, &camera, &settings, SIZE);
+    assert!(
+        shadowed > 5_000,
+        "the box shades the ground on its far side: {shadowed}"
+    );
+    let off_edge = error.off_edge_px.expect("against the exact shadow");
+    assert!(off_edge * 500 <= error.visible_px, "{error:?}");
+    // Under the box dark; beside the light and out on its side lit.
+    let lit = renderer
+        .light_at(
+            gpu(),
+            &[ground(0.0, 0.0), ground(1.5, 0.0), ground(8.0, 3.0)],
+        )
+        .expect("read back");
+    assert_eq!(lit, [0.0, 1.0, 1.0]);
+    let p = report.virtual_pages.expect("pages");
+    assert_eq!(p.pages_refused, 0, "{p:?}");
+}
+
+#[test]
 fn a_static_point_light_draws_no_page_in_the_second_frame_and_a_moved_one_every_page() {
     let scene = scene(Sun::default());
     let camera = overlooking();

@@ -10,8 +10,8 @@ use render_core::scene::{Scene, Sun};
 use render_core::shadow_view::{ShadowView, VirtualSettings};
 use shadowlab_tests::gpu;
 use shadowlab_tests::virtual_pages::{
-    Frame, Frames, MARKED, REFRESHED, RENDERED, RESIDENT, camera, entries_with, scene, settings,
-    touched_entries,
+    Frame, Frames, MARKED, REFRESHED, RENDERED, RESIDENT, camera, entries_with, entry, scene,
+    settings, touched_entries,
 };
 
 /// A page whose movable layer a moved box left stale (`virtual_maps/pages.wgsl`).
@@ -74,6 +74,29 @@ fn expected_pairs(scene: &Scene, frame: &Frame) -> u32 {
     (ground + boxed) as u32
 }
 
+/// The hierarchy of page flags (`virtual_maps/tables.wgsl` `page_hierarchy`) from the
+/// flags: per level, mips 1 to 5 of its 32 x 32 pages, bit 0 over a page drawn whole, bit 1
+/// over a refreshed one.
+fn expected_hierarchy(views: &[ShadowView], flags: &[u32]) -> Vec<u32> {
+    let mut cells = vec![0; views.len() * 341];
+    for level in 0..views.len() {
+        for y in 0..32 {
+            for x in 0..32 {
+                let f = flags[entry(views, level, [x, y])];
+                let bits = u32::from(f & RENDERED != 0) | (u32::from(f & REFRESHED != 0) << 1);
+                let mut before = 0;
+                for mip in 1..=5 {
+                    let side = 32 >> mip;
+                    let cell = (y >> mip) * side + (x >> mip);
+                    cells[level * 341 + before + cell as usize] |= bits;
+                    before += (side * side) as usize;
+                }
+            }
+        }
+    }
+    cells
+}
+
 #[test]
 fn a_moving_box_draws_only_itself_again_into_the_pages_it_touches() {
     let mut scene = scene(Sun::default());
@@ -113,6 +136,13 @@ fn a_moving_box_draws_only_itself_again_into_the_pages_it_touches() {
     assert_eq!(entries_with(&second.flags, REFRESHED), refreshed);
     assert_eq!(q.pages_refreshed as usize, refreshed.len());
     assert_eq!(q.caster_pages, expected_pairs(&scene, &second));
+    // The hierarchy the cull walks holds, in each cell, exactly what its pages did.
+    let hierarchy = frames
+        .renderer
+        .virtual_page_hierarchy(gpu())
+        .expect("reads back");
+    assert_eq!(hierarchy, expected_hierarchy(&second.views, &second.flags));
+    assert!(hierarchy.iter().any(|&c| c == 3), "cells over both kinds");
     let hits = marked.len() - new_pages.len() - refreshed.len();
     let rate = q.cache_hit_rate.expect("pages were marked");
     assert!(

@@ -158,6 +158,12 @@ impl FrameRenderer {
         self.techniques.virtual_maps().read_receiver_masks(ctx)
     }
 
+    /// The virtual maps' hierarchy of page flags as the last frame left it (341 words per
+    /// level). Blocks: for tests.
+    pub fn virtual_page_hierarchy(&self, ctx: &GpuContext) -> Result<Vec<u32>, GpuError> {
+        self.techniques.virtual_maps().read_page_hierarchy(ctx)
+    }
+
     /// The triangles per-layer culling kept for each slot (a view, or a multiview group) in
     /// the last frame that culled. Blocks: for tests and reports.
     pub fn lights_kept_triangles(&self, ctx: &GpuContext) -> Result<Vec<u32>, GpuError> {

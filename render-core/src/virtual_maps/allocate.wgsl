@@ -3,8 +3,8 @@
 // invalidated or everything was; (marking); free physical pages listed; marked entries given
 // pages, all but a few kept back; where the pool ran out, cached pages no pixel marked evicted
 // and the refused entries given pages again; (the refused pixels' fallback marks); the
-// fallback pages given the pages kept back; the frame's counts, the drawn pages' list and
-// squares, and the clears' draw arguments. No readback: the CPU learns the counts a frame or
+// fallback pages given the pages kept back; the frame's counts, the drawn pages' list,
+// squares and hierarchy, and the clears' draw arguments. No readback: the CPU learns the counts a frame or
 // more later.
 #import virtual_maps/tables.wgsl
 
@@ -193,6 +193,10 @@ fn tally_pages(@builtin(global_invocation_id) id: vec3<u32>) {
     rendered_list[atomicAdd(&counters.listed, 1u)] = item;
     atomicAdd(&counters.level_rendered[level], 1u);
     let page = window_page(e);
+    let bit = select(HIERARCHY_DRAWN, HIERARCHY_REFRESHED, (item & DYNAMIC_ONLY) != 0u);
+    for (var mip = 1u; mip <= HIERARCHY_MIPS; mip++) {
+        atomicOr(&page_hierarchy[hierarchy_cell(level, mip, page >> vec2<u32>(mip))], bit);
+    }
     atomicMax(&counters.rects[level][0], u32(LEVEL_PAGES - page.x));
     atomicMax(&counters.rects[level][1], u32(LEVEL_PAGES - page.y));
     atomicMax(&counters.rects[level][2], u32(page.x + 1));

@@ -256,6 +256,7 @@ impl VirtualTechnique {
                     buffer_entry(7, &tables.rendered),
                     buffer_entry(8, &l.moved),
                     buffer_entry(9, &tables.receiver_masks),
+                    buffer_entry(10, &tables.hierarchy),
                 ],
             ),
             group(
@@ -396,6 +397,7 @@ impl ShadowTechnique for VirtualTechnique {
         };
         tables.write_params(ctx, &self.params(invalidate_all, moved));
         encoder.clear_buffer(&tables.counters, 0, None);
+        encoder.clear_buffer(&tables.hierarchy, 0, None);
         let [table_group, mark_group, cull_group, draw_group] =
             self.bind_groups(&ctx.device, tables, draw, scene_gpu);
         let instances = scene_gpu.instance_count;

@@ -168,6 +168,23 @@ impl VirtualTechnique {
         Ok(words.chunks_exact(2).map(|w| [w[0], w[1]]).collect())
     }
 
+    /// Each level's hierarchy of page flags as the last frame left it: 341 words a level,
+    /// mips 1 to 5 of its 32 x 32 pages by their place in its square (16 x 16 cells, then
+    /// 8 x 8, ..., 1), row by row, bit 0 where a page under the cell was drawn whole, bit 1
+    /// where one was refreshed. Blocks: for tests.
+    pub fn read_page_hierarchy(&self, ctx: &GpuContext) -> Result<Vec<u32>, crate::gpu::GpuError> {
+        let Some(tables) = &self.tables else {
+            return Ok(Vec::new());
+        };
+        let bytes = crate::gpu::read_buffer(
+            ctx,
+            &tables.hierarchy,
+            tables.hierarchy.size(),
+            "page hierarchy",
+        )?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
+    }
+
     fn read_table(
         &self,
         ctx: &GpuContext,

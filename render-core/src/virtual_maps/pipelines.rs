@@ -65,7 +65,7 @@ impl Pipelines {
         let mut tables_types = vec![uniform()];
         tables_types.extend([storage(false); 7]);
         tables_types.push(storage(true));
-        tables_types.push(storage(false));
+        tables_types.extend([storage(false); 2]);
         let tables_layout =
             bind_group_layout(device, "VirtualMaps::tables", compute, &tables_types);
         let float = wgpu::TextureSampleType::Float { filterable: false };

@@ -13,6 +13,8 @@ use crate::shadow_view::{LEVEL_PAGES, PAGE_TEXELS, SHADOW_FORMAT, VirtualSetting
 
 /// Entries of one level's table.
 pub(super) const LEVEL_ENTRIES: u32 = LEVEL_PAGES * LEVEL_PAGES;
+/// Cells of one level's hierarchy of page flags: mips 1 to 5 of its 32 x 32 pages.
+pub(super) const HIERARCHY_CELLS: u32 = 256 + 64 + 16 + 4 + 1;
 
 const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE;
 
@@ -33,6 +35,8 @@ pub(super) struct Tables {
     pub receiver_masks: wgpu::Buffer,
     /// When measuring: a bit per texel of each physical page that a tap reads.
     pub texel_bits: wgpu::Buffer,
+    /// Per level, the hierarchy of page flags (`tables.wgsl` `page_hierarchy`).
+    pub hierarchy: wgpu::Buffer,
     pub atlas: wgpu::Texture,
     pub atlas_view: wgpu::TextureView,
     pub readback: AsyncReadback,
@@ -98,6 +102,12 @@ impl Tables {
                 "VirtualMaps::texel_bits",
                 pages * u64::from(PAGE_TEXELS * PAGE_TEXELS / 8),
                 STORAGE,
+            ),
+            hierarchy: buffer(
+                device,
+                "VirtualMaps::hierarchy",
+                u64::from(settings.levels * HIERARCHY_CELLS) * 4,
+                STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
             ),
             atlas_view: atlas.create_view(&wgpu::TextureViewDescriptor::default()),
             atlas,

@@ -1,6 +1,7 @@
 // The page tables and the pool as the compute passes write them (group 1; virtual_maps/
-// passes.rs): per entry its flags, physical page and absolute page; per physical page its
-// entry; the frame's free pages, drawn pages and counters; the boxes that moved.
+// frame.rs): per entry its flags, physical page and absolute page; per physical page its
+// entry; the frame's free pages, drawn pages and counters; the boxes that moved; the
+// hierarchy of page flags.
 #import virtual_maps/pages.wgsl
 
 // Keep in sync with virtual_maps/counts.rs (the word offsets).
@@ -50,6 +51,49 @@ struct Counters {
 // Per entry, two words: a bit per block of the page (row by row, 8 x 8) that a visible
 // pixel's taps read this frame (the receiver mask; kept only when it is on).
 @group(1) @binding(9) var<storage, read_write> receiver_masks: array<atomic<u32>>;
+// The hierarchy of page flags (Unreal's HPB): per level, mips 1 to 5 of its 32 x 32 pages
+// (16 x 16 cells of 2 x 2 pages, 8 x 8 of 4 x 4, ..., one cell of all), each cell whether a
+// page under it is drawn whole this frame (HIERARCHY_DRAWN) or refreshed (HIERARCHY_REFRESHED),
+// by the page's place in its level's square. Cleared each frame, written by `tally_pages`,
+// read by the cull.
+@group(1) @binding(10) var<storage, read_write> page_hierarchy: array<atomic<u32>>;
+
+const HIERARCHY_MIPS: u32 = 5u;
+// Cells per level: 256 + 64 + 16 + 4 + 1.
+const HIERARCHY_CELLS: u32 = 341u;
+const HIERARCHY_DRAWN: u32 = 1u;
+const HIERARCHY_REFRESHED: u32 = 2u;
+
+// The word of cell `cell` (pages >> mip) of mip `mip` (1 to 5) of level `level`'s hierarchy:
+// after the cells of the finer mips, 1024 / 4 + ... + 1024 / 4^(mip - 1) of them.
+fn hierarchy_cell(level: u32, mip: u32, cell: vec2<i32>) -> u32 {
+    let side = u32(LEVEL_PAGES) >> mip;
+    let before = (1024u - (1024u >> (2u * (mip - 1u)))) / 3u;
+    return level * HIERARCHY_CELLS + before + u32(cell.y) * side + u32(cell.x);
+}
+
+// Whether a cell of mip `mip` under pages `first..=last` holds a page with one of `bits`.
+fn cells_hold(level: u32, mip: u32, first: vec2<i32>, last: vec2<i32>, bits: u32) -> bool {
+    let lo = first >> vec2<u32>(mip);
+    let hi = last >> vec2<u32>(mip);
+    for (var y = lo.y; y <= hi.y; y++) {
+        for (var x = lo.x; x <= hi.x; x++) {
+            if ((atomicLoad(&page_hierarchy[hierarchy_cell(level, mip, vec2<i32>(x, y))]) & bits) != 0u) {
+                return true;
+            }
+        }
+    }
+    return false;
+}
+
+// The finest mip whose cells under pages `first..=last` are at most 2 x 2.
+fn covering_mip(first: vec2<i32>, last: vec2<i32>) -> u32 {
+    var mip = 1u;
+    while (mip < HIERARCHY_MIPS && any((last >> vec2<u32>(mip)) - (first >> vec2<u32>(mip)) > vec2<i32>(1))) {
+        mip++;
+    }
+    return mip;
+}
 
 // Where level `level`'s square places a world point, texels (x right, y down the map); z:
 // the point's clip w (1 for the sun's levels; a face's distance along its axis).
