@@ -156,8 +156,7 @@ pub struct ViewArgs {
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub sun: Option<Vec3>,
     /// The light that casts the shadows: `sun`, or `point` (the scene's first point light;
-    /// `point:N` its Nth, from 0). Point lights cast shadow volumes and virtual maps (a
-    /// cube of pages).
+    /// `point:N` its Nth, from 0), which shadow volumes and virtual maps cast.
     #[arg(long, value_parser = light::parse_light, value_name = "LIGHT")]
     pub light: Option<light::LightArg>,
     /// Image size `WIDTHxHEIGHT` in pixels.
