@@ -10,8 +10,8 @@ use render_core::scene::{Scene, Sun};
 use render_core::shadow_view::{ShadowView, VirtualSettings};
 use shadowlab_tests::gpu;
 use shadowlab_tests::virtual_pages::{
-    Frame, Frames, MARKED, REFRESHED, RENDERED, RESIDENT, camera, entries_with, entry, scene,
-    settings, touched_entries,
+    Frame, Frames, MARKED, REFRESHED, RENDERED, RESIDENT, camera, entries_with, entry, level_texel,
+    scene, settings, touched_entries,
 };
 
 /// A page whose movable layer a moved box left stale (`virtual_maps/pages.wgsl`).
@@ -97,6 +97,44 @@ fn expected_hierarchy(views: &[ShadowView], flags: &[u32]) -> Vec<u32> {
     cells
 }
 
+/// The pages under the casters' boxes (widened by a texel) within each level's square of
+/// drawn and refreshed pages, summed over casters and levels: what the cull counts as
+/// `cull_pages_spanned`.
+fn spanned_pages(scene: &Scene, frame: &Frame) -> u32 {
+    let mut total = 0;
+    for (level, view) in frame.views.iter().enumerate() {
+        let (mut lo, mut hi) = ([i64::MAX; 2], [i64::MIN; 2]);
+        for y in 0..32 {
+            for x in 0..32 {
+                if frame.flags[entry(&frame.views, level, [x, y])] & (RENDERED | REFRESHED) != 0 {
+                    lo = [lo[0].min(x), lo[1].min(y)];
+                    hi = [hi[0].max(x), hi[1].max(y)];
+                }
+            }
+        }
+        if hi[0] < lo[0] {
+            continue; // The level draws nothing: the cull leaves it at once.
+        }
+        for instance in &scene.instances {
+            let b = instance.aabb_in_world;
+            let (mut t_lo, mut t_hi) = ([f64::MAX; 2], [f64::MIN; 2]);
+            for corner in b.corners() {
+                let t = level_texel(view, corner);
+                t_lo = [t_lo[0].min(t[0]), t_lo[1].min(t[1])];
+                t_hi = [t_hi[0].max(t[0]), t_hi[1].max(t[1])];
+            }
+            let page = |t: f64| ((t / 128.0).floor() as i64).clamp(-1, 32);
+            let span = |k: usize| {
+                let first = page(t_lo[k] - 1.0).max(0).max(lo[k]);
+                let last = page(t_hi[k] + 1.0).min(31).min(hi[k]);
+                (last - first + 1).max(0)
+            };
+            total += span(0) * span(1);
+        }
+    }
+    total as u32
+}
+
 #[test]
 fn a_moving_box_draws_only_itself_again_into_the_pages_it_touches() {
     let mut scene = scene(Sun::default());
@@ -143,6 +181,8 @@ fn a_moving_box_draws_only_itself_again_into_the_pages_it_touches() {
         .expect("reads back");
     assert_eq!(hierarchy, expected_hierarchy(&second.views, &second.flags));
     assert!(hierarchy.contains(&3), "cells over both kinds");
+    assert_eq!(q.cull_pages_spanned, spanned_pages(&scene, &second));
+    assert!(q.cull_flag_reads > 0, "{q:?}");
     let hits = marked.len() - new_pages.len() - refreshed.len();
     let rate = q.cache_hit_rate.expect("pages were marked");
     assert!(
@@ -165,6 +205,10 @@ fn a_moving_box_draws_only_itself_again_into_the_pages_it_touches() {
         (0, 0)
     );
     assert_eq!(third.pages.caster_pages, 0);
+    assert_eq!(
+        (third.pages.cull_pages_spanned, third.pages.cull_flag_reads),
+        (0, 0)
+    );
     assert_eq!(differing(&third.capture.shadow, &second.capture.shadow), 0);
 }
 

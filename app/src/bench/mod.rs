@@ -73,8 +73,9 @@ pub(crate) struct BenchRow {
     /// Median GPU ms per pass label (and depth: steps inside a pass are 1), in frame order.
     pub(crate) passes: Vec<(String, u32, f64)>,
     /// Virtual maps: the medians of pages marked, resident, drawn and refused, of the
-    /// texels drawn and the texels visible pixels read, and of the pages refreshed.
-    pub(crate) pages: Option<[f64; 7]>,
+    /// texels drawn and the texels visible pixels read, of the pages refreshed, and of the
+    /// cull's page flags under casters and flags and hierarchy cells it read.
+    pub(crate) pages: Option<[f64; 9]>,
     /// Virtual maps: the share of the measured frames' marked pages that the cache served
     /// (not drawn, not refused), over all of them.
     pub(crate) cache_hit_rate: Option<f64>,
@@ -418,7 +419,7 @@ pub(crate) fn summarise(setting: &str, method: &str, reports: &[(f64, FrameRepor
     }
 }
 
-fn pages_medians(reports: &[(f64, FrameReport)]) -> Option<[f64; 7]> {
+fn pages_medians(reports: &[(f64, FrameReport)]) -> Option<[f64; 9]> {
     let pages: Vec<_> = reports
         .iter()
         .filter_map(|(_, r)| r.virtual_pages)
@@ -443,6 +444,8 @@ fn pages_medians(reports: &[(f64, FrameReport)]) -> Option<[f64; 7]> {
         of(|p| Some(p.texels_rendered)),
         of(|p| p.texels_sampled),
         of(|p| Some(p.pages_refreshed.into())),
+        of(|p| Some(p.cull_pages_spanned.into())),
+        of(|p| Some(p.cull_flag_reads.into())),
     ])
 }
 

@@ -198,6 +198,11 @@ pub struct VirtualPages {
     /// (caster, page) pairs the receiver mask left out: the caster covers none of the
     /// page's blocks that pixels read.
     pub caster_pages_masked: u32,
+    /// The cull's work: the page flags under the casters' boxes (within each level's drawn
+    /// pages), which a walk page by page reads, and the page flags and cells of the hierarchy
+    /// of page flags it read walking through that hierarchy.
+    pub cull_pages_spanned: u32,
+    pub cull_flag_reads: u32,
     pub receiver_mask: bool,
     pub pool_pages: u32,
     pub pool_mib: f64,

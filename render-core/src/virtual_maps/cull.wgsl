@@ -1,7 +1,7 @@
 // Per-page caster culling (virtual_maps/frame.rs): each caster against the pages drawn this
 // frame at each level, through the level's square of drawn pages, the hierarchy of page flags
-// (`page_hierarchy`: the cells of the coarsest mip at most 2 x 2 under the caster's pages,
-// then blocks of 4 x 4 pages) and then page by page, and with the receiver mask on, against
+// (`page_hierarchy`: for a caster over more than a few pages, the cells of the coarsest mip
+// at most 2 x 2 under its pages, then blocks of 4 x 4 pages) and then page by page, and with the receiver mask on, against
 // the blocks of the page that pixels read (Unreal 5.6's receiver mask); a caster over any of
 // them gets one indirect draw with an instance per page, its (caster, entry) pairs listed for
 // the page shader (virtual_maps/draw.wgsl). x: instance, y: level.
@@ -38,6 +38,33 @@ fn blocks_read(e: u32, page: vec2<i32>, texels: vec4<f32>, masked: bool) -> bool
     return any((covered & read) != vec2<u32>(0u));
 }
 
+// The page flags and hierarchy cells this invocation read, for the counters.
+var<private> flag_reads: u32;
+
+// Whether a cell of mip `mip` under pages `first..=last` holds a page with one of `bits`.
+fn cells_hold(level: u32, mip: u32, first: vec2<i32>, last: vec2<i32>, bits: u32) -> bool {
+    let lo = first >> vec2<u32>(mip);
+    let hi = last >> vec2<u32>(mip);
+    for (var y = lo.y; y <= hi.y; y++) {
+        for (var x = lo.x; x <= hi.x; x++) {
+            flag_reads++;
+            if ((atomicLoad(&page_hierarchy[hierarchy_cell(level, mip, vec2<i32>(x, y))]) & bits) != 0u) {
+                return true;
+            }
+        }
+    }
+    return false;
+}
+
+// The finest mip whose cells under pages `first..=last` are at most 2 x 2.
+fn covering_mip(first: vec2<i32>, last: vec2<i32>) -> u32 {
+    var mip = 1u;
+    while (mip < HIERARCHY_MIPS && any((last >> vec2<u32>(mip)) - (first >> vec2<u32>(mip)) > vec2<i32>(1))) {
+        mip++;
+    }
+    return mip;
+}
+
 // What one caster asks of one level's pages.
 struct CasterPages {
     instance: u32,
@@ -55,42 +82,59 @@ struct CasterPages {
     partial: u32,
 }
 
-// The caster's pages, block by block of 4 x 4 pages where the hierarchy holds a wanted one:
-// counted (the mask's left-out pages flagged) when `base` is 0xffffffff, else listed as pairs
-// from `base`. Returns the pages it is drawn into.
+// Casters over at most this many pages walk them one by one: the hierarchy would read more.
+const SMALL_SPAN: i32 = 8;
+
+// The caster's pages `first..=last` one by one: counted (the mask's left-out pages flagged)
+// when `base` is 0xffffffff, else listed as pairs from `base + done`. Returns the pages it is
+// drawn into.
+fn visit_range(c: CasterPages, first: vec2<i32>, last: vec2<i32>, base: u32, done: u32) -> u32 {
+    var count = 0u;
+    for (var y = first.y; y <= last.y; y++) {
+        for (var x = first.x; x <= last.x; x++) {
+            let page = vec2<i32>(x, y);
+            let e = entry_of(c.level, page);
+            flag_reads++;
+            if (!page_wanted(e, c.wanted)) {
+                continue;
+            }
+            let read = blocks_read(e, page, c.texels, c.masked);
+            if (base == 0xffffffffu) {
+                if (read) {
+                    count++;
+                } else {
+                    atomicOr(&page_flags[e], c.partial);
+                    atomicAdd(&counters.mask_culled, 1u);
+                }
+            } else if (read) {
+                pairs[base + done + count] = vec2<u32>(c.instance, e | c.layer);
+                count++;
+            }
+        }
+    }
+    return count;
+}
+
+// The caster's pages: a few one by one, more block by block of 4 x 4 pages where the
+// hierarchy holds a wanted one (`visit_range`'s counting or listing).
 fn visit_pages(c: CasterPages, base: u32) -> u32 {
+    let span = c.last - c.first + 1;
+    if (span.x * span.y <= SMALL_SPAN) {
+        return visit_range(c, c.first, c.last, base, 0u);
+    }
     var count = 0u;
     let lo = c.first >> vec2<u32>(2u);
     let hi = c.last >> vec2<u32>(2u);
     for (var by = lo.y; by <= hi.y; by++) {
         for (var bx = lo.x; bx <= hi.x; bx++) {
             let block = vec2<i32>(bx, by);
+            flag_reads++;
             if ((atomicLoad(&page_hierarchy[hierarchy_cell(c.level, 2u, block)]) & c.hierarchy_bits) == 0u) {
                 continue;
             }
             let first = max(c.first, block * 4);
             let last = min(c.last, block * 4 + 3);
-            for (var y = first.y; y <= last.y; y++) {
-                for (var x = first.x; x <= last.x; x++) {
-                    let page = vec2<i32>(x, y);
-                    let e = entry_of(c.level, page);
-                    if (!page_wanted(e, c.wanted)) {
-                        continue;
-                    }
-                    let read = blocks_read(e, page, c.texels, c.masked);
-                    if (base == 0xffffffffu) {
-                        if (read) {
-                            count++;
-                        } else {
-                            atomicOr(&page_flags[e], c.partial);
-                            atomicAdd(&counters.mask_culled, 1u);
-                        }
-                    } else if (read) {
-                        pairs[base + count] = vec2<u32>(c.instance, e | c.layer);
-                        count++;
-                    }
-                }
-            }
+            count += visit_range(c, first, last, base, count);
         }
     }
     return count;
@@ -132,11 +176,16 @@ fn cull_pages(@builtin(global_invocation_id) id: vec3<u32>) {
     let box = texel_pages(level, c.texels);
     c.first = max(box.xy, drawn.xy);
     c.last = min(box.zw, drawn.zw);
-    if (any(c.first > c.last)
-        || !cells_hold(level, covering_mip(c.first, c.last), c.first, c.last, c.hierarchy_bits)) {
+    if (any(c.first > c.last)) {
         return;
     }
-    let count = visit_pages(c, 0xffffffffu);
+    // What walking the pages one by one would read, and what the hierarchy's walk reads.
+    let span = c.last - c.first + 1;
+    atomicAdd(&counters.cull_spanned, u32(span.x * span.y));
+    let held = span.x * span.y <= SMALL_SPAN
+        || cells_hold(level, covering_mip(c.first, c.last), c.first, c.last, c.hierarchy_bits);
+    let count = select(0u, visit_pages(c, 0xffffffffu), held);
+    atomicAdd(&counters.cull_reads, flag_reads);
     if (count == 0u) {
         return;
     }

@@ -474,6 +474,8 @@ impl ShadowTechnique for VirtualTechnique {
                 pages_rendered: c.rendered,
                 pages_refreshed: c.refreshed,
                 caster_pages_masked: c.mask_culled,
+                cull_pages_spanned: c.cull_spanned,
+                cull_flag_reads: c.cull_reads,
                 receiver_mask: self.settings.receiver_mask,
                 pages_refused: c.refused,
                 cache_hit_rate: None,

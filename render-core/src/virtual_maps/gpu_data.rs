@@ -46,8 +46,10 @@ pub(super) mod word {
     pub const TEXELS_SAMPLED: usize = RECTS + 4 * LEVEL_SLOTS;
     pub const REFRESHED: usize = TEXELS_SAMPLED + 1;
     pub const MASK_CULLED: usize = REFRESHED + 2;
+    pub const CULL_SPANNED: usize = MASK_CULLED + 1;
+    pub const CULL_READS: usize = CULL_SPANNED + 1;
     /// Words in all.
-    pub const COUNT: usize = MASK_CULLED + 1;
+    pub const COUNT: usize = CULL_READS + 1;
 }
 
 /// The pages' counts of one frame, as the GPU left them.
@@ -60,6 +62,9 @@ pub(super) struct FrameCounts {
     pub refreshed: u32,
     /// (caster, page) pairs the receiver mask left out.
     pub mask_culled: u32,
+    /// The cull: page flags under the casters' boxes, and the flags and hierarchy cells read.
+    pub cull_spanned: u32,
+    pub cull_reads: u32,
     pub refused: u32,
     /// Free physical pages before allocation (after the eviction, where one ran).
     pub free: u32,
@@ -86,6 +91,8 @@ impl FrameCounts {
             rendered: words[word::RENDERED],
             refreshed: words[word::REFRESHED],
             mask_culled: words[word::MASK_CULLED],
+            cull_spanned: words[word::CULL_SPANNED],
+            cull_reads: words[word::CULL_READS],
             refused: words[word::REFUSED],
             free: words[word::FREE],
             pairs: words[word::PAIRS],

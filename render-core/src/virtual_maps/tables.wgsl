@@ -36,6 +36,10 @@ struct Counters {
     listed: atomic<u32>,
     // (caster, page) pairs the receiver mask left out.
     mask_culled: atomic<u32>,
+    // The cull: the flags of the pages under casters' boxes (within the drawn pages' square),
+    // which a walk page by page would read, and the page flags and hierarchy cells it read.
+    cull_spanned: atomic<u32>,
+    cull_reads: atomic<u32>,
 }
 
 @group(1) @binding(1) var<storage, read_write> page_flags: array<atomic<u32>>;
@@ -70,29 +74,6 @@ fn hierarchy_cell(level: u32, mip: u32, cell: vec2<i32>) -> u32 {
     let side = u32(LEVEL_PAGES) >> mip;
     let before = (1024u - (1024u >> (2u * (mip - 1u)))) / 3u;
     return level * HIERARCHY_CELLS + before + u32(cell.y) * side + u32(cell.x);
-}
-
-// Whether a cell of mip `mip` under pages `first..=last` holds a page with one of `bits`.
-fn cells_hold(level: u32, mip: u32, first: vec2<i32>, last: vec2<i32>, bits: u32) -> bool {
-    let lo = first >> vec2<u32>(mip);
-    let hi = last >> vec2<u32>(mip);
-    for (var y = lo.y; y <= hi.y; y++) {
-        for (var x = lo.x; x <= hi.x; x++) {
-            if ((atomicLoad(&page_hierarchy[hierarchy_cell(level, mip, vec2<i32>(x, y))]) & bits) != 0u) {
-                return true;
-            }
-        }
-    }
-    return false;
-}
-
-// The finest mip whose cells under pages `first..=last` are at most 2 x 2.
-fn covering_mip(first: vec2<i32>, last: vec2<i32>) -> u32 {
-    var mip = 1u;
-    while (mip < HIERARCHY_MIPS && any((last >> vec2<u32>(mip)) - (first >> vec2<u32>(mip)) > vec2<i32>(1))) {
-        mip++;
-    }
-    return mip;
 }
 
 // Where level `level`'s square places a world point, texels (x right, y down the map); z:
