@@ -14,7 +14,7 @@ use render_core::geom::Camera;
 use render_core::gpu::GpuContext;
 use render_core::metrics::ShadowError;
 use render_core::scene::{Instance, Mesh, Scene, Sun};
-use render_core::truth::TruthCache;
+use render_core::truth::{SurfacePoint, TruthCache};
 
 pub use packed::{glb_bytes, packed_glb, packed_gltf};
 
@@ -122,6 +122,29 @@ pub fn translated(scene: &Scene, offset: Vec3) -> Scene {
             .transformed(&inst.world_from_local);
     }
     Scene::new("test:far-away", scene.meshes.clone(), instances, scene.sun)
+}
+
+/// Where the point-light tests put their light: beside and above the box of
+/// [`box_on_plane`]`(20.0, (2, 3, 1.5), 1.0)` (1 m above the ground at the origin).
+pub const LIGHT_BESIDE_THE_BOX: Vec3 = Vec3::new(3.0, 6.0, 0.5);
+
+/// Above and beside that box, [`LIGHT_BESIDE_THE_BOX`] in the picture.
+pub fn overlooking_the_box() -> Camera {
+    Camera::look_at(
+        Vec3::new(-10.0, 7.0, 10.0),
+        Vec3::new(0.0, 2.0, 0.0),
+        60f32.to_radians(),
+        0.1,
+        200.0,
+    )
+}
+
+/// A point of the ground (y 0, facing up) at `x`, `z`.
+pub fn ground_point(x: f32, z: f32) -> SurfacePoint {
+    SurfacePoint {
+        position: [x, 0.0, z, 1.0],
+        normal: [0.0, 1.0, 0.0, 0.0],
+    }
 }
 
 /// Street level in city-small, looking east down a street: the view the culling tests share.

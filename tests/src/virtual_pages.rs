@@ -2,11 +2,11 @@
 //! keeps each frame's pages, flags, picture and levels, and the page-table entries a world
 //! box touches, computed on the CPU as `virtual_maps/tables.wgsl` finds them.
 
-use glam::{DVec3, Vec3};
+use glam::{DVec3, Mat4, Vec3};
 use render_core::frame::{
     FrameCapture, FrameInput, FrameRenderer, FrameReport, FrameSettings, ShadowSetup,
 };
-use render_core::geom::Camera;
+use render_core::geom::{Aabb, Camera};
 use render_core::scene::{Mobility, Scene, Sun};
 use render_core::scene_gpu::SceneGpu;
 use render_core::shadow_view::{LEVEL_PAGES, PAGE_TEXELS, ShadowView, VirtualSettings};
@@ -95,6 +95,42 @@ impl Frames {
             views: self.renderer.last_views().to_vec(),
         }
     }
+}
+
+impl Frames {
+    /// Moves the box (instance 1) 0.9 m along x and 0.4 m along z, across page borders; its
+    /// old and new world bounds.
+    pub fn move_box(&mut self, scene: &mut Scene) -> [Aabb; 2] {
+        let old = scene.instances[1].aabb_in_world;
+        let moved =
+            Mat4::from_translation(Vec3::new(0.9, 0.0, 0.4)) * scene.instances[1].world_from_local;
+        scene.set_world_from_local(1, moved);
+        self.scene_gpu.update_instances(gpu(), scene, &[1]);
+        [old, scene.instances[1].aabb_in_world]
+    }
+}
+
+/// Checks that `second` drew again exactly the marked pages that the moved box `touched`
+/// (sorted entries) or that were not resident in `first`, and released exactly the resident
+/// pages it touched.
+pub fn assert_drawn_again_exactly(first: &Frame, second: &Frame, touched: &[usize]) {
+    let resident_before = entries_with(&first.flags, RESIDENT);
+    let expected: Vec<usize> = entries_with(&second.flags, MARKED)
+        .into_iter()
+        .filter(|e| touched.binary_search(e).is_ok() || resident_before.binary_search(e).is_err())
+        .collect();
+    assert!(!expected.is_empty());
+    assert_eq!(entries_with(&second.flags, RENDERED), expected);
+    let invalidated = resident_before
+        .iter()
+        .filter(|e| touched.binary_search(e).is_ok())
+        .count() as u32;
+    assert_eq!(second.pages.pages_invalidated, invalidated);
+    assert!(
+        second.pages.pages_rendered < second.pages.pages_marked,
+        "{:?}",
+        second.pages
+    );
 }
 
 /// The entries whose flags hold `bit`.

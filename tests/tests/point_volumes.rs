@@ -10,12 +10,12 @@ use render_core::metrics::ShadowError;
 use render_core::scene::{PointShadow, Scene, ShadowLight, Sun, load_builtin};
 use render_core::truth::{ExactShadow, SurfacePoint, TruthCache};
 use render_core::volumes::{VolumeClamp, VolumePassChoice};
-use shadowlab_tests::{against_truth, box_on_plane, gpu, render};
+use shadowlab_tests::{
+    LIGHT_BESIDE_THE_BOX, against_truth, box_on_plane, gpu, ground_point, overlooking_the_box,
+    render,
+};
 
 const SIZE: (u32, u32) = (320, 240);
-/// The light, beside and above the box (2 x 3 x 1.5 m, 1 m above the ground at the origin).
-const LIGHT: Vec3 = Vec3::new(3.0, 6.0, 0.5);
-
 fn scene() -> Scene {
     box_on_plane(20.0, Vec3::new(2.0, 3.0, 1.5), 1.0, Sun::default())
 }
@@ -25,7 +25,7 @@ fn point_volumes(method: Method, clamp: VolumeClamp, pass: VolumePassChoice) -> 
         setup: ShadowSetup::Volumes,
         method,
         point_light: Some(PointShadow {
-            position: LIGHT,
+            position: LIGHT_BESIDE_THE_BOX,
             intensity_cd: 2.0e6,
         }),
         ..FrameSettings::default()
@@ -37,17 +37,6 @@ fn point_volumes(method: Method, clamp: VolumeClamp, pass: VolumePassChoice) -> 
 
 fn standard() -> FrameSettings {
     point_volumes(Method::None, VolumeClamp::None, VolumePassChoice::Auto)
-}
-
-/// Above and beside the box, the light in the picture.
-fn overlooking() -> Camera {
-    Camera::look_at(
-        Vec3::new(-10.0, 7.0, 10.0),
-        Vec3::new(0.0, 2.0, 0.0),
-        60f32.to_radians(),
-        0.1,
-        200.0,
-    )
 }
 
 /// One frame: its error against the exact shadow of the point light, the light at `points`
@@ -72,13 +61,6 @@ fn exact_points(camera: &Camera) -> (Vec<SurfacePoint>, usize) {
     (exact.points.clone(), shadowed)
 }
 
-fn ground(x: f32, z: f32) -> SurfacePoint {
-    SurfacePoint {
-        position: [x, 0.0, z, 1.0],
-        normal: [0.0, 1.0, 0.0, 0.0],
-    }
-}
-
 #[allow(clippy::float_cmp, reason = "hard shadows are exactly 0 or 1")]
 fn differing(a: &[f32], b: &[f32]) -> usize {
     a.iter().zip(b).filter(|(a, b)| a != b).count()
@@ -86,18 +68,18 @@ fn differing(a: &[f32], b: &[f32]) -> usize {
 
 #[test]
 fn a_point_light_in_the_view_casts_the_boxs_exact_shadow() {
-    let camera = overlooking();
+    let camera = overlooking_the_box();
     let (points, shadowed) = exact_points(&camera);
     assert!(shadowed > 500, "{shadowed} shadowed points");
     // The ground where the ray from the light through the box's centre lands; under the
     // light, and far out on its side.
     let centre = Vec3::new(0.0, 2.5, 0.0);
-    let t = LIGHT.y / (LIGHT.y - centre.y);
-    let behind = LIGHT + (centre - LIGHT) * t;
+    let t = LIGHT_BESIDE_THE_BOX.y / (LIGHT_BESIDE_THE_BOX.y - centre.y);
+    let behind = LIGHT_BESIDE_THE_BOX + (centre - LIGHT_BESIDE_THE_BOX) * t;
     let known = [
-        ground(behind.x, behind.z),
-        ground(LIGHT.x, LIGHT.z),
-        ground(8.0, 6.0),
+        ground_point(behind.x, behind.z),
+        ground_point(LIGHT_BESIDE_THE_BOX.x, LIGHT_BESIDE_THE_BOX.z),
+        ground_point(8.0, 6.0),
     ];
     let (error, light, report) = frame(&camera, &standard(), &known);
     assert_eq!(report.shadow_failure, None);
@@ -167,12 +149,12 @@ fn the_camera_in_a_point_lights_shadow_counts_the_box_z_fail() {
 
 #[test]
 fn shadow_maps_say_they_cannot_cast_a_point_lights_shadows() {
-    let camera = overlooking();
+    let camera = overlooking_the_box();
     let settings = FrameSettings {
         setup: ShadowSetup::Single,
         ..standard()
     };
-    let (_, light, report) = frame(&camera, &settings, &[ground(-2.1, -0.4)]);
+    let (_, light, report) = frame(&camera, &settings, &[ground_point(-2.1, -0.4)]);
     let failure = report.shadow_failure.expect("a failure is reported");
     assert!(failure.contains("--shadow volumes"), "{failure}");
     assert_eq!(light, [1.0], "no shadows drawn rather than the sun's");

@@ -4,16 +4,16 @@
 //! cases (sky only, a camera cut, far from the origin, the sun at the zenith and 1 degree up,
 //! a 1 m scene) give the exact shadow.
 
-use glam::{Mat4, Vec3};
+use glam::Vec3;
 use render_core::geom::Camera;
 use render_core::scene::{Scene, Sun};
 use render_core::shadow_view::VirtualSettings;
 use render_core::technique::VirtualPages;
 use shadowlab_tests::virtual_pages::{
-    Frames, MARKED, Marking, RENDERED, RESIDENT, SIZE, box_scene_normal, camera, entries_with,
-    scene, settings, touched_entries,
+    Frames, MARKED, Marking, RENDERED, SIZE, assert_drawn_again_exactly, box_scene_normal, camera,
+    entries_with, scene, settings, touched_entries,
 };
-use shadowlab_tests::{against_truth, box_on_plane, gpu, translated};
+use shadowlab_tests::{against_truth, box_on_plane, translated};
 
 #[test]
 fn a_static_scene_draws_no_page_in_its_second_frame_and_its_picture_stays() {
@@ -79,12 +79,7 @@ fn moving_a_box_draws_again_exactly_the_pages_its_old_and_new_bounds_touch() {
     let settings = settings(VirtualSettings::default());
     let mut frames = Frames::new(&scene);
     let first = frames.frame(&scene, &camera(), &settings);
-    let old = scene.instances[1].aabb_in_world;
-    let moved =
-        Mat4::from_translation(Vec3::new(0.9, 0.0, 0.4)) * scene.instances[1].world_from_local;
-    scene.set_world_from_local(1, moved);
-    frames.scene_gpu.update_instances(gpu(), &scene, &[1]);
-    let new = scene.instances[1].aabb_in_world;
+    let [old, new] = frames.move_box(&mut scene);
     let second = frames.frame(&scene, &camera(), &settings);
     assert_eq!(second.pages.moved_boxes, 2);
     let (before, after) = (
@@ -96,26 +91,7 @@ fn moving_a_box_draws_again_exactly_the_pages_its_old_and_new_bounds_touch() {
     let mut touched = [before, after].concat();
     touched.sort_unstable();
     touched.dedup();
-    let resident_before = entries_with(&first.flags, RESIDENT);
-    let marked_now = entries_with(&second.flags, MARKED);
-    // Drawn again: marked pages that the boxes touched or that were not there before.
-    let expected: Vec<usize> = marked_now
-        .iter()
-        .copied()
-        .filter(|e| touched.binary_search(e).is_ok() || resident_before.binary_search(e).is_err())
-        .collect();
-    assert!(!expected.is_empty());
-    assert_eq!(entries_with(&second.flags, RENDERED), expected);
-    let invalidated = resident_before
-        .iter()
-        .filter(|e| touched.binary_search(e).is_ok())
-        .count() as u32;
-    assert_eq!(second.pages.pages_invalidated, invalidated);
-    assert!(
-        second.pages.pages_rendered < second.pages.pages_marked,
-        "{:?}",
-        second.pages
-    );
+    assert_drawn_again_exactly(&first, &second, &touched);
     // No stale shadow: the picture equals a fresh renderer's of the moved scene.
     let fresh = Frames::new(&scene).frame(&scene, &camera(), &settings);
     assert_eq!(second.capture.shadow, fresh.capture.shadow);

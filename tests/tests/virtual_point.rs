@@ -4,21 +4,19 @@
 //! a moving box draws again exactly the pages its old and new bounds touch in every face; a
 //! moving light draws every page; a pool too small falls back to coarser mips, no hole.
 
-use glam::{DVec4, Mat4, Vec3};
+use glam::{DVec4, Vec3};
 use render_core::frame::FrameSettings;
-use render_core::geom::{Camera, NEAR_M};
+use render_core::geom::NEAR_M;
 use render_core::scene::{PointShadow, Scene, Sun};
 use render_core::shadow_view::{LEVEL_PAGES, PAGE_TEXELS, ShadowView, VirtualSettings};
-use render_core::truth::SurfacePoint;
 use shadowlab_tests::virtual_pages::{
-    Frames, MARKED, RENDERED, RESIDENT, entries_with, scene, settings,
+    Frames, MARKED, assert_drawn_again_exactly, entries_with, scene, settings,
 };
-use shadowlab_tests::{against_truth, gpu};
+use shadowlab_tests::{
+    LIGHT_BESIDE_THE_BOX, against_truth, gpu, ground_point, overlooking_the_box,
+};
 
 const SIZE: (u32, u32) = (256, 192);
-/// Beside and above the box (2 x 3 x 1.5 m, 1 m above the ground at the origin), in the view.
-const LIGHT: Vec3 = Vec3::new(3.0, 6.0, 0.5);
-
 fn point_settings(v: VirtualSettings, light: Vec3) -> FrameSettings {
     FrameSettings {
         point_light: Some(PointShadow {
@@ -26,24 +24,6 @@ fn point_settings(v: VirtualSettings, light: Vec3) -> FrameSettings {
             intensity_cd: 2.0e6,
         }),
         ..settings(v)
-    }
-}
-
-/// Above and beside the box, the light in the picture.
-fn overlooking() -> Camera {
-    Camera::look_at(
-        Vec3::new(-10.0, 7.0, 10.0),
-        Vec3::new(0.0, 2.0, 0.0),
-        60f32.to_radians(),
-        0.1,
-        200.0,
-    )
-}
-
-fn ground(x: f32, z: f32) -> SurfacePoint {
-    SurfacePoint {
-        position: [x, 0.0, z, 1.0],
-        normal: [0.0, 1.0, 0.0, 0.0],
     }
 }
 
@@ -100,15 +80,17 @@ fn touched_face_entries(views: &[ShadowView], lo: Vec3, hi: Vec3) -> Vec<usize> 
 #[test]
 fn a_point_light_in_the_view_casts_the_exact_shadow_through_its_cube_of_pages() {
     let scene = scene(Sun::default());
-    let camera = overlooking();
+    let camera = overlooking_the_box();
     // The ground where the ray from the light through the box's centre lands; under the
     // light, and far out on its side.
     let centre = Vec3::new(0.0, 2.5, 0.0);
-    let behind = LIGHT + (centre - LIGHT) * (LIGHT.y / (LIGHT.y - centre.y));
+    let behind = LIGHT_BESIDE_THE_BOX
+        + (centre - LIGHT_BESIDE_THE_BOX)
+            * (LIGHT_BESIDE_THE_BOX.y / (LIGHT_BESIDE_THE_BOX.y - centre.y));
     let known = [
-        ground(behind.x, behind.z),
-        ground(LIGHT.x, LIGHT.z),
-        ground(8.0, 6.0),
+        ground_point(behind.x, behind.z),
+        ground_point(LIGHT_BESIDE_THE_BOX.x, LIGHT_BESIDE_THE_BOX.z),
+        ground_point(8.0, 6.0),
     ];
     for v in [
         VirtualSettings::default(),
@@ -118,7 +100,7 @@ fn a_point_light_in_the_view_casts_the_exact_shadow_through_its_cube_of_pages() 
             ..VirtualSettings::default()
         },
     ] {
-        let settings = point_settings(v, LIGHT);
+        let settings = point_settings(v, LIGHT_BESIDE_THE_BOX);
         let (error, shadowed, renderer, report) = against_truth(&scene, &camera, &settings, SIZE);
         assert_eq!(report.shadow_failure, None);
         assert!(shadowed > 500, "{shadowed} exact shadowed points");
@@ -149,7 +131,7 @@ fn a_light_touching_the_box_casts_its_exact_shadow_from_every_face_the_box_cross
     // over the whole square.
     let light = Vec3::new(1.02, 2.5, 0.0);
     let scene = scene(Sun::default());
-    let camera = overlooking();
+    let camera = overlooking_the_box();
     let settings = point_settings(VirtualSettings::default(), light);
     let (error, shadowed, renderer, report) = against_truth(&scene, &camera, &settings, SIZE);
     assert!(
@@ -162,7 +144,11 @@ fn a_light_touching_the_box_casts_its_exact_shadow_from_every_face_the_box_cross
     let lit = renderer
         .light_at(
             gpu(),
-            &[ground(0.0, 0.0), ground(1.5, 0.0), ground(8.0, 3.0)],
+            &[
+                ground_point(0.0, 0.0),
+                ground_point(1.5, 0.0),
+                ground_point(8.0, 3.0),
+            ],
         )
         .expect("read back");
     assert_eq!(lit, [0.0, 1.0, 1.0]);
@@ -173,8 +159,8 @@ fn a_light_touching_the_box_casts_its_exact_shadow_from_every_face_the_box_cross
 #[test]
 fn a_static_point_light_draws_no_page_in_the_second_frame_and_a_moved_one_every_page() {
     let scene = scene(Sun::default());
-    let camera = overlooking();
-    let settings = point_settings(VirtualSettings::default(), LIGHT);
+    let camera = overlooking_the_box();
+    let settings = point_settings(VirtualSettings::default(), LIGHT_BESIDE_THE_BOX);
     let mut frames = Frames::new(&scene);
     let first = frames.frame(&scene, &camera, &settings);
     let second = frames.frame(&scene, &camera, &settings);
@@ -194,7 +180,10 @@ fn a_static_point_light_draws_no_page_in_the_second_frame_and_a_moved_one_every_
     assert_eq!(second.pages.cache_hit_rate, Some(1.0));
     assert_eq!(first.capture.shadow, second.capture.shadow);
     // The light moves 10 cm: every page is drawn again.
-    let moved = point_settings(VirtualSettings::default(), LIGHT + Vec3::X * 0.1);
+    let moved = point_settings(
+        VirtualSettings::default(),
+        LIGHT_BESIDE_THE_BOX + Vec3::X * 0.1,
+    );
     let third = frames.frame(&scene, &camera, &moved);
     assert!(third.pages.all_invalidated);
     assert_eq!(third.pages.pages_rendered, third.pages.pages_marked);
@@ -205,16 +194,11 @@ fn a_static_point_light_draws_no_page_in_the_second_frame_and_a_moved_one_every_
 #[test]
 fn moving_a_box_draws_again_exactly_the_face_pages_its_old_and_new_bounds_touch() {
     let mut scene = scene(Sun::default());
-    let camera = overlooking();
-    let settings = point_settings(VirtualSettings::default(), LIGHT);
+    let camera = overlooking_the_box();
+    let settings = point_settings(VirtualSettings::default(), LIGHT_BESIDE_THE_BOX);
     let mut frames = Frames::new(&scene);
     let first = frames.frame(&scene, &camera, &settings);
-    let old = scene.instances[1].aabb_in_world;
-    let moved =
-        Mat4::from_translation(Vec3::new(0.9, 0.0, 0.4)) * scene.instances[1].world_from_local;
-    scene.set_world_from_local(1, moved);
-    frames.scene_gpu.update_instances(gpu(), &scene, &[1]);
-    let new = scene.instances[1].aabb_in_world;
+    let [old, new] = frames.move_box(&mut scene);
     let second = frames.frame(&scene, &camera, &settings);
     assert_eq!(second.pages.moved_boxes, 2);
     let mut touched = [
@@ -224,19 +208,7 @@ fn moving_a_box_draws_again_exactly_the_face_pages_its_old_and_new_bounds_touch(
     .concat();
     touched.sort_unstable();
     touched.dedup();
-    let resident_before = entries_with(&first.flags, RESIDENT);
-    let expected: Vec<usize> = entries_with(&second.flags, MARKED)
-        .into_iter()
-        .filter(|e| touched.binary_search(e).is_ok() || resident_before.binary_search(e).is_err())
-        .collect();
-    assert!(!expected.is_empty());
-    assert_eq!(entries_with(&second.flags, RENDERED), expected);
-    let invalidated = resident_before
-        .iter()
-        .filter(|e| touched.binary_search(e).is_ok())
-        .count() as u32;
-    assert_eq!(second.pages.pages_invalidated, invalidated);
-    assert!(second.pages.pages_rendered < second.pages.pages_marked);
+    assert_drawn_again_exactly(&first, &second, &touched);
     let fresh = Frames::new(&scene).frame(&scene, &camera, &settings);
     assert_eq!(second.capture.shadow, fresh.capture.shadow);
     assert_ne!(first.capture.shadow, second.capture.shadow);
@@ -251,9 +223,9 @@ fn a_pool_too_small_for_a_point_light_falls_back_to_coarser_mips_and_leaves_no_h
             lod_bias: -2.0,
             ..VirtualSettings::default()
         },
-        LIGHT,
+        LIGHT_BESIDE_THE_BOX,
     );
-    let frame = Frames::new(&scene).frame(&scene, &overlooking(), &settings);
+    let frame = Frames::new(&scene).frame(&scene, &overlooking_the_box(), &settings);
     let p = frame.pages;
     assert!(p.pages_refused > 0, "{p:?}");
     assert!(p.pages_resident <= 32, "{p:?}");

@@ -4,7 +4,7 @@
 //! the picture equals a full re-render with one layer. A page that goes stale while no pixel
 //! reads it is drawn again when one does.
 
-use glam::{Mat4, Vec3};
+use glam::Vec3;
 use render_core::geom::Camera;
 use render_core::scene::{Scene, Sun};
 use render_core::shadow_view::{ShadowView, VirtualSettings};
@@ -27,12 +27,7 @@ fn apart() -> VirtualSettings {
 /// Moves the box (instance 1) 0.9 m along x and 0.4 m along z, across page borders; returns
 /// the page-table entries its old and new bounds touch.
 fn move_box(frames: &mut Frames, scene: &mut Scene, views: &[ShadowView]) -> Vec<usize> {
-    let old = scene.instances[1].aabb_in_world;
-    let moved =
-        Mat4::from_translation(Vec3::new(0.9, 0.0, 0.4)) * scene.instances[1].world_from_local;
-    scene.set_world_from_local(1, moved);
-    frames.scene_gpu.update_instances(gpu(), scene, &[1]);
-    let new = scene.instances[1].aabb_in_world;
+    let [old, new] = frames.move_box(scene);
     let (before, after) = (
         touched_entries(views, old.min, old.max),
         touched_entries(views, new.min, new.max),
