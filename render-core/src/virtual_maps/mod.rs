@@ -3,18 +3,21 @@
 //! 128-texel pages centred on the camera, level k's texels 2^k times the finest. Only the
 //! pages that visible pixels read are given physical pages of an atlas, and only those drawn;
 //! drawn pages stay cached across frames until something moves through them or the light
-//! moves.
+//! moves. A point light takes the same path with its cube as the levels: six faces, each a
+//! chain of mips from 4096 texels square down to one page.
 //!
 //! ```text
 //! prepare   the levels: a shadow view each (geom::fit_clipmap_level), on a texel grid fixed
-//!           in light space, so a page keeps its place as the camera moves
+//!           in light space, so a page keeps its place as the camera moves; or a point
+//!           light's faces and their mips (frame.rs `point_views`)
 //! draw      in compute, no readback (allocate.wgsl, mark.wgsl, cull.wgsl): moved boxes
 //!           invalidate their pages; pages that left their square or were invalidated are
 //!           released; each visible receiver pixel marks the pages its PCF taps read at the
 //!           level resolution matching picks; marked pages get physical pages (where the pool
 //!           runs out, cached pages nobody marked are evicted, and the pixels whose pages are
 //!           still refused mark the coarsest level's, which take pages kept back for them);
-//!           each caster against the pages drawn this frame; then one pass over the atlas (draw.wgsl):
+//!           each caster against the pages drawn this frame, through the hierarchy of page
+//!           flags; then one pass over the atlas (draw.wgsl):
 //!           each drawn page cleared, each (caster, page) pair drawn with clip distances at the
 //!           page's edges, by indirect draws
 //! light     light.wgsl: the matched level, or the first coarser one whose pages are there
