@@ -57,8 +57,9 @@ impl Family {
             ),
             Self::Volumes | Self::Virtual => None,
             Self::Lights => Some(
-                "`--light point` is for shadow volumes and virtual maps: the many-lights technique shadows every \
-                 light of the scene, and drops the one light in place of the sun",
+                "`--light point` is for shadow volumes and virtual maps: the many-lights \
+                 technique shadows every light of the scene, and drops the one light in place of \
+                 the sun",
             ),
         }
     }

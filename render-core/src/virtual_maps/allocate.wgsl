@@ -4,8 +4,8 @@
 // pages, all but a few kept back; where the pool ran out, cached pages no pixel marked evicted
 // and the refused entries given pages again; (the refused pixels' fallback marks); the
 // fallback pages given the pages kept back; the frame's counts, the drawn pages' list,
-// squares and hierarchy, and the clears' draw arguments. No readback: the CPU learns the counts a frame or
-// more later.
+// squares and hierarchy, and the clears' draw arguments. No readback: the CPU learns the
+// counts a frame or more later.
 #import virtual_maps/tables.wgsl
 
 // x: box, y: level. Every entry whose page the box covers is invalid this frame, or, where
@@ -156,7 +156,8 @@ fn allocate_refused(@builtin(global_invocation_id) id: vec3<u32>) {
 @compute @workgroup_size(64)
 fn allocate_fallback(@builtin(global_invocation_id) id: vec3<u32>) {
     let e = (chain_levels(id.y).y - 1u) * LEVEL_ENTRIES + id.x;
-    if (id.x < LEVEL_ENTRIES && id.y < chain_count() && atomicLoad(&counters.first_refused) > 0u && wants_page(e)) {
+    if (id.x < LEVEL_ENTRIES && id.y < chain_count()
+        && atomicLoad(&counters.first_refused) > 0u && wants_page(e)) {
         take_page(e, 0u);
     }
 }

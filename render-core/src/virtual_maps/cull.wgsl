@@ -1,10 +1,11 @@
 // Per-page caster culling (virtual_maps/frame.rs): each caster against the pages drawn this
-// frame at each level, through the level's square of drawn pages, the hierarchy of page flags
-// (`page_hierarchy`: for a caster over more than a few pages, the cells of the coarsest mip
-// at most 2 x 2 under its pages, then blocks of 4 x 4 pages) and then page by page, and with the receiver mask on, against
-// the blocks of the page that pixels read (Unreal 5.6's receiver mask); a caster over any of
-// them gets one indirect draw with an instance per page, its (caster, entry) pairs listed for
-// the page shader (virtual_maps/draw.wgsl). x: instance, y: level.
+// frame at each level, through the level's square of drawn pages, the hierarchy of page
+// flags (`page_hierarchy`: for a caster over more than a few pages, the cells of the coarsest
+// mip at most 2 x 2 under its pages, then blocks of 4 x 4 pages) and then page by page, and
+// with the receiver mask on, against the blocks of the page that pixels read (Unreal 5.6's
+// receiver mask); a caster over any of them gets one indirect draw with an instance per page,
+// its (caster, entry) pairs listed for the page shader (virtual_maps/draw.wgsl).
+// x: instance, y: level.
 #import virtual_maps/tables.wgsl
 
 struct DrawIndexedArgs {
@@ -115,12 +116,16 @@ fn visit_range(c: CasterPages, first: vec2<i32>, last: vec2<i32>, base: u32, don
     return count;
 }
 
-// The caster's pages: a few one by one, more block by block of 4 x 4 pages where the
-// hierarchy holds a wanted one (`visit_range`'s counting or listing).
+// The caster's pages: a few one by one; more only where the cells of the coarsest mip at
+// most 2 x 2 under them hold a wanted page, then block by block of 4 x 4 pages where the
+// hierarchy holds one (`visit_range`'s counting or listing).
 fn visit_pages(c: CasterPages, base: u32) -> u32 {
     let span = c.last - c.first + 1;
     if (span.x * span.y <= SMALL_SPAN) {
         return visit_range(c, c.first, c.last, base, 0u);
+    }
+    if (!cells_hold(c.level, covering_mip(c.first, c.last), c.first, c.last, c.hierarchy_bits)) {
+        return 0u;
     }
     var count = 0u;
     let lo = c.first >> vec2<u32>(2u);
@@ -182,9 +187,7 @@ fn cull_pages(@builtin(global_invocation_id) id: vec3<u32>) {
     // What walking the pages one by one would read, and what the hierarchy's walk reads.
     let span = c.last - c.first + 1;
     atomicAdd(&counters.cull_spanned, u32(span.x * span.y));
-    let held = span.x * span.y <= SMALL_SPAN
-        || cells_hold(level, covering_mip(c.first, c.last), c.first, c.last, c.hierarchy_bits);
-    let count = select(0u, visit_pages(c, 0xffffffffu), held);
+    let count = visit_pages(c, 0xffffffffu);
     atomicAdd(&counters.cull_reads, flag_reads);
     if (count == 0u) {
         return;

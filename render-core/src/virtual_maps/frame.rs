@@ -53,6 +53,12 @@ impl VirtualTechnique {
         views
     }
 
+    /// Chains of levels that may shade a point (`pages.wgsl` `chain_count`): the sun's
+    /// clipmap, or a point light's six faces.
+    fn chains(&self) -> u32 {
+        if self.face_mips > 0 { 6 } else { 1 }
+    }
+
     /// This frame's parameters: the levels' squares, the pool, and whether every page is
     /// invalid.
     fn params(&self, invalidate_all: bool, moved: u32) -> VirtualParams {
@@ -72,9 +78,8 @@ impl VirtualTechnique {
         ];
         // The coarsest level's pages that refused pixels fall back to: a few cover the scene
         // (a few per face of a point light's cube).
-        let chains = if self.face_mips > 0 { 6 } else { 1 };
         params.limits = [
-            (FALLBACK_PAGES * chains).min(self.settings.pages / 4),
+            (FALLBACK_PAGES * self.chains()).min(self.settings.pages / 4),
             u32::from(self.settings.separate_static),
             u32::from(self.settings.receiver_mask),
             self.face_mips,
@@ -107,7 +112,7 @@ impl VirtualTechnique {
             [1, 1],
             [pages, 1],
             [entries, 1],
-            [level_entries, if self.face_mips > 0 { 6 } else { 1 }],
+            [level_entries, self.chains()],
             [entries, 1],
             [1, 1],
         ];

@@ -107,3 +107,27 @@ impl FrameCounts {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::LEVEL_SLOTS;
+    use crate::virtual_maps::resources::HIERARCHY_CELLS;
+
+    /// The constants the shaders repeat by hand are the ones Rust sizes their buffers by.
+    #[test]
+    fn the_shaders_hold_the_levels_cells_and_near_plane_of_the_rust_side() {
+        let pages = include_str!("pages.wgsl");
+        let tables = include_str!("tables.wgsl");
+        assert!(pages.contains(&format!("first_page: array<vec4<i32>, {LEVEL_SLOTS}>")));
+        assert_eq!(
+            tables
+                .matches(&format!("atomic<u32>, {LEVEL_SLOTS}>"))
+                .count(),
+            3,
+            "level_marked, level_rendered, level_pairs"
+        );
+        assert!(tables.contains(&format!("array<atomic<u32>, 4>, {LEVEL_SLOTS}>")));
+        assert!(tables.contains(&format!("HIERARCHY_CELLS: u32 = {HIERARCHY_CELLS}u;")));
+        assert!(pages.contains(&format!("POINT_NEAR_M: f32 = {:?};", crate::geom::NEAR_M)));
+    }
+}

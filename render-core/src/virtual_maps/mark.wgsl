@@ -1,8 +1,8 @@
 // Page marking (virtual_maps/frame.rs): each visible receiver pixel marks the pages its PCF
 // taps read at the level shading will read (`holding_level`); after allocation, a pixel one of
-// whose pages the pool refused marks the coarsest level's pages under it (of its chain), which take physical
-// pages kept back for them, so that it falls back to a coarser level, never to a hole. One
-// thread per pixel.
+// whose pages the pool refused marks the coarsest level's pages under it (of its chain),
+// which take physical pages kept back for them, so that it falls back to a coarser level,
+// never to a hole. One thread per pixel.
 #import virtual_maps/tables.wgsl
 
 @group(2) @binding(0) var surface_ids: texture_2d<u32>;

@@ -38,7 +38,7 @@ use crate::shadow_view::{ShadowView, VirtualSettings};
 use crate::technique::TechniqueInput;
 use gpu_data::FrameCounts;
 use pipelines::Pipelines;
-use resources::{Lists, Tables};
+use resources::{HIERARCHY_CELLS, LEVEL_ENTRIES, Lists, Tables};
 
 /// The technique's light term (imported as `technique/light.wgsl` by the shading pass).
 pub(crate) const LIGHT_WGSL: &str = "virtual_maps/light.wgsl";
@@ -158,7 +158,7 @@ impl VirtualTechnique {
     /// page's absolute position) as the last frame left them: bit 0 marked, 1 resident,
     /// 2 drawn this frame, 3 refused (`pages.wgsl`'s `PAGE_*`). Blocks: for tests.
     pub fn read_page_flags(&self, ctx: &GpuContext) -> Result<Vec<u32>, crate::gpu::GpuError> {
-        self.read_table(ctx, |t| &t.flags, 1)
+        self.read_table(ctx, |t| &t.flags, LEVEL_ENTRIES)
     }
 
     /// Each entry's receiver mask as the last frame left it: two words, a bit per block of
@@ -167,7 +167,7 @@ impl VirtualTechnique {
         &self,
         ctx: &GpuContext,
     ) -> Result<Vec<[u32; 2]>, crate::gpu::GpuError> {
-        let words = self.read_table(ctx, |t| &t.receiver_masks, 2)?;
+        let words = self.read_table(ctx, |t| &t.receiver_masks, 2 * LEVEL_ENTRIES)?;
         Ok(words.chunks_exact(2).map(|w| [w[0], w[1]]).collect())
     }
 
@@ -176,23 +176,15 @@ impl VirtualTechnique {
     /// 8 x 8, ..., 1), row by row, bit 0 where a page under the cell was drawn whole, bit 1
     /// where one was refreshed. Blocks: for tests.
     pub fn read_page_hierarchy(&self, ctx: &GpuContext) -> Result<Vec<u32>, crate::gpu::GpuError> {
-        let Some(tables) = &self.tables else {
-            return Ok(Vec::new());
-        };
-        let bytes = crate::gpu::read_buffer(
-            ctx,
-            &tables.hierarchy,
-            tables.hierarchy.size(),
-            "page hierarchy",
-        )?;
-        Ok(bytemuck::pod_collect_to_vec(&bytes))
+        self.read_table(ctx, |t| &t.hierarchy, HIERARCHY_CELLS)
     }
 
+    /// A per-level table's words, `words_per_level` for each of the tables' levels.
     fn read_table(
         &self,
         ctx: &GpuContext,
         buffer: impl Fn(&Tables) -> &wgpu::Buffer,
-        words_per_entry: u32,
+        words_per_level: u32,
     ) -> Result<Vec<u32>, crate::gpu::GpuError> {
         let Some(tables) = &self.tables else {
             return Ok(Vec::new());
@@ -200,7 +192,7 @@ impl VirtualTechnique {
         let buffer = buffer(tables);
         let bytes = crate::gpu::read_buffer(ctx, buffer, buffer.size(), "page table")?;
         let mut words: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes);
-        words.truncate((tables.levels * resources::LEVEL_ENTRIES * words_per_entry) as usize);
+        words.truncate((tables.levels * words_per_level) as usize);
         Ok(words)
     }
 
