@@ -3,9 +3,8 @@
 # streets (a single map of 8192, four cascades of 2048, the virtual maps with the cache on and
 # off, in one run each), still, with every car driving, and with a sun that turns 0.5 degree
 # a second, and with every car driving past a still camera (the page view's); the corridor's
-# point light against shadow volumes; each run's table (.txt) and rows (.csv); and the page
-# views. Minutes each on a
-# software adapter.
+# point light and the hall's first spot light against shadow volumes; each run's table (.txt)
+# and rows (.csv); and the page views. Minutes each on a software adapter.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/env.sh
@@ -29,6 +28,14 @@ bench cars-still --animate --path scripts/paths/city-street-still.csv
 ./target/release/shadowlab shot builtin:corridor --light point --shadow virtual --size 1280x720 \
     --eye=-30,2.5,-3 --target=-5,2,2 --overlay light-view \
     --out "$out/virtual-point-pages.png" --stats "$out/virtual-point-pages.json"
+# The hall's first spot light (aimed at the statue): one chain of pages along its cone,
+# against shadow volumes (exact), along the walk round the statue.
+./target/release/shadowlab bench builtin:hall --light spot --sweep virtual --size 640x360 \
+    --methods none --frames 30 --warmup 2 --passes --csv "$out/virtual-spot-hall.csv" \
+    > "$out/virtual-spot-hall.txt"
+./target/release/shadowlab shot builtin:hall --light spot --shadow virtual --size 1280x720 \
+    --eye=-7,4,7 --target=0,1,0 --overlay light-view \
+    --out "$out/virtual-spot-pages.png" --stats "$out/virtual-spot-pages.json"
 ./target/release/shadowlab shot builtin:city --shadow virtual --size 1280x720 \
     --eye=-330,3.5,8 --target=-200,12,8 --overlay light-view \
     --out "$out/virtual-pages.png" --stats "$out/virtual-pages.json"

@@ -118,10 +118,7 @@ fn clamping_by_boxes_spans_the_receivers_boxes_under_each_caster_and_changes_no_
 fn clamping_by_boxes_under_a_point_light_says_it_clamps_by_points() {
     let (scene, camera) = slab_over_a_platform();
     let mut settings = settings(&scene, VolumeClamp::Boxes);
-    settings.point_light = Some(PointShadow {
-        position: Vec3::new(0.0, 15.0, 0.0),
-        intensity_cd: 2.0e6,
-    });
+    settings.point_light = Some(PointShadow::omni(Vec3::new(0.0, 15.0, 0.0), 2.0e6));
     let (_, _, _, report) = shadowlab_tests::against_truth(&scene, &camera, &settings, SIZE);
     assert!(
         report

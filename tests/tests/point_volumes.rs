@@ -24,10 +24,7 @@ fn point_volumes(method: Method, clamp: VolumeClamp, pass: VolumePassChoice) -> 
     let mut settings = FrameSettings {
         setup: ShadowSetup::Volumes,
         method,
-        point_light: Some(PointShadow {
-            position: LIGHT_BESIDE_THE_BOX,
-            intensity_cd: 2.0e6,
-        }),
+        point_light: Some(PointShadow::omni(LIGHT_BESIDE_THE_BOX, 2.0e6)),
         ..FrameSettings::default()
     };
     settings.volumes.clamp = clamp;

@@ -19,10 +19,7 @@ use shadowlab_tests::{
 const SIZE: (u32, u32) = (256, 192);
 fn point_settings(v: VirtualSettings, light: Vec3) -> FrameSettings {
     FrameSettings {
-        point_light: Some(PointShadow {
-            position: light,
-            intensity_cd: 2.0e6,
-        }),
+        point_light: Some(PointShadow::omni(light, 2.0e6)),
         ..settings(v)
     }
 }

@@ -658,10 +658,7 @@ fn a_diagonal_struts_volume_is_culled_where_only_its_world_box_covers_receivers(
         200.0,
     );
     // The sun, or a lamp high over the strut (its box seen within 45 degrees).
-    let lamp = PointShadow {
-        position: Vec3::new(0.3, 25.0, 0.2),
-        intensity_cd: 5_000.0,
-    };
+    let lamp = PointShadow::omni(Vec3::new(0.3, 25.0, 0.2), 5_000.0);
     for point_light in [None, Some(lamp)] {
         let frame = |method, clamp| {
             let mut settings = FrameSettings {

@@ -234,10 +234,7 @@ mod tests {
         };
         assert_eq!(names(&base), [ShadowSetup::Single, ShadowSetup::Cascades]);
         let point = FrameSettings {
-            point_light: Some(render_core::scene::PointShadow {
-                position: glam::Vec3::Y,
-                intensity_cd: 1.0,
-            }),
+            point_light: Some(render_core::scene::PointShadow::omni(glam::Vec3::Y, 1.0)),
             ..base
         };
         assert_eq!(names(&point), [ShadowSetup::Volumes, ShadowSetup::Virtual]);

@@ -155,8 +155,8 @@ pub struct ViewArgs {
     /// Direction from the scene towards the sun, x,y,z.
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub sun: Option<Vec3>,
-    /// The light that casts the shadows: `sun`, or `point` (the scene's first point light;
-    /// `point:N` its Nth, from 0), which shadow volumes and virtual maps cast.
+    /// The light that casts the shadows (volumes, virtual maps): `sun`, `point` (the scene's
+    /// first light, a spot in its cone; `point:N` its Nth, from 0), `spot` (`spot:N`: spots).
     #[arg(long, value_parser = light::parse_light, value_name = "LIGHT")]
     pub light: Option<light::LightArg>,
     /// Image size `WIDTHxHEIGHT` in pixels.

@@ -19,14 +19,15 @@ struct PrepassOut {
 
 // Object id and surface per pixel. The geometric normal is the shading pass's, from the same
 // derivatives of the same interpolated position; w is 1 where the shading normal (turned to
-// the eye, as `fs_shade` turns it) faces the light, so that shadow changes the pixel.
+// the eye, as `fs_shade` turns it) faces the light and a spot's cone holds the point, so that
+// shadow changes the pixel.
 @fragment
 fn fs_prepass(in: VsOut) -> PrepassOut {
     var out: PrepassOut;
     out.id = in.instance + 1u;
     out.position = vec4<f32>(in.world_pos, 1.0);
     let n = select(in.normal, -in.normal, dot(in.normal, frame.eye_world.xyz - in.world_pos) < 0.0);
-    let lit_side = dot(n, towards_light(in.world_pos).xyz) > 0.0;
+    let lit_side = dot(n, towards_light(in.world_pos).xyz) > 0.0 && light_reaches(in.world_pos);
     out.normal = vec4<f32>(geometric_normal(in.world_pos, in.normal), select(0.0, 1.0, lit_side));
     return out;
 }

@@ -122,10 +122,14 @@ pub fn legend(settings: &FrameSettings) -> Vec<LegendGroup> {
     }
     if overlays.light_view && settings.setup == super::ShadowSetup::Virtual {
         groups.push(LegendGroup {
-            title: if settings.point_light.is_some() {
-                "Pages of each cube face (a row each: +X, -X, +Y, -Y, +Z, -Z), finest mip first"
-            } else {
-                "Pages of each level, finest first (top left)"
+            title: match settings.point_light {
+                Some(light) if light.cone.is_some() => {
+                    "Pages of the spot's mips, finest first (top left)"
+                }
+                Some(_) => {
+                    "Pages of each cube face (a row each: +X, -X, +Y, -Y, +Z, -Z), finest mip first"
+                }
+                None => "Pages of each level, finest first (top left)",
             },
             entries: [
                 Some(entry(crate::palette::PAGE_DRAWN, "drawn this frame")),

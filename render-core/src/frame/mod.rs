@@ -54,7 +54,7 @@ use crate::scene_gpu::DrawList;
 use crate::shadow_view::{ShadowView, ViewBuffer};
 use crate::technique::{DrawInput, ShadowPasses, TechniqueInput};
 use crate::truth::{ExactShadow, FrameGroups, PendingLight, SurfacePoint};
-use crate::view::gpu_data::{FrameUniforms, OVERLAY_CASTERS, OVERLAY_VIEWS};
+use crate::view::gpu_data::{FrameUniforms, OVERLAY_CASTERS, OVERLAY_VIEWS, punctual_light_fields};
 use crate::view::{FrameBindings, VisibilityPass};
 use observer::Frozen;
 use techniques::{Family, SingleViews, Techniques};
@@ -322,6 +322,7 @@ impl FrameRenderer {
         self.views.write(ctx, views);
         let settings = &setup.settings;
         let shadow = &settings.shadow;
+        let [point_light, spot, spot_inner] = punctual_light_fields(settings.point_light);
         let uniforms = FrameUniforms {
             clip_from_world: setup.clip_from_world.to_cols_array_2d(),
             eye_world: camera.eye.extend(1.0).to_array(),
@@ -332,10 +333,9 @@ impl FrameRenderer {
             direction_to_sun: (settings.sun.direction_to_sun)
                 .extend(self.techniques.active().sun_scale())
                 .to_array(),
-            point_light: settings.point_light.map_or([0.0; 4], |p| {
-                let scale = (p.intensity_cd / crate::scene::Sun::ILLUMINANCE_LX).max(1e-12);
-                p.position.extend(scale).to_array()
-            }),
+            point_light,
+            spot,
+            spot_inner,
             shadow: [
                 shadow.depth_bias_m,
                 shadow.slope_bias,

@@ -157,7 +157,7 @@ impl FrameSettings {
     /// Where this frame's shadows come from.
     pub fn shadow_light(&self) -> ShadowLight {
         match self.point_light {
-            Some(point) => ShadowLight::Point(point.position),
+            Some(point) => point.shadow_light(),
             None => ShadowLight::Sun(self.sun.direction_to_sun),
         }
     }
@@ -179,8 +179,9 @@ pub struct FrameSettings {
     pub virtual_maps: crate::shadow_view::VirtualSettings,
     #[serde(skip)]
     pub sun: Sun,
-    /// A point light casts the shadows and lights the scene instead of the sun (shadow
-    /// volumes only; other techniques report that they cannot and draw no shadows).
+    /// A point or spot light casts the shadows and lights the scene instead of the sun
+    /// (shadow volumes and virtual maps; other techniques report that they cannot and draw
+    /// no shadows).
     #[serde(skip)]
     pub point_light: Option<crate::scene::PointShadow>,
     pub method: Method,

@@ -51,9 +51,9 @@ impl Family {
     pub fn point_light_refusal(self) -> Option<&'static str> {
         match self {
             Self::Maps => Some(
-                "shadow maps cast the sun's shadows only: a point light's need `--shadow volumes` \
-                 or `--shadow virtual` (cube maps come with many lights, issue 14); drawn \
-                 without shadows",
+                "shadow maps cast the sun's shadows only: a point or spot light's need \
+                 `--shadow volumes` or `--shadow virtual` (cube maps come with many lights, \
+                 issue 14); drawn without shadows",
             ),
             Self::Volumes | Self::Virtual => None,
             Self::Lights => Some(

@@ -58,9 +58,7 @@ fn irradiance(r: LightRecord, p: vec3<f32>, n: vec3<f32>) -> f32 {
         let window = clamp(1.0 - x * x, 0.0, 1.0);
         e *= window * window;
     }
-    if (r.spot.w > -1.5) {
-        e *= smoothstep(r.spot.w, max(r.color_inner.w, r.spot.w + 1e-4), dot(-l, r.spot.xyz));
-    }
+    e *= spot_cone(-l, r.spot.xyz, r.spot.w, r.color_inner.w);
     return e;
 }
 

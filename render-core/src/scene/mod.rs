@@ -21,7 +21,7 @@ pub use city::{CityParams, RectXz, build_city};
 pub use gltf_import::{ImportError, import_gltf, import_gltf_slice};
 pub use model::{
     Instance, LightKind, Mesh, MeshId, Mobility, PointShadow, PunctualLight, Scene, SceneFacts,
-    ShadowLight, Sun, compute_vertex_normals,
+    ShadowLight, SpotCone, Sun, compute_vertex_normals,
 };
 pub use motion::Motion;
 pub use units::{Units, in_metres, unit_note};

@@ -185,29 +185,91 @@ impl Sun {
     }
 }
 
-/// A point light that casts a frame's shadows in place of the sun (the scene's first point
-/// light, `--light point`): where it is and how bright, candela.
+/// A point light that casts a frame's shadows in place of the sun (`--light point` or
+/// `--light spot`): where it is, how bright, candela, and a spot's cone.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PointShadow {
     pub position: Vec3,
     pub intensity_cd: f32,
+    /// A spot light's cone (`None`: it shines every way).
+    pub cone: Option<SpotCone>,
 }
 
-impl PointShadow {
-    /// The `index`th point light of `scene` (spot lights count too, shining every way).
-    pub fn of_scene(scene: &Scene, index: usize) -> Option<Self> {
-        scene.lights.get(index).map(|light| Self {
-            position: light.position,
-            intensity_cd: light.intensity,
-        })
+/// A spot light's cone: along `direction` (unit), full within `inner_rad` of it and fading to
+/// none at `outer_rad` (glTF's `innerConeAngle` and `outerConeAngle`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpotCone {
+    pub direction: Vec3,
+    pub inner_rad: f32,
+    pub outer_rad: f32,
+}
+
+impl SpotCone {
+    /// Whether the light reaches along `offset` from the light: strictly inside the outer cone.
+    pub fn holds(&self, offset: Vec3) -> bool {
+        offset.normalize_or_zero().dot(self.direction) > self.outer_rad.cos()
     }
 }
 
-/// Where the shadows a frame casts come from: a direction towards the sun, or a point.
+impl PointShadow {
+    /// A light at `position` of `intensity_cd` shining every way.
+    pub fn omni(position: Vec3, intensity_cd: f32) -> Self {
+        Self {
+            position,
+            intensity_cd,
+            cone: None,
+        }
+    }
+
+    /// The `index`th point or spot light of `scene` (a spot keeps its cone).
+    pub fn of_scene(scene: &Scene, index: usize) -> Option<Self> {
+        scene.lights.get(index).map(Self::of_light)
+    }
+
+    /// The `index`th spot light of `scene`.
+    pub fn spot_of_scene(scene: &Scene, index: usize) -> Option<Self> {
+        let spots = scene
+            .lights
+            .iter()
+            .filter(|l| matches!(l.kind, LightKind::Spot { .. }));
+        spots.map(Self::of_light).nth(index)
+    }
+
+    fn of_light(light: &PunctualLight) -> Self {
+        Self {
+            position: light.position,
+            intensity_cd: light.intensity,
+            cone: match light.kind {
+                LightKind::Point => None,
+                LightKind::Spot {
+                    direction,
+                    inner_cone_rad,
+                    outer_cone_rad,
+                } => Some(SpotCone {
+                    direction: direction.normalize_or(Vec3::NEG_Y),
+                    inner_rad: inner_cone_rad.min(outer_cone_rad),
+                    outer_rad: outer_cone_rad,
+                }),
+            },
+        }
+    }
+
+    /// Where its shadows come from.
+    pub fn shadow_light(&self) -> ShadowLight {
+        match self.cone {
+            None => ShadowLight::Point(self.position),
+            Some(cone) => ShadowLight::Spot(self.position, cone),
+        }
+    }
+}
+
+/// Where the shadows a frame casts come from: a direction towards the sun, or a point (a spot
+/// light's, within its cone).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ShadowLight {
     Sun(Vec3),
     Point(Vec3),
+    Spot(Vec3, SpotCone),
 }
 
 impl ShadowLight {
@@ -215,11 +277,19 @@ impl ShadowLight {
     pub fn towards(&self, p: Vec3) -> (Vec3, f32) {
         match *self {
             Self::Sun(direction) => (direction.normalize_or(Vec3::Y), f32::INFINITY),
-            Self::Point(at) => {
+            Self::Point(at) | Self::Spot(at, _) => {
                 let d = at - p;
                 let distance = d.length();
                 (d / distance.max(1e-12), distance)
             }
+        }
+    }
+
+    /// Whether the light shines on `p` at all: everywhere but outside a spot's cone.
+    pub fn reaches(&self, p: Vec3) -> bool {
+        match *self {
+            Self::Sun(_) | Self::Point(_) => true,
+            Self::Spot(at, cone) => cone.holds(p - at),
         }
     }
 }
@@ -389,7 +459,7 @@ pub struct SceneFacts {
     pub casters: usize,
     /// Point and spot lights.
     pub lights: usize,
-    /// The first of them, which `--light point` casts shadows from.
+    /// The first of them, which `--light point` casts shadows from (a spot in its cone).
     #[serde(skip)]
     pub point_light: Option<PointShadow>,
     pub bounds_min_m: [f32; 3],

@@ -7,8 +7,9 @@
 //! technique's light is then read at the same points on the GPU (`at_points.rs`) and compared:
 //! a pixel is shadowed where less than half the light reaches it.
 //!
-//! Counted pixels are visible receivers that face the sun; a pixel that faces away is dark
-//! whatever the shadow says. A view's truth is cached by its camera, size, sun and the
+//! Counted pixels are visible receivers that face the light (and lie inside a spot light's
+//! cone); a pixel that faces away, or that the cone leaves out, is dark whatever the shadow
+//! says. A view's truth is cached by its camera, size, sun and the
 //! instances' poses, and computed only when measuring.
 
 mod at_points;
@@ -39,8 +40,10 @@ pub enum PixelTruth {
     Sky,
     /// An object that does not receive shadows.
     NotReceiver,
-    /// The surface faces away from the sun (or grazes it): not counted.
+    /// The surface faces away from the light (or grazes it): not counted.
     FacesAway,
+    /// A spot light's cone does not reach the surface: dark whatever the shadow; not counted.
+    OutsideCone,
     Lit,
     Shadowed,
 }
@@ -227,6 +230,9 @@ impl PixelRays {
         let (towards, distance) = key.light.towards(hit.position);
         if hit.normal.dot(towards) <= 0.0 {
             return (PixelTruth::FacesAway, None, hit.instance);
+        }
+        if !key.light.reaches(hit.position) {
+            return (PixelTruth::OutsideCone, None, hit.instance);
         }
         let origin = offset_from_surface(hit.position, hit.normal);
         let truth = if rays.blocked(origin, towards, (0.0, distance)) {

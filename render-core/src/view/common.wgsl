@@ -23,15 +23,40 @@ struct FrameUniforms {
     // xyz: the point light that lights the frame in place of the sun; w: its intensity over
     // the sun's illuminance, candela per lux (0: the sun does; view/gpu_data.rs).
     point_light: vec4<f32>,
+    // xyz: that light's direction where it is a spot (unit); w: the cosine of its outer
+    // cone, -2 where it shines every way (view/gpu_data.rs NO_CONE).
+    spot: vec4<f32>,
+    // x: the cosine of the spot's inner cone.
+    spot_inner: vec4<f32>,
+}
+
+// How much of a spot light's light leaves it along unit direction `l` (from the light):
+// all within the inner cone (cosine `cos_inner`), fading to none at the outer
+// (`cos_outer`); all of it where `cos_outer` is -2 (no cone).
+fn spot_cone(l: vec3<f32>, direction: vec3<f32>, cos_outer: f32, cos_inner: f32) -> f32 {
+    if (cos_outer < -1.5) {
+        return 1.0;
+    }
+    return smoothstep(cos_outer, max(cos_inner, cos_outer + 1e-4), dot(l, direction));
+}
+
+// Whether the frame's light reaches `p` at all: everywhere but outside a spot's outer cone.
+fn light_reaches(p: vec3<f32>) -> bool {
+    if (frame.point_light.w <= 0.0 || frame.spot.w < -1.5) {
+        return true;
+    }
+    return dot(normalize(p - frame.point_light.xyz), frame.spot.xyz) > frame.spot.w;
 }
 
 // From `p` towards the frame's light (xyz, unit) and the illuminance it gets there facing it
-// (w, on the sun's scale).
+// (w, on the sun's scale; a spot's cone included).
 fn towards_light(p: vec3<f32>) -> vec4<f32> {
     if (frame.point_light.w > 0.0) {
         let d = frame.point_light.xyz - p;
         let squared = max(dot(d, d), 1e-8);
-        return vec4<f32>(d * inverseSqrt(squared), frame.point_light.w / squared);
+        let l = d * inverseSqrt(squared);
+        let cone = spot_cone(-l, frame.spot.xyz, frame.spot.w, frame.spot_inner.x);
+        return vec4<f32>(l, frame.point_light.w * cone / squared);
     }
     return frame.direction_to_sun;
 }

@@ -36,5 +36,33 @@ pub struct FrameUniforms {
     /// candela per lux (0: the sun lights the frame), so
     /// that intensity over distance squared is on the sun's scale.
     pub point_light: [f32; 4],
+    /// xyz: that light's direction where it is a spot (unit); w: the cosine of its outer cone,
+    /// [`NO_CONE`] where it shines every way.
+    pub spot: [f32; 4],
+    /// x: the cosine of the spot's inner cone; yzw: unused.
+    pub spot_inner: [f32; 4],
 }
-const _: () = assert!(size_of::<FrameUniforms>() == 176);
+const _: () = assert!(size_of::<FrameUniforms>() == 208);
+
+/// [`FrameUniforms::spot`]`[3]` of a light without a cone (no cosine is this small).
+pub const NO_CONE: f32 = -2.0;
+
+/// [`FrameUniforms::point_light`], `spot` and `spot_inner` for `light` (`None`: the sun lights
+/// the frame).
+pub fn punctual_light_fields(light: Option<crate::scene::PointShadow>) -> [[f32; 4]; 3] {
+    let Some(light) = light else {
+        return [[0.0; 4], [0.0, -1.0, 0.0, NO_CONE], [1.0, 0.0, 0.0, 0.0]];
+    };
+    let scale = (light.intensity_cd / crate::scene::Sun::ILLUMINANCE_LX).max(1e-12);
+    let (spot, cos_inner) = light.cone.map_or(([0.0, -1.0, 0.0, NO_CONE], 1.0), |c| {
+        (
+            c.direction.extend(c.outer_rad.cos()).to_array(),
+            c.inner_rad.cos(),
+        )
+    });
+    [
+        light.position.extend(scale).to_array(),
+        spot,
+        [cos_inner, 0.0, 0.0, 0.0],
+    ]
+}

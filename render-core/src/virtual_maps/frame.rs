@@ -9,8 +9,9 @@ use super::resources::{LEVEL_ENTRIES, Tables};
 use super::{LIGHT_WGSL, VirtualTechnique};
 
 use crate::culling::{CasterOutcome, Method};
-use crate::geom::{CUBE_FACES, cube_face_frustum, fit_clipmap_level};
+use crate::geom::{CUBE_FACES, LightFrustum, cube_face_frustum, fit_clipmap_level, spot_frustum};
 use crate::gpu::{GpuContext, pass_label};
+use crate::scene::PointShadow;
 use crate::shadow_view::{LEVEL_PAGES, PAGE_TEXELS, ShadowView, ViewTarget};
 use crate::technique::{
     DrawInput, InsetSources, ShadowPasses, ShadowReport, ShadowTechnique, TechniqueInput,
@@ -18,19 +19,26 @@ use crate::technique::{
 };
 
 /// Physical pages kept back from the first allocations for the fallback pages of pixels whose
-/// own pages the pool refused (a quarter of a smaller pool); per face of a point light.
+/// own pages the pool refused (a quarter of a smaller pool); per face of a point light (per
+/// chain).
 const FALLBACK_PAGES: u32 = 16;
 
-/// Mips of each face of a point light's cube at most: 4096 texels square down to 128, one
-/// page, so that the six coarsest pages hold every point the light reaches (the fallback of
-/// pixels whose pages the pool refused).
+/// Mips of each face of a point light's cube (or of a spot's one chain) at most: 4096 texels
+/// square down to 128, one page, so that the coarsest pages hold every point the light
+/// reaches (the fallback of pixels whose pages the pool refused).
 pub const POINT_MIPS: u32 = 6;
 
 impl VirtualTechnique {
     /// A point light's levels: each face of its cube (`CUBE_FACES`' order) a chain of mips,
-    /// 4096 texels square, 2048, ..., out to the scene's farthest corner. Their pages stay
-    /// where they are (no window moves with the camera).
-    fn point_views(&mut self, position: glam::Vec3, bounds: &crate::geom::Aabb) -> Vec<ShadowView> {
+    /// 4096 texels square, 2048, ..., out to the scene's farthest corner; a spot light's, one
+    /// chain along its cone. Their pages stay where they are (no window moves with the
+    /// camera).
+    fn punctual_views(
+        &mut self,
+        light: PointShadow,
+        bounds: &crate::geom::Aabb,
+    ) -> Vec<ShadowView> {
+        let position = light.position;
         let far = bounds
             .corners()
             .iter()
@@ -39,24 +47,39 @@ impl VirtualTechnique {
             * 1.001
             + 0.1;
         let mut views = Vec::new();
-        for (face, (name, _, _)) in CUBE_FACES.iter().enumerate() {
+        let mut chain = |name: &str, frustum: &dyn Fn(u32) -> LightFrustum| {
             for mip in 0..self.face_mips {
                 let side = (LEVEL_PAGES * PAGE_TEXELS) >> mip;
                 self.first_pages.push([0, 0]);
                 views.push(ShadowView::covering_all_depths(
-                    &format!("point {name} mip {mip}"),
-                    cube_face_frustum(position, face, far, side),
+                    &format!("{name} mip {mip}"),
+                    frustum(side),
                     ViewTarget::layer(0, side),
                 ));
+            }
+        };
+        match light.cone {
+            Some(cone) => chain("spot", &|side| {
+                spot_frustum(position, cone.direction, cone.outer_rad, far, side)
+            }),
+            None => {
+                for (face, (name, _, _)) in CUBE_FACES.iter().enumerate() {
+                    chain(&format!("point {name}"), &|side| {
+                        cube_face_frustum(position, face, far, side)
+                    });
+                }
             }
         }
         views
     }
 
     /// Chains of levels that may shade a point (`pages.wgsl` `chain_count`): the sun's
-    /// clipmap, or a point light's six faces.
+    /// clipmap, a point light's six faces, or a spot light's one.
     fn chains(&self) -> u32 {
-        if self.face_mips > 0 { 6 } else { 1 }
+        self.settings
+            .levels
+            .checked_div(self.face_mips)
+            .unwrap_or(1)
     }
 
     /// This frame's parameters: the levels' squares, the pool, and whether every page is
@@ -340,12 +363,14 @@ impl ShadowTechnique for VirtualTechnique {
         self.face_mips = 0;
         self.first_pages.clear();
         let bounds = input.scene.bounds();
-        if let Some(point) = input.point_light {
-            // A point light's cube: `--levels` mips per face, at most POINT_MIPS.
+        if let Some(light) = input.point_light {
+            // A point light's cube, or a spot's cone: `--levels` mips per face, at most
+            // POINT_MIPS.
             self.face_mips = self.settings.levels.min(POINT_MIPS);
-            self.settings.levels = 6 * self.face_mips;
+            let faces = if light.cone.is_some() { 1 } else { 6 };
+            self.settings.levels = faces * self.face_mips;
             self.ensure_tables(ctx);
-            return self.point_views(point.position, &bounds);
+            return self.punctual_views(light, &bounds);
         }
         self.ensure_tables(ctx);
         let side = LEVEL_PAGES * PAGE_TEXELS;

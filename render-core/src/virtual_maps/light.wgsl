@@ -69,6 +69,10 @@ fn page_factor(l: ShadowLookup) -> f32 {
 
 fn light_reaching(world_pos: vec3<f32>, geometric: vec3<f32>, measuring: bool) -> LightReaching {
     var out = LightReaching(1.0, 1.0, 0u, false, vec3<f32>(0.0));
+    // Outside a spot's cone no light comes to shadow (and no page was marked).
+    if (!light_reaches(world_pos)) {
+        return out;
+    }
     let first = matched_level(world_pos, geometric);
     for (var level = first; level < chain_end(first); level++) {
         let l = shadow_lookup(world_pos, geometric, level);

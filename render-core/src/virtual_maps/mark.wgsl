@@ -51,7 +51,8 @@ fn taps_refused(l: ShadowLookup) -> bool {
     return false;
 }
 
-// The receiver surface at pixel `id` (xyz: position; w: 0 where none), and its normal.
+// The receiver surface at pixel `id` that the light reaches (xyz: position; w: 0 where none),
+// and its normal.
 fn receiver_at(id: vec2<u32>) -> array<vec4<f32>, 2> {
     let size = textureDimensions(surface_ids);
     var out = array<vec4<f32>, 2>(vec4<f32>(0.0), vec4<f32>(0.0));
@@ -62,7 +63,12 @@ fn receiver_at(id: vec2<u32>) -> array<vec4<f32>, 2> {
     if (object == 0u || (instances[object - 1u].flags.x & FLAG_RECEIVER) == 0u) {
         return out;
     }
-    out[0] = vec4<f32>(textureLoad(surface_positions, id, 0).xyz, 1.0);
+    let p = textureLoad(surface_positions, id, 0).xyz;
+    // Outside a spot's cone no light comes to shadow: no page is read there.
+    if (!light_reaches(p)) {
+        return out;
+    }
+    out[0] = vec4<f32>(p, 1.0);
     out[1] = vec4<f32>(textureLoad(surface_normals, id, 0).xyz, 0.0);
     return out;
 }

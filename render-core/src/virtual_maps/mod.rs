@@ -4,12 +4,13 @@
 //! pages that visible pixels read are given physical pages of an atlas, and only those drawn;
 //! drawn pages stay cached across frames until something moves through them or the light
 //! moves. A point light takes the same path with its cube as the levels: six faces, each a
-//! chain of mips from 4096 texels square down to one page.
+//! chain of mips from 4096 texels square down to one page; a spot light with one such chain
+//! along its cone, no page read outside it.
 //!
 //! ```text
 //! prepare   the levels: a shadow view each (geom::fit_clipmap_level), on a texel grid fixed
 //!           in light space, so a page keeps its place as the camera moves; or a point
-//!           light's faces and their mips (frame.rs `point_views`)
+//!           light's faces and their mips, or a spot's (frame.rs `punctual_views`)
 //! draw      in compute, no readback (allocate.wgsl, mark.wgsl, cull.wgsl): moved boxes
 //!           invalidate their pages; pages that left their square or were invalidated are
 //!           released; each visible receiver pixel marks the pages its PCF taps read at the
@@ -64,8 +65,9 @@ pub(crate) fn shader_sources() -> Vec<(String, String)> {
 struct CacheKey {
     scene: u64,
     direction_to_sun: [u32; 3],
-    /// Where the point light is, when one casts the shadows.
-    point_light: Option<[u32; 3]>,
+    /// Where the point light is, and a spot's direction and outer cone, when one casts the
+    /// shadows.
+    point_light: Option<[u32; 7]>,
     finest_texel_m: u32,
     exclusions: u64,
     /// The scene's bounds, which fix every level's depth range.
@@ -235,9 +237,13 @@ impl VirtualTechnique {
         CacheKey {
             scene: input.scene_gpu.id,
             direction_to_sun: input.direction_to_sun.to_array().map(f32::to_bits),
-            point_light: input
-                .point_light
-                .map(|p| p.position.to_array().map(f32::to_bits)),
+            point_light: input.point_light.map(|p| {
+                let cone = p
+                    .cone
+                    .map_or([0.0; 4], |c| c.direction.extend(c.outer_rad).to_array());
+                let [x, y, z] = p.position.to_array();
+                [x, y, z, cone[0], cone[1], cone[2], cone[3]].map(f32::to_bits)
+            }),
             finest_texel_m: self.settings.finest_texel_m.to_bits(),
             exclusions: self.exclusions_version,
             bounds: [b.min, b.max].map(|v| v.to_array().map(f32::to_bits)),

@@ -1,6 +1,7 @@
 // The virtual maps' page view (virtual_maps/overlay.rs), the `light-view` overlay of this
 // technique: every level's square side by side, finest first, left to right and down (a
-// point light's: a row per face, +X, -X, +Y, -Y, +Z, -Z, its mips finest first), each
+// point light's: a row per face, +X, -X, +Y, -Y, +Z, -Z, its mips finest first; a spot's
+// mips as the sun's levels), each
 // page in the colour of what it did this frame (palette.rs PAGE_*), dark where it is empty.
 #import virtual_maps/pages.wgsl
 #import palette.wgsl
@@ -24,7 +25,7 @@ fn vs_pages(@builtin(vertex_index) index: u32) -> VsOut {
 // Levels per row of the view: the smallest square that holds them all; for a point light,
 // six, a face per row.
 fn columns() -> u32 {
-    if (face_mips() != 0u) {
+    if (chain_count() == 6u) {
         return 6u;
     }
     return u32(ceil(sqrt(f32(level_count())) - 1e-4));
@@ -32,7 +33,7 @@ fn columns() -> u32 {
 
 // The level of the view's cell `cell` (`level_count()` where none is).
 fn cell_level(cell: vec2<u32>) -> u32 {
-    if (face_mips() != 0u) {
+    if (chain_count() == 6u) {
         return select(level_count(), cell.y * face_mips() + cell.x, cell.x < face_mips());
     }
     return cell.y * columns() + cell.x;

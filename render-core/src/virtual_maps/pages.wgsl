@@ -4,8 +4,9 @@
 // level's table is wrapped by its absolute page position, so a page keeps its entry (and its
 // physical page) while the square moves with the camera. A point light's levels are its
 // cube's six faces, each a chain of mips (4096 texels square, 2048, ...; a perspective view
-// from the light), whose pages never move. A chain is the levels that may shade a point,
-// finest first: the sun's whole clipmap, or one face's mips. Every user binds `params` here;
+// from the light), whose pages never move; a spot light's, one such chain along its cone.
+// A chain is the levels that may shade a point, finest first: the sun's whole clipmap, one
+// face's mips, or the spot's. Every user binds `params` here;
 // the tables it binds as it needs them.
 #import shadow_view/lookup.wgsl
 
@@ -66,19 +67,19 @@ fn face_mips() -> u32 {
     return params.limits.w;
 }
 
-// Chains of levels: one for the sun's clipmap, a face each for a point light.
-fn chain_count() -> u32 {
-    return select(1u, 6u, face_mips() != 0u);
-}
-
 fn chain_length() -> u32 {
     return select(level_count(), face_mips(), face_mips() != 0u);
 }
 
-// The chain that shades world point `p`: the sun's, or the face of its major axis from the
-// light.
+// Chains of levels: one for the sun's clipmap, a face each for a point light, one for a spot.
+fn chain_count() -> u32 {
+    return level_count() / chain_length();
+}
+
+// The chain that shades world point `p`: the sun's or the spot's one, or the face of its
+// major axis from a point light.
 fn chain_of(p: vec3<f32>) -> u32 {
-    return select(0u, cube_face(p - frame.point_light.xyz), face_mips() != 0u);
+    return select(0u, cube_face(p - frame.point_light.xyz), chain_count() == 6u);
 }
 
 // The levels of chain `c`: its finest and one past its coarsest.

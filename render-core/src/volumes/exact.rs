@@ -49,12 +49,12 @@ impl ExactClamp {
         let light = input
             .point_light
             .map_or(ShadowLight::Sun(input.direction_to_sun), |p| {
-                ShadowLight::Point(p.position)
+                p.shadow_light()
             });
         let along = Vec3::from_slice(&travel[..3]);
         let depth_of = move |p: Vec3| match light {
             ShadowLight::Sun(_) => (p.dot(along) - travel[3]).max(0.0),
-            ShadowLight::Point(at) => p.distance(at),
+            ShadowLight::Point(at) | ShadowLight::Spot(at, _) => p.distance(at),
         };
         let view = ExactView {
             camera: input.camera,

@@ -304,8 +304,8 @@ fn heading(ui: &mut egui::Ui, title: &str) {
     ui.separator();
 }
 
-/// Whether the scene's first point light casts the shadows and lights the view instead of the
-/// sun (shadow volumes and virtual maps: shadow maps report that they cannot).
+/// Whether the scene's first point or spot light casts the shadows and lights the view
+/// instead of the sun (shadow volumes and virtual maps: shadow maps report that they cannot).
 fn point_light_ui(
     ui: &mut egui::Ui,
     point: Option<render_core::scene::PointShadow>,
@@ -316,16 +316,20 @@ fn point_light_ui(
     };
     let mut on = settings.point_light.is_some();
     let p = point.position;
+    let (label, kind, pages) = match point.cone {
+        Some(_) => (
+            "From the spot light",
+            "spot light",
+            "a chain of pages along its cone",
+        ),
+        None => ("From the point light", "point light", "a cube of pages"),
+    };
     let help = format!(
-        "Cast the shadows from the scene's point light at {:.1}, {:.1}, {:.1} m \
-         ({:.0} cd) instead of the sun: shadow volumes and virtual maps (a cube of pages)",
+        "Cast the shadows from the scene's {kind} at {:.1}, {:.1}, {:.1} m ({:.0} cd) instead \
+         of the sun: shadow volumes and virtual maps ({pages})",
         p.x, p.y, p.z, point.intensity_cd
     );
-    if ui
-        .checkbox(&mut on, "From the point light")
-        .on_hover_text(help)
-        .changed()
-    {
+    if ui.checkbox(&mut on, label).on_hover_text(help).changed() {
         settings.point_light = on.then_some(point);
     }
 }
