@@ -34,7 +34,7 @@ bench cars-still --animate --path scripts/paths/city-street-still.csv
     --methods none --frames 30 --warmup 2 --passes --csv "$out/virtual-spot-hall.csv" \
     > "$out/virtual-spot-hall.txt"
 ./target/release/shadowlab shot builtin:hall --light spot --shadow virtual --size 1280x720 \
-    --eye=-7,4,7 --target=0,1,0 --overlay light-view \
+    --eye=-1,8,9 --target=-2,0,0 --overlay light-view \
     --out "$out/virtual-spot-pages.png" --stats "$out/virtual-spot-pages.json"
 ./target/release/shadowlab shot builtin:city --shadow virtual --size 1280x720 \
     --eye=-330,3.5,8 --target=-200,12,8 --overlay light-view \
