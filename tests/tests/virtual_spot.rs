@@ -44,6 +44,14 @@ fn spot_settings(setup: ShadowSetup, v: VirtualSettings, light: PointShadow) -> 
     }
 }
 
+/// The ground where the ray from the light through the box's centre (the narrow cone's axis)
+/// lands: in the box's shadow.
+fn behind_the_box() -> Vec3 {
+    LIGHT_BESIDE_THE_BOX
+        + (BOX_CENTRE - LIGHT_BESIDE_THE_BOX)
+            * (LIGHT_BESIDE_THE_BOX.y / (LIGHT_BESIDE_THE_BOX.y - BOX_CENTRE.y))
+}
+
 /// Looking down at ground far on the light's +X, +Z side, which the cone (aimed at -X) does
 /// not reach.
 fn outside_the_cone() -> Camera {
@@ -64,9 +72,7 @@ fn a_spot_light_casts_the_exact_shadow_within_its_cone_and_counts_nothing_outsid
     let cone = light.cone.expect("a spot");
     // On the cone's axis past the box (shadowed), on the ground at 32 degrees from the axis
     // between the light and the box (lit), and under the light, 41 degrees out (outside).
-    let behind = LIGHT_BESIDE_THE_BOX
-        + (BOX_CENTRE - LIGHT_BESIDE_THE_BOX)
-            * (LIGHT_BESIDE_THE_BOX.y / (LIGHT_BESIDE_THE_BOX.y - BOX_CENTRE.y));
+    let behind = behind_the_box();
     let lit = Vec3::new(2.0, 0.0, LIGHT_BESIDE_THE_BOX.z);
     let under = Vec3::new(LIGHT_BESIDE_THE_BOX.x, 0.0, LIGHT_BESIDE_THE_BOX.z);
     assert!(cone.holds(behind - LIGHT_BESIDE_THE_BOX) && cone.holds(lit - LIGHT_BESIDE_THE_BOX));
@@ -237,4 +243,41 @@ fn a_pool_too_small_for_a_spot_falls_back_to_coarser_mips_and_leaves_no_hole() {
     );
     assert!(all > 5_000, "{all} pixels inside the cone");
     assert_eq!(with_small, all, "every pixel inside the cone is shaded");
+}
+
+#[test]
+fn a_spot_wider_than_a_cube_face_casts_through_the_cube_and_still_reads_no_page_outside() {
+    let scene: Scene = scene(Sun::default());
+    let camera = overlooking_the_box();
+    let mut light = spot(0.0);
+    light.cone = light.cone.map(|c| SpotCone {
+        inner_rad: 50f32.to_radians(),
+        outer_rad: 60f32.to_radians(),
+        ..c
+    });
+    let settings = spot_settings(ShadowSetup::Virtual, VirtualSettings::default(), light);
+    let (error, shadowed, renderer, report) = against_truth(&scene, &camera, &settings, SIZE);
+    assert!(shadowed > 500, "{shadowed} exact shadowed points");
+    let off_edge = error.off_edge_px.expect("against the exact shadow");
+    assert!(off_edge * 500 <= error.visible_px, "{error:?}");
+    let views = renderer.last_views();
+    assert_eq!(views.len(), 36, "six faces of six mips");
+    assert_eq!(views[0].name, "point +X mip 0");
+    let p = report.virtual_pages.expect("pages");
+    assert_eq!(p.pages_refused, 0, "{p:?}");
+    let behind = behind_the_box();
+    let known =
+        [behind, Vec3::new(2.0, 0.0, LIGHT_BESIDE_THE_BOX.z)].map(|p| ground_point(p.x, p.z));
+    let reaching = renderer.light_at(gpu(), &known).expect("read back");
+    assert_eq!(reaching, [0.0, 1.0], "behind the box, lit beside it");
+    // The far ground the narrow cone left out is outside this one too, and reads no page.
+    let far = Frames::new(&scene).frame(&scene, &outside_the_cone(), &settings);
+    let mut truth = TruthCache::default();
+    let exact = truth.exact(&scene, &outside_the_cone(), SIZE, light.shadow_light());
+    assert_eq!(
+        exact.points.len(),
+        0,
+        "the wide cone reaches none of that ground either"
+    );
+    assert_eq!(far.pages.pages_marked, 0, "{:?}", far.pages);
 }

@@ -123,7 +123,7 @@ pub fn legend(settings: &FrameSettings) -> Vec<LegendGroup> {
     if overlays.light_view && settings.setup == super::ShadowSetup::Virtual {
         groups.push(LegendGroup {
             title: match settings.point_light {
-                Some(light) if light.cone.is_some() => {
+                Some(light) if crate::shadow_view::spot_chain(&light).is_some() => {
                     "Pages of the spot's mips, finest first (top left)"
                 }
                 Some(_) => {

@@ -18,7 +18,9 @@ pub use buffer::ViewBuffer;
 pub use gpu_data::ShadowViewGpu;
 pub use layered_settings::{LayerCulling, LayeredPath, LayeredSettings};
 pub use settings::{PcfKernel, ShadowSettings};
-pub use virtual_settings::{LEVEL_PAGES, PAGE_BYTES, PAGE_TEXELS, VirtualSettings};
+pub use virtual_settings::{
+    LEVEL_PAGES, PAGE_BYTES, PAGE_TEXELS, SPOT_CHAIN_MAX_CONE_RAD, VirtualSettings, spot_chain,
+};
 pub use volume_settings::{VolumeClamp, VolumePassChoice, VolumeSettings};
 
 use crate::geom::LightFrustum;

@@ -12,6 +12,21 @@ pub const LEVEL_PAGES: u32 = 32;
 /// Bytes of one physical page (`Depth32Float`).
 pub const PAGE_BYTES: u64 = (PAGE_TEXELS * PAGE_TEXELS * 4) as u64;
 
+/// The widest cone, from its axis to its edge, whose spot light's virtual maps are one chain
+/// of mips along it: a wider cone's one view would spread its texels over more than a cube
+/// face's 90 degrees (and past about 85 degrees no one perspective view holds it), so it
+/// takes a point light's cube, pixels outside the cone still reading no page.
+pub const SPOT_CHAIN_MAX_CONE_RAD: f32 = std::f32::consts::FRAC_PI_4;
+
+/// The cone of `light` when the virtual maps cast it through one chain along the cone; `None`
+/// where they use the cube (a point light, or a spot wider than
+/// [`SPOT_CHAIN_MAX_CONE_RAD`]).
+pub fn spot_chain(light: &crate::scene::PointShadow) -> Option<crate::scene::SpotCone> {
+    light
+        .cone
+        .filter(|c| c.outer_rad <= SPOT_CHAIN_MAX_CONE_RAD)
+}
+
 /// The virtual maps a user sets.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default)]

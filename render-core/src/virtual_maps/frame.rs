@@ -12,7 +12,7 @@ use crate::culling::{CasterOutcome, Method};
 use crate::geom::{CUBE_FACES, LightFrustum, cube_face_frustum, fit_clipmap_level, spot_frustum};
 use crate::gpu::{GpuContext, pass_label};
 use crate::scene::PointShadow;
-use crate::shadow_view::{LEVEL_PAGES, PAGE_TEXELS, ShadowView, ViewTarget};
+use crate::shadow_view::{LEVEL_PAGES, PAGE_TEXELS, ShadowView, ViewTarget, spot_chain};
 use crate::technique::{
     DrawInput, InsetSources, ShadowPasses, ShadowReport, ShadowTechnique, TechniqueInput,
     ViewReport, VirtualPages,
@@ -31,8 +31,8 @@ pub const POINT_MIPS: u32 = 6;
 impl VirtualTechnique {
     /// A point light's levels: each face of its cube (`CUBE_FACES`' order) a chain of mips,
     /// 4096 texels square, 2048, ..., out to the scene's farthest corner; a spot light's, one
-    /// chain along its cone. Their pages stay where they are (no window moves with the
-    /// camera).
+    /// chain along its cone where it is no wider than `SPOT_CHAIN_MAX_CONE_RAD`. Their pages
+    /// stay where they are (no window moves with the camera).
     fn punctual_views(
         &mut self,
         light: PointShadow,
@@ -58,7 +58,7 @@ impl VirtualTechnique {
                 ));
             }
         };
-        match light.cone {
+        match spot_chain(&light) {
             Some(cone) => chain("spot", &|side| {
                 spot_frustum(position, cone.direction, cone.outer_rad, far, side)
             }),
@@ -367,7 +367,7 @@ impl ShadowTechnique for VirtualTechnique {
             // A point light's cube, or a spot's cone: `--levels` mips per face, at most
             // POINT_MIPS.
             self.face_mips = self.settings.levels.min(POINT_MIPS);
-            let faces = if light.cone.is_some() { 1 } else { 6 };
+            let faces = if spot_chain(&light).is_some() { 1 } else { 6 };
             self.settings.levels = faces * self.face_mips;
             self.ensure_tables(ctx);
             return self.punctual_views(light, &bounds);

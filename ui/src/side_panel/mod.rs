@@ -317,10 +317,15 @@ fn point_light_ui(
     let mut on = settings.point_light.is_some();
     let p = point.position;
     let (label, kind, pages) = match point.cone {
-        Some(_) => (
+        Some(c) if c.outer_rad <= render_core::shadow_view::SPOT_CHAIN_MAX_CONE_RAD => (
             "From the spot light",
             "spot light",
             "a chain of pages along its cone",
+        ),
+        Some(_) => (
+            "From the spot light",
+            "spot light",
+            "a cube of pages, the cone being wider than a face",
         ),
         None => ("From the point light", "point light", "a cube of pages"),
     };
