@@ -336,6 +336,26 @@ fn objects_detail(session: &Session, report: &FrameReport) -> anyhow::Result<ser
     Ok(serde_json::Value::Array(entries))
 }
 
+/// The light that casts the frame's shadows (`--light`): the sun, or a point or spot light
+/// with where it is, how bright and a spot's cone.
+fn shadow_light_json(settings: &FrameSettings) -> serde_json::Value {
+    let Some(light) = settings.point_light else {
+        return json!({ "kind": "sun", "direction": settings.sun.direction_to_sun.to_array() });
+    };
+    let mut out = json!({
+        "kind": "point",
+        "position": light.position.to_array(),
+        "intensity_cd": light.intensity_cd,
+    });
+    if let Some(cone) = light.cone {
+        out["kind"] = json!("spot");
+        out["direction"] = json!(cone.direction.to_array());
+        out["inner_cone_deg"] = json!(cone.inner_rad.to_degrees());
+        out["outer_cone_deg"] = json!(cone.outer_rad.to_degrees());
+    }
+    out
+}
+
 /// The stats JSON of DESIGN.md: scene, objects, method, counts, stages (in total and per shadow
 /// view), `timings_ms`, and the view.
 pub fn stats_json(
@@ -371,6 +391,7 @@ pub fn stats_json(
             "near": camera.near_m,
             "far": camera.far_m,
             "sun": settings.sun.direction_to_sun.to_array(),
+            "shadow_light": shadow_light_json(settings),
         },
         "shadow": settings.shadow,
         "counts": {

@@ -37,12 +37,6 @@ pub(super) fn parse_light(s: &str) -> Result<LightArg, String> {
 impl ViewArgs {
     /// Sets the light `--light` asks for from `scene`'s lights.
     pub fn light_over(&self, settings: &mut FrameSettings, scene: &Scene) -> anyhow::Result<()> {
-        let spots = || {
-            let spot = |l: &&render_core::scene::PunctualLight| {
-                matches!(l.kind, render_core::scene::LightKind::Spot { .. })
-            };
-            scene.lights.iter().filter(spot).count()
-        };
         settings.point_light = match self.light {
             None => return Ok(()),
             Some(LightArg::Sun) => None,
@@ -61,7 +55,7 @@ impl ViewArgs {
                     "--light spot:{index}: {} has {} spot lights (glTF files give them with \
                      KHR_lights_punctual; builtin:city-night has its street lamps)",
                     scene.name,
-                    spots()
+                    scene.spot_lights().count()
                 ),
             },
         };

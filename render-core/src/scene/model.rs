@@ -228,11 +228,7 @@ impl PointShadow {
 
     /// The `index`th spot light of `scene`.
     pub fn spot_of_scene(scene: &Scene, index: usize) -> Option<Self> {
-        let spots = scene
-            .lights
-            .iter()
-            .filter(|l| matches!(l.kind, LightKind::Spot { .. }));
-        spots.map(Self::of_light).nth(index)
+        scene.spot_lights().map(Self::of_light).nth(index)
     }
 
     fn of_light(light: &PunctualLight) -> Self {
@@ -324,6 +320,13 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// Its spot lights, in order.
+    pub fn spot_lights(&self) -> impl Iterator<Item = &PunctualLight> {
+        self.lights
+            .iter()
+            .filter(|l| matches!(l.kind, LightKind::Spot { .. }))
+    }
+
     pub fn new(
         name: impl Into<String>,
         meshes: Vec<Mesh>,
