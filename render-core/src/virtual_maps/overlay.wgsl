@@ -1,8 +1,8 @@
 // The virtual maps' page view (virtual_maps/overlay.rs), the `light-view` overlay of this
 // technique: every level's square side by side, finest first, left to right and down (a
 // point light's: a row per face, +X, -X, +Y, -Y, +Z, -Z, its mips finest first; a spot's
-// mips as the sun's levels), each
-// page in the colour of what it did this frame (palette.rs PAGE_*), dark where it is empty.
+// mips as the sun's levels), each page in the colour of what it did this frame (palette.rs
+// PAGE_*), dark where it is empty.
 #import virtual_maps/pages.wgsl
 #import palette.wgsl
 
