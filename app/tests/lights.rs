@@ -37,8 +37,12 @@ fn a_spot_light_of_the_hall_casts_the_shadows_and_the_stats_name_it() {
     let outer = light["outer_cone_deg"].as_f64().expect("a cone");
     assert!((30.0..=40.0).contains(&outer), "the hall's spots: {light}");
     let views = stats["views"].as_array().expect("views");
-    assert_eq!(views.len(), 6, "one chain of six mips");
-    assert_eq!(views[0]["name"], "spot mip 0");
+    assert_eq!(
+        views.len(),
+        26,
+        "one chain: 16 + 4 tiles of the finest mips, 6 mips"
+    );
+    assert_eq!(views[0]["name"], "spot mip 0 tile 0,0");
     let pages = &stats["virtual"];
     assert!(pages["pages_marked"].as_u64() > Some(0), "{pages}");
     assert_eq!(pages["pages_refused"], 0);

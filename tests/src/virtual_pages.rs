@@ -15,6 +15,27 @@ use render_core::technique::VirtualPages;
 use crate::{box_on_plane, gpu};
 
 pub const SIZE: (u32, u32) = (256, 192);
+/// Levels of a point light's face or of a spot's chain: the 4 x 4 tiles of the finest mip
+/// (16,384 texels), the 2 x 2 of the next, then a level for each of the six mips from 4096
+/// texels to 128.
+pub const FACE_LEVELS: usize = 26;
+
+/// The names of a face's (or spot's) levels, `name` its own: "{name} mip 0 tile 0,0", ...,
+/// "{name} mip 2", ..., "{name} mip 7".
+pub fn chain_names(name: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    for (mip, tiles) in [(0, 4), (1, 2)] {
+        for row in 0..tiles {
+            for column in 0..tiles {
+                out.push(format!("{name} mip {mip} tile {column},{row}"));
+            }
+        }
+    }
+    out.extend((2..8).map(|mip| format!("{name} mip {mip}")));
+    assert_eq!(out.len(), FACE_LEVELS);
+    out
+}
+
 /// A page-table entry's flags (`virtual_maps/pages.wgsl`).
 pub const MARKED: u32 = 1;
 pub const RESIDENT: u32 = 2;

@@ -10,7 +10,8 @@ use render_core::geom::NEAR_M;
 use render_core::scene::{PointShadow, Scene, Sun};
 use render_core::shadow_view::{LEVEL_PAGES, PAGE_TEXELS, ShadowView, VirtualSettings};
 use shadowlab_tests::virtual_pages::{
-    Frames, MARKED, assert_drawn_again_exactly, entries_with, scene, settings,
+    FACE_LEVELS, Frames, MARKED, assert_drawn_again_exactly, chain_names, entries_with, scene,
+    settings,
 };
 use shadowlab_tests::{
     LIGHT_BESIDE_THE_BOX, against_truth, gpu, ground_point, overlooking_the_box,
@@ -110,11 +111,22 @@ fn a_point_light_in_the_view_casts_the_exact_shadow_through_its_cube_of_pages() 
             "behind the box, under the light, far out"
         );
         let views = renderer.last_views();
-        assert_eq!(views.len(), 36, "six faces of six mips");
-        assert_eq!(views[6].name, "point -X mip 0");
-        assert_eq!((views[6].target.size, views[11].target.size), (4096, 128));
+        assert_eq!(views.len(), 6 * FACE_LEVELS, "six faces");
+        let minus_x = &views[FACE_LEVELS..2 * FACE_LEVELS];
+        let names: Vec<_> = minus_x.iter().map(|v| v.name.clone()).collect();
+        assert_eq!(names, chain_names("point -X"));
+        let sizes = [0, 19, 20, 25].map(|i| minus_x[i].target.size);
+        assert_eq!(
+            sizes,
+            [4096, 4096, 4096, 128],
+            "tiles of 4096, then the mips"
+        );
         let p = report.virtual_pages.expect("pages");
-        assert_eq!((p.levels, p.pages_refused), (36, 0), "{p:?}");
+        assert_eq!(
+            (p.levels, p.pages_refused),
+            (6 * FACE_LEVELS as u32, 0),
+            "{p:?}"
+        );
         assert!(p.pages_marked > 0 && p.caster_pages > 0, "{p:?}");
         let under = report.undersampling.expect("measured");
         assert!(under.p95_octaves <= 0.5, "{under:?}");
@@ -166,7 +178,12 @@ fn a_static_point_light_draws_no_page_in_the_second_frame_and_a_moved_one_every_
     let faces_marked = |flags: &[u32]| {
         let marked = entries_with(flags, MARKED);
         (0..6)
-            .map(|f| marked.iter().filter(|&&e| e / (6 * 1024) == f).count())
+            .map(|f| {
+                marked
+                    .iter()
+                    .filter(|&&e| e / (FACE_LEVELS * 1024) == f)
+                    .count()
+            })
             .collect::<Vec<_>>()
     };
     let faces = faces_marked(&first.flags);
@@ -229,4 +246,41 @@ fn a_pool_too_small_for_a_point_light_falls_back_to_coarser_mips_and_leaves_no_h
     let error = frame.report.error.expect("measured");
     let shaded = frame.report.undersampling.expect("measured").pixels;
     assert_eq!(shaded, error.visible_px, "every receiver pixel is shaded");
+}
+
+#[test]
+fn a_close_view_reads_the_tiles_of_the_finest_mips_and_a_shadow_edge_on_a_tile_border_is_exact() {
+    // Straight above the box's +X side: its shadow's edge on the ground runs under the light,
+    // along the -Y face's middle, where the finest mips' tiles meet.
+    let light = Vec3::new(1.0, 6.0, 0.0);
+    let scene: Scene = scene(Sun::default());
+    let camera = render_core::geom::Camera::look_at(
+        Vec3::new(1.6, 0.8, 1.0),
+        Vec3::new(1.0, 0.0, 0.3),
+        12f32.to_radians(),
+        0.05,
+        100.0,
+    );
+    let settings = point_settings(VirtualSettings::default(), light);
+    let (error, shadowed, renderer, report) = against_truth(&scene, &camera, &settings, SIZE);
+    assert_eq!(report.shadow_failure, None);
+    assert!(shadowed > 5_000, "{shadowed} shadowed points");
+    assert!(
+        error.visible_px - shadowed > 5_000,
+        "{error:?}: lit points too"
+    );
+    let off_edge = error.off_edge_px.expect("against the exact shadow");
+    assert!(off_edge * 500 <= error.visible_px, "{error:?}");
+    let known = [ground_point(0.98, 0.3), ground_point(1.02, 0.3)];
+    let reaching = renderer.light_at(gpu(), &known).expect("read back");
+    assert_eq!(reaching, [0.0, 1.0], "2 cm either side of the edge");
+    // The pixels read tiles of the -Y face's finest mips, more than one of them.
+    let frame = Frames::new(&scene).frame(&scene, &camera, &settings);
+    let mut tiles: Vec<usize> = entries_with(&frame.flags, MARKED)
+        .iter()
+        .map(|e| e / 1024)
+        .filter(|level| level / FACE_LEVELS == 3 && level % FACE_LEVELS < 20)
+        .collect();
+    tiles.dedup();
+    assert!(tiles.len() >= 2, "tile levels marked: {tiles:?}");
 }

@@ -18,5 +18,8 @@ pub use light_fit::{
     stable_depth_range, view_depth_range,
 };
 pub use lispsm::{MIN_SIN_GAMMA, Warp, fit_lispsm};
-pub use punctual::{CUBE_FACES, NEAR_M, Perspective, cube_face_frustum, spot_frustum};
+pub use punctual::{
+    CUBE_FACES, NEAR_M, Perspective, TILE_OVERLAP_TEXELS, cube_face_frustum, spot_frustum,
+    tile_frustum,
+};
 pub use slice_fit::{SliceFit, fit_focused_slice, fit_view_slice};

@@ -103,6 +103,50 @@ fn frustum(
     }
 }
 
+/// Texels of its mip each tile of a tiled mip (a face finer than 4096 texels) reaches past its
+/// share of the face on every side, so that a PCF kernel of a point in its share lands
+/// inside it (`virtual_maps/pages.wgsl` `TILE_OVERLAP`).
+pub const TILE_OVERLAP_TEXELS: f32 = 8.0;
+
+/// Tile (`column`, `row`) of `tiles` x `tiles` of `full`, a perspective view of `full_side`
+/// texels square, as a view of `tile_side` texels: the same light and depths, its projection
+/// the tile's share of `full`'s (rows from the top) widened by [`TILE_OVERLAP_TEXELS`] of
+/// `full`'s texels each way.
+pub fn tile_frustum(
+    full: &LightFrustum,
+    (column, row): (u32, u32),
+    tiles: u32,
+    (full_side, tile_side): (u32, u32),
+) -> LightFrustum {
+    let t = tiles.max(1) as f32;
+    // Half the tile's extent in `full`'s normalised device coordinates, and its centre.
+    let half = 1.0 / t + 2.0 * TILE_OVERLAP_TEXELS / full_side as f32;
+    let centre = glam::Vec2::new(
+        -1.0 + (2 * column + 1) as f32 / t,
+        1.0 - (2 * row + 1) as f32 / t,
+    );
+    let window = glam::Mat4::from_cols(
+        glam::Vec4::new(1.0 / half, 0.0, 0.0, 0.0),
+        glam::Vec4::new(0.0, 1.0 / half, 0.0, 0.0),
+        glam::Vec4::Z,
+        (-centre / half).extend(0.0).extend(1.0),
+    );
+    let clip_from_light = window * full.clip_from_light;
+    let perspective = full.perspective.map(|p| Perspective {
+        texel_per_w: p.texel_per_w * half * full_side as f32 / tile_side as f32,
+        ..p
+    });
+    let texel_per_w = perspective.map_or(full.texel_size_m[0], |p| p.texel_per_w);
+    let far = perspective.map_or(1.0, |p| p.far_m);
+    LightFrustum {
+        clip_from_light,
+        light_clip_from_world: clip_from_light * full.light_from_world,
+        texel_size_m: [texel_per_w * far; 2],
+        perspective,
+        ..*full
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -155,5 +199,41 @@ mod tests {
                 "{d} {p}"
             );
         }
+    }
+
+    #[test]
+    fn a_tile_is_its_share_of_the_finer_face_with_the_overlap_on_the_same_texel_grid() {
+        let light = Vec3::new(1.0, 2.0, 3.0);
+        let full = cube_face_frustum(light, 4, 30.0, 16384);
+        let tile = tile_frustum(&full, (2, 1), 4, (16384, 4096));
+        // Texel coordinates of a world point in the full face and in the tile.
+        let texel = |f: &LightFrustum, side: f32, p: Vec3| {
+            let n = ndc(f, p);
+            (
+                glam::Vec2::new(n.x * 0.5 + 0.5, 0.5 - n.y * 0.5) * side,
+                n.z,
+            )
+        };
+        let scale = 4096.0 / (4096.0 + 2.0 * TILE_OVERLAP_TEXELS);
+        for p in [
+            light + Vec3::new(0.3, -0.2, 5.0),
+            light + Vec3::new(-2.0, 1.0, 9.0),
+            light + Vec3::new(0.01, 0.02, 1.0),
+        ] {
+            let (f, depth) = texel(&full, 16384.0, p);
+            let (t, tile_depth) = texel(&tile, 4096.0, p);
+            // The tile's texels start TILE_OVERLAP texels of the face before its share
+            // (column 2, row 1 of 4096 each) and are 1 / scale of the face's wide.
+            let expected = (f - glam::Vec2::new(2.0 * 4096.0, 4096.0)
+                + glam::Vec2::splat(TILE_OVERLAP_TEXELS))
+                * scale;
+            assert!(
+                (t - expected).length() < 0.05,
+                "{p}: {t} against {expected}"
+            );
+            assert!((depth - tile_depth).abs() < 1e-6);
+        }
+        let (full_p, tile_p) = (full.perspective.unwrap(), tile.perspective.unwrap());
+        assert!((tile_p.texel_per_w * scale / full_p.texel_per_w - 1.0).abs() < 1e-5);
     }
 }

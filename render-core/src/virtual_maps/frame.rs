@@ -5,13 +5,13 @@ use bytemuck::Zeroable;
 
 use super::gpu_data::{FrameCounts, VirtualParams, word};
 use super::pipelines::TABLE_PASSES;
+use super::punctual::{POINT_MIPS, face_levels};
 use super::resources::{LEVEL_ENTRIES, Tables};
 use super::{LIGHT_WGSL, VirtualTechnique};
 
 use crate::culling::{CasterOutcome, Method};
-use crate::geom::{CUBE_FACES, LightFrustum, cube_face_frustum, fit_clipmap_level, spot_frustum};
+use crate::geom::fit_clipmap_level;
 use crate::gpu::{GpuContext, pass_label};
-use crate::scene::PointShadow;
 use crate::shadow_view::{LEVEL_PAGES, PAGE_TEXELS, ShadowView, ViewTarget, spot_chain};
 use crate::technique::{
     DrawInput, InsetSources, ShadowPasses, ShadowReport, ShadowTechnique, TechniqueInput,
@@ -23,65 +23,7 @@ use crate::technique::{
 /// chain).
 const FALLBACK_PAGES: u32 = 16;
 
-/// Mips of each face of a point light's cube (or of a spot's one chain) at most: 4096 texels
-/// square down to 128, one page, so that the coarsest pages hold every point the light
-/// reaches (the fallback of pixels whose pages the pool refused).
-pub const POINT_MIPS: u32 = 6;
-
 impl VirtualTechnique {
-    /// A point light's levels: each face of its cube (`CUBE_FACES`' order) a chain of mips,
-    /// 4096 texels square, 2048, ..., out to the scene's farthest corner; a spot light's, one
-    /// chain along its cone where it is no wider than `SPOT_CHAIN_MAX_CONE_RAD`. Their pages
-    /// stay where they are (no window moves with the camera).
-    fn punctual_views(
-        &mut self,
-        light: PointShadow,
-        bounds: &crate::geom::Aabb,
-    ) -> Vec<ShadowView> {
-        let position = light.position;
-        let far = bounds
-            .corners()
-            .iter()
-            .map(|c| c.distance(position))
-            .fold(0.0f32, f32::max)
-            * 1.001
-            + 0.1;
-        let mut views = Vec::new();
-        let mut chain = |name: &str, frustum: &dyn Fn(u32) -> LightFrustum| {
-            for mip in 0..self.face_mips {
-                let side = (LEVEL_PAGES * PAGE_TEXELS) >> mip;
-                self.first_pages.push([0, 0]);
-                views.push(ShadowView::covering_all_depths(
-                    &format!("{name} mip {mip}"),
-                    frustum(side),
-                    ViewTarget::layer(0, side),
-                ));
-            }
-        };
-        match spot_chain(&light) {
-            Some(cone) => chain("spot", &|side| {
-                spot_frustum(position, cone.direction, cone.outer_rad, far, side)
-            }),
-            None => {
-                for (face, (name, _, _)) in CUBE_FACES.iter().enumerate() {
-                    chain(&format!("point {name}"), &|side| {
-                        cube_face_frustum(position, face, far, side)
-                    });
-                }
-            }
-        }
-        views
-    }
-
-    /// Chains of levels that may shade a point (`pages.wgsl` `chain_count`): the sun's
-    /// clipmap, a point light's six faces, or a spot light's one.
-    fn chains(&self) -> u32 {
-        self.settings
-            .levels
-            .checked_div(self.face_mips)
-            .unwrap_or(1)
-    }
-
     /// This frame's parameters: the levels' squares, the pool, and whether every page is
     /// invalid.
     fn params(&self, invalidate_all: bool, moved: u32) -> VirtualParams {
@@ -368,7 +310,7 @@ impl ShadowTechnique for VirtualTechnique {
             // POINT_MIPS.
             self.face_mips = self.settings.levels.min(POINT_MIPS);
             let faces = if spot_chain(&light).is_some() { 1 } else { 6 };
-            self.settings.levels = faces * self.face_mips;
+            self.settings.levels = faces * face_levels(self.face_mips);
             self.ensure_tables(ctx);
             return self.punctual_views(light, &bounds);
         }

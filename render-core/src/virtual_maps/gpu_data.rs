@@ -4,8 +4,9 @@
 use bytemuck::{Pod, Zeroable};
 
 /// Levels the parameters and counters hold: the sun's clipmap's at most
-/// (`VirtualSettings::MAX_LEVELS`, 24), or a point light's six faces of six mips.
-pub(super) const LEVEL_SLOTS: usize = 36;
+/// (`VirtualSettings::MAX_LEVELS`, 24), or a point light's six faces of eight mips, 26 levels
+/// each with the finest two as tiles (`punctual.rs` `face_levels`).
+pub(super) const LEVEL_SLOTS: usize = 156;
 const _: () = assert!(crate::shadow_view::VirtualSettings::MAX_LEVELS as usize <= LEVEL_SLOTS);
 
 /// `VirtualParams` in `pages.wgsl`.
@@ -22,7 +23,7 @@ pub(super) struct VirtualParams {
     /// Per level, the absolute position of its square's first page.
     pub first_page: [[i32; 4]; LEVEL_SLOTS],
 }
-const _: () = assert!(size_of::<VirtualParams>() == 48 + 16 * 36);
+const _: () = assert!(size_of::<VirtualParams>() == 48 + 16 * LEVEL_SLOTS);
 
 /// Word offsets in `Counters` (`tables.wgsl`).
 pub(super) mod word {
@@ -115,7 +116,7 @@ mod tests {
 
     /// The constants the shaders repeat by hand are the ones Rust sizes their buffers by.
     #[test]
-    fn the_shaders_hold_the_levels_cells_and_near_plane_of_the_rust_side() {
+    fn the_shaders_hold_the_levels_cells_tiles_and_near_plane_of_the_rust_side() {
         let pages = include_str!("pages.wgsl");
         let tables = include_str!("tables.wgsl");
         assert!(pages.contains(&format!("first_page: array<vec4<i32>, {LEVEL_SLOTS}>")));
@@ -129,5 +130,11 @@ mod tests {
         assert!(tables.contains(&format!("array<atomic<u32>, 4>, {LEVEL_SLOTS}>")));
         assert!(tables.contains(&format!("HIERARCHY_CELLS: u32 = {HIERARCHY_CELLS}u;")));
         assert!(pages.contains(&format!("POINT_NEAR_M: f32 = {:?};", crate::geom::NEAR_M)));
+        let finest = super::super::punctual::mip_tiles(0);
+        assert!(pages.contains(&format!("FINEST_TILES: u32 = {finest}u;")));
+        let overlap = crate::geom::TILE_OVERLAP_TEXELS;
+        assert!(pages.contains(&format!("TILE_OVERLAP: f32 = {overlap:?};")));
+        let side = crate::shadow_view::LEVEL_PAGES * crate::shadow_view::PAGE_TEXELS;
+        assert!(pages.contains(&format!("LEVEL_TEXELS: i32 = {side};")));
     }
 }

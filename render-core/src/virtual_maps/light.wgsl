@@ -73,8 +73,9 @@ fn light_reaching(world_pos: vec3<f32>, geometric: vec3<f32>, measuring: bool) -
     if (!light_reaches(world_pos)) {
         return out;
     }
-    let first = matched_level(world_pos, geometric);
-    for (var level = first; level < chain_end(first); level++) {
+    let chain = chain_of(world_pos);
+    for (var m = matched_mip(world_pos, geometric); m < chain_mips(); m++) {
+        let level = mip_level(world_pos, chain, m);
         let l = shadow_lookup(world_pos, geometric, level);
         if (!lookup_contained(l) || !taps_resident(l)) {
             continue;

@@ -108,8 +108,9 @@ fn mark_sampled(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let p = surface[0].xyz;
     let n = surface[1].xyz;
-    let first = matched_level(p, n);
-    for (var level = first; level < chain_end(first); level++) {
+    let chain = chain_of(p);
+    for (var m = matched_mip(p, n); m < chain_mips(); m++) {
+        let level = mip_level(p, chain, m);
         let l = shadow_lookup(p, n, level);
         if (!lookup_contained(l) || !taps_resident(l)) {
             continue;

@@ -4,13 +4,13 @@
 //! pages that visible pixels read are given physical pages of an atlas, and only those drawn;
 //! drawn pages stay cached across frames until something moves through them or the light
 //! moves. A point light takes the same path with its cube as the levels: six faces, each a
-//! chain of mips from 4096 texels square down to one page; a spot light with one such chain
-//! along its cone, no page read outside it.
+//! chain of mips from 16,384 texels square (the two finest as tiles of 4096) down to one page;
+//! a spot light with one such chain along its cone, no page read outside it.
 //!
 //! ```text
 //! prepare   the levels: a shadow view each (geom::fit_clipmap_level), on a texel grid fixed
 //!           in light space, so a page keeps its place as the camera moves; or a point
-//!           light's faces and their mips, or a spot's (frame.rs `punctual_views`)
+//!           light's faces and their mips, or a spot's (punctual.rs `punctual_views`)
 //! draw      in compute, no readback (allocate.wgsl, mark.wgsl, cull.wgsl): moved boxes
 //!           invalidate their pages; pages that left their square or were invalidated are
 //!           released; each visible receiver pixel marks the pages its PCF taps read at the
@@ -30,6 +30,7 @@ mod frame;
 mod gpu_data;
 mod overlay;
 mod pipelines;
+mod punctual;
 mod resources;
 
 use crate::geom::Aabb;

@@ -3,11 +3,11 @@
 // each a 4096-texel square of 32 x 32 pages on a fixed texel grid, and a page's entry in its
 // level's table is wrapped by its absolute page position, so a page keeps its entry (and its
 // physical page) while the square moves with the camera. A point light's levels are its
-// cube's six faces, each a chain of mips (4096 texels square, 2048, ...; a perspective view
-// from the light), whose pages never move; a spot light's, one such chain along its cone.
-// A chain is the levels that may shade a point, finest first: the sun's whole clipmap, one
-// face's mips, or the spot's. Every user binds `params` here;
-// the tables it binds as it needs them.
+// cube's six faces, each a chain of mips (16,384 texels square, 8192, ...; a perspective view
+// from the light; the mips finer than a level's 4096 texels are tiles of 4096, a level each),
+// whose pages never move; a spot light's, one such chain along its cone. A chain is the
+// levels that may shade a point, finest first: the sun's whole clipmap, one face's mips, or
+// the spot's. Every user binds `params` here; the tables it binds as it needs them.
 #import shadow_view/lookup.wgsl
 
 const PAGE_TEXELS: i32 = 128;
@@ -36,7 +36,7 @@ const BLOCK_TEXELS: i32 = 16;
 // A drawn page's item in the list of drawn pages (and a pair's entry): its entry, and this
 // bit for the movable casters' layer alone.
 const DYNAMIC_ONLY: u32 = 0x40000000u;
-const ENTRY_BITS: u32 = 0xffffu;
+const ENTRY_BITS: u32 = 0x3fffffffu;
 
 // Keep in sync with virtual_maps/gpu_data.rs (VirtualParams).
 struct VirtualParams {
@@ -53,7 +53,7 @@ struct VirtualParams {
     // cube (0: the sun's clipmap).
     limits: vec4<u32>,
     // Per level, xy: the absolute position of its square's first page (column, row).
-    first_page: array<vec4<i32>, 36>,
+    first_page: array<vec4<i32>, 156>,
 }
 
 @group(1) @binding(0) var<uniform> params: VirtualParams;
@@ -67,8 +67,38 @@ fn face_mips() -> u32 {
     return params.limits.w;
 }
 
-fn chain_length() -> u32 {
+// The tiles along a side of a punctual light's finest mip (virtual_maps/frame.rs
+// `mip_tiles(0)`): its 16,384 texels are 4 x 4 levels of 4096.
+const FINEST_TILES: u32 = 4u;
+// Texels along a level's side.
+const LEVEL_TEXELS: i32 = 4096;
+// Texels of its mip each tile reaches past its share of the face (geom/punctual.rs
+// TILE_OVERLAP_TEXELS).
+const TILE_OVERLAP: f32 = 8.0;
+
+// Mips of a chain: the sun's levels, or a face's (a spot's) mips.
+fn chain_mips() -> u32 {
     return select(level_count(), face_mips(), face_mips() != 0u);
+}
+
+// Tiles along a side of mip `m` of a chain: the mips of a point or spot light finer than a
+// level's 4096 texels are cut into tiles of 4096, a level each (punctual.rs `mip_tiles`).
+fn mip_tiles(m: u32) -> u32 {
+    return select(1u, max(FINEST_TILES >> m, 1u), face_mips() != 0u);
+}
+
+// The first level of mip `m` within its chain (the mip's tiles follow row by row).
+fn mip_offset(m: u32) -> u32 {
+    var levels = 0u;
+    for (var k = 0u; k < m; k++) {
+        levels += mip_tiles(k) * mip_tiles(k);
+    }
+    return levels;
+}
+
+// Levels of a chain (punctual.rs `face_levels`).
+fn chain_length() -> u32 {
+    return mip_offset(chain_mips());
 }
 
 // Chains of levels: one for the sun's clipmap, a face each for a point light, one for a spot.
@@ -134,17 +164,16 @@ fn receiver_mask_on() -> bool {
     return params.limits.z != 0u;
 }
 
-// Resolution matching: the finest level of the point's chain whose texel is no larger than
-// the point's pixel, as areas on the surface (the measure's own terms, metrics/measure.wgsl),
-// plus the bias. The sun's finest texel is a setting; a face's grows with the distance along
-// its axis.
-fn matched_level(world_pos: vec3<f32>, n: vec3<f32>) -> u32 {
-    let chain = chain_levels(chain_of(world_pos));
+// Resolution matching: the finest mip of the point's chain whose texel is no larger than the
+// point's pixel, as areas on the surface (the measure's own terms, metrics/measure.wgsl), plus
+// the bias. The sun's finest texel is a setting; a face's grows with the distance along its
+// axis.
+fn matched_mip(world_pos: vec3<f32>, n: vec3<f32>) -> u32 {
     let to_eye = frame.eye_world.xyz - world_pos;
     let distance = length(to_eye);
     let pixel_m = distance * frame.camera_forward.w;
     let cos_view = max(abs(dot(n, to_eye / max(distance, 1e-6))), 0.02);
-    let finest = shadow_views[chain.x];
+    let finest = shadow_views[chain_levels(chain_of(world_pos)).x];
     var to_light = finest.light_dir.xyz;
     var finest_m = params.tuning.x;
     if (face_mips() != 0u) {
@@ -155,21 +184,43 @@ fn matched_level(world_pos: vec3<f32>, n: vec3<f32>) -> u32 {
     let cos_light = max(abs(dot(n, to_light)), 0.02);
     let texel_m = pixel_m * sqrt(cos_light / cos_view);
     let octaves = log2(max(texel_m, 1e-30) / finest_m) + params.tuning.y;
-    // NaN (a broken surface) takes the finest level, which the lookup then rejects.
-    let level = select(0.0, floor(octaves), octaves == octaves);
-    return chain.x + u32(clamp(level, 0.0, f32(chain.y - chain.x - 1u)));
+    // NaN (a broken surface) takes the finest mip, which the lookup then rejects.
+    let mip = select(0.0, floor(octaves), octaves == octaves);
+    return u32(clamp(mip, 0.0, f32(chain_mips() - 1u)));
 }
 
-// One past the coarsest level that may shade a point whose matched level is `level`.
-fn chain_end(level: u32) -> u32 {
-    return (level / chain_length() + 1u) * chain_length();
+// The level of mip `m` of chain `chain` that holds world point `p`: the mip's one level, or
+// the tile whose share of the face holds it (the taps of its kernel then lie within the
+// tile's overlap).
+fn mip_level(p: vec3<f32>, chain: u32, m: u32) -> u32 {
+    let first = chain_levels(chain).x + mip_offset(m);
+    let tiles = mip_tiles(m);
+    if (tiles == 1u) {
+        return first;
+    }
+    // Texels of the first tile's grid, which runs on across the others.
+    let clip = light_clip(shadow_views[first], p);
+    if (!(clip.w > 0.0)) {
+        return first;
+    }
+    let side = f32(LEVEL_TEXELS);
+    let t = vec2<f32>(clip.x / clip.w * 0.5 + 0.5, 0.5 - clip.y / clip.w * 0.5) * side;
+    let scale = side / (side + 2.0 * TILE_OVERLAP);
+    let tile = clamp(
+        floor((t - TILE_OVERLAP * scale) / (side * scale)),
+        vec2<f32>(0.0),
+        vec2<f32>(f32(tiles - 1u)),
+    );
+    return first + u32(tile.y) * tiles + u32(tile.x);
 }
 
-// The level a point is shaded from when its pages are there: the matched one, or the first
-// coarser level of its chain whose square holds every tap (`level_count()` when none does).
+// The level a point is shaded from when its pages are there: the matched mip's, or that of
+// the first coarser mip of its chain whose square holds every tap (`level_count()` when
+// none does).
 fn holding_level(world_pos: vec3<f32>, n: vec3<f32>) -> u32 {
-    let first = matched_level(world_pos, n);
-    for (var level = first; level < chain_end(first); level++) {
+    let chain = chain_of(world_pos);
+    for (var m = matched_mip(world_pos, n); m < chain_mips(); m++) {
+        let level = mip_level(world_pos, chain, m);
         if (lookup_contained(shadow_lookup(world_pos, n, level))) {
             return level;
         }

@@ -22,12 +22,12 @@ struct Counters {
     invalidated: atomic<u32>,
     // Draw arguments of the clears: 6 vertices, an instance per drawn page.
     clear_args: array<atomic<u32>, 4>,
-    level_marked: array<atomic<u32>, 36>,
-    level_rendered: array<atomic<u32>, 36>,
-    level_pairs: array<atomic<u32>, 36>,
+    level_marked: array<atomic<u32>, 156>,
+    level_rendered: array<atomic<u32>, 156>,
+    level_pairs: array<atomic<u32>, 156>,
     // Per level, the drawn pages' square: 32 less the first column and row, and one past
     // the last column and row (all 0: none drawn), so that zeroed counters start empty.
-    rects: array<array<atomic<u32>, 4>, 36>,
+    rects: array<array<atomic<u32>, 4>, 156>,
     // When measuring: the texels of physical pages that visible pixels' taps read.
     texels_sampled: atomic<u32>,
     // Cached pages whose movable casters' layer alone is drawn this frame.
