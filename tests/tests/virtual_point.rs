@@ -134,6 +134,26 @@ fn a_point_light_in_the_view_casts_the_exact_shadow_through_its_cube_of_pages() 
 }
 
 #[test]
+fn six_mips_a_face_are_faces_of_4096_a_level_each_and_cast_the_same_exact_shadow() {
+    let scene = scene(Sun::default());
+    let v = VirtualSettings {
+        levels: 6,
+        ..VirtualSettings::default()
+    };
+    let settings = point_settings(v, LIGHT_BESIDE_THE_BOX);
+    let (error, shadowed, renderer, report) =
+        against_truth(&scene, &overlooking_the_box(), &settings, SIZE);
+    assert!(shadowed > 500, "{shadowed} exact shadowed points");
+    let off_edge = error.off_edge_px.expect("against the exact shadow");
+    assert!(off_edge * 500 <= error.visible_px, "{error:?}");
+    let views = renderer.last_views();
+    assert_eq!(views.len(), 36, "six faces of six mips");
+    assert_eq!(views[6].name, "point -X mip 0");
+    assert_eq!((views[6].target.size, views[11].target.size), (4096, 128));
+    assert_eq!(report.virtual_pages.expect("pages").levels, 36);
+}
+
+#[test]
 fn a_light_touching_the_box_casts_its_exact_shadow_from_every_face_the_box_crosses() {
     // 2 cm beside the box's +X side (x 1), at half its height: the box's bounds cross the
     // near plane of every face but +X (behind which it lies), whose casters are then drawn

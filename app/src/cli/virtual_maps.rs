@@ -15,7 +15,7 @@ pub struct VirtualArgs {
     pub pages: Option<u32>,
     /// Virtual maps: clipmap levels, 1 to 24, each with texels twice the last's (default 16);
     /// from a point or spot light (`--light`), mips per face of its cube (or of the spot's
-    /// cone), 16,384 texels square and coarser, at most 8.
+    /// cone), the coarsest kept: 8 (the most) from 16,384 texels square, 6 from 4096.
     #[arg(long, value_name = "N")]
     pub levels: Option<u32>,
     /// Virtual maps: keep drawn pages across frames until something moves through them (on,

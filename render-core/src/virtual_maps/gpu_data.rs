@@ -130,8 +130,6 @@ mod tests {
         assert!(tables.contains(&format!("array<atomic<u32>, 4>, {LEVEL_SLOTS}>")));
         assert!(tables.contains(&format!("HIERARCHY_CELLS: u32 = {HIERARCHY_CELLS}u;")));
         assert!(pages.contains(&format!("POINT_NEAR_M: f32 = {:?};", crate::geom::NEAR_M)));
-        let finest = super::super::punctual::mip_tiles(0);
-        assert!(pages.contains(&format!("FINEST_TILES: u32 = {finest}u;")));
         let overlap = crate::geom::TILE_OVERLAP_TEXELS;
         assert!(pages.contains(&format!("TILE_OVERLAP: f32 = {overlap:?};")));
         let side = crate::shadow_view::LEVEL_PAGES * crate::shadow_view::PAGE_TEXELS;

@@ -67,9 +67,6 @@ fn face_mips() -> u32 {
     return params.limits.w;
 }
 
-// The tiles along a side of a punctual light's finest mip (virtual_maps/frame.rs
-// `mip_tiles(0)`): its 16,384 texels are 4 x 4 levels of 4096.
-const FINEST_TILES: u32 = 4u;
 // Texels along a level's side.
 const LEVEL_TEXELS: i32 = 4096;
 // Texels of its mip each tile reaches past its share of the face (geom/punctual.rs
@@ -82,9 +79,14 @@ fn chain_mips() -> u32 {
 }
 
 // Tiles along a side of mip `m` of a chain: the mips of a point or spot light finer than a
-// level's 4096 texels are cut into tiles of 4096, a level each (punctual.rs `mip_tiles`).
+// level's 4096 texels are cut into tiles of 4096, a level each (punctual.rs `mip_tiles`; the
+// coarsest mip is one page).
 fn mip_tiles(m: u32) -> u32 {
-    return select(1u, max(FINEST_TILES >> m, 1u), face_mips() != 0u);
+    if (face_mips() == 0u) {
+        return 1u;
+    }
+    let side_pages = 1u << (face_mips() - 1u - m);
+    return max(side_pages / u32(LEVEL_PAGES), 1u);
 }
 
 // The first level of mip `m` within its chain (the mip's tiles follow row by row).

@@ -9,17 +9,20 @@ use crate::shadow_view::{LEVEL_PAGES, PAGE_TEXELS, ShadowView, ViewTarget, spot_
 
 /// Mips of each face of a point light's cube (or of a spot's one chain) at most: 16,384
 /// texels square down to 128, one page, so that the coarsest pages hold every point the light
-/// reaches (the fallback of pixels whose pages the pool refused).
+/// reaches (the fallback of pixels whose pages the pool refused). Fewer keep the coarsest:
+/// six are faces of 4096.
 pub const POINT_MIPS: u32 = 8;
 
-/// A face's finest mip, texels square (Unreal's local lights' virtual maps are as fine).
-const FINEST_FACE_TEXELS: u32 = (LEVEL_PAGES * PAGE_TEXELS) << 2;
+/// Texels along a side of mip `mip` of a chain of `mips` mips: the coarsest is one page.
+pub const fn mip_side(mip: u32, mips: u32) -> u32 {
+    PAGE_TEXELS << (mips - 1 - mip)
+}
 
-/// Tiles along a side of mip `mip` of a face: a level holds 4096 texels square (its table 32 x
-/// 32 pages), so the mips finer than that are cut into tiles of 4096, a level each
+/// Tiles along a side of mip `mip` of a chain of `mips`: a level holds 4096 texels square (its
+/// table 32 x 32 pages), so the mips finer than that are cut into tiles of 4096, a level each
 /// (`pages.wgsl` `mip_tiles`).
-pub const fn mip_tiles(mip: u32) -> u32 {
-    let tiles = (FINEST_FACE_TEXELS >> mip) / (LEVEL_PAGES * PAGE_TEXELS);
+pub const fn mip_tiles(mip: u32, mips: u32) -> u32 {
+    let tiles = mip_side(mip, mips) / (LEVEL_PAGES * PAGE_TEXELS);
     if tiles > 1 { tiles } else { 1 }
 }
 
@@ -28,7 +31,7 @@ pub const fn face_levels(mips: u32) -> u32 {
     let mut levels = 0;
     let mut mip = 0;
     while mip < mips {
-        levels += mip_tiles(mip) * mip_tiles(mip);
+        levels += mip_tiles(mip, mips) * mip_tiles(mip, mips);
         mip += 1;
     }
     levels
@@ -37,7 +40,8 @@ const _: () = assert!(6 * face_levels(POINT_MIPS) as usize == super::gpu_data::L
 
 impl VirtualTechnique {
     /// A point light's levels: each face of its cube (`CUBE_FACES`' order) a chain of mips,
-    /// 16,384 texels square, 8192, ..., out to the scene's farthest corner, the mips finer than
+    /// 16,384 texels square (with all eight), 8192, ..., down to one page, out to the scene's
+    /// farthest corner, the mips finer than
     /// 4096 as tiles of 4096 (`mip_tiles`, `geom::tile_frustum`); a spot light's, one
     /// chain along its cone where it is no wider than `SPOT_CHAIN_MAX_CONE_RAD`. Their pages
     /// stay where they are (no window moves with the camera).
@@ -57,9 +61,9 @@ impl VirtualTechnique {
         let mut views = Vec::new();
         let mut chain = |name: &str, frustum: &dyn Fn(u32) -> LightFrustum| {
             for mip in 0..self.face_mips {
-                let side = FINEST_FACE_TEXELS >> mip;
+                let side = mip_side(mip, self.face_mips);
                 let full = frustum(side);
-                let tiles = mip_tiles(mip);
+                let tiles = mip_tiles(mip, self.face_mips);
                 let tile_side = side / tiles;
                 for row in 0..tiles {
                     for column in 0..tiles {
@@ -101,5 +105,23 @@ impl VirtualTechnique {
             .levels
             .checked_div(face_levels(self.face_mips))
             .unwrap_or(1)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_chain_keeps_its_coarsest_mips_and_tiles_those_finer_than_a_level() {
+        // Eight mips: 16,384 texels as 4 x 4 tiles, 8192 as 2 x 2, then 4096 down to 128.
+        let sides: Vec<u32> = (0..8).map(|m| mip_side(m, 8)).collect();
+        assert_eq!(sides, [16384, 8192, 4096, 2048, 1024, 512, 256, 128]);
+        let tiles: Vec<u32> = (0..8).map(|m| mip_tiles(m, 8)).collect();
+        assert_eq!(tiles, [4, 2, 1, 1, 1, 1, 1, 1]);
+        assert_eq!(face_levels(8), 26);
+        // Six: faces of 4096, a level a mip; one: the single page.
+        assert_eq!((mip_side(0, 6), face_levels(6)), (4096, 6));
+        assert_eq!((mip_side(0, 1), face_levels(1)), (128, 1));
     }
 }

@@ -12,7 +12,8 @@ const POOL_HELP: &str = "Physical pages of 128 x 128 texels (64 KiB each) that h
     they run out, pixels read a coarser level and the refused pages are counted";
 const LEVELS_HELP: &str = "Clipmap levels around the camera, each a square of 32 x 32 pages \
     whose texels are twice the last level's. From a point or spot light: mips per face of its \
-    cube, or of the spot's cone (16,384 texels square down to one page, at most 8)";
+    cube, or of the spot's cone, down to one page (8, the most: from 16,384 texels square; 6: \
+    from 4096)";
 const TEXEL_HELP: &str = "The finest level's texel. Each pixel reads the finest level whose \
     texel is no larger than its own footprint (resolution matching)";
 const BIAS_HELP: &str = "Octaves added to the level resolution matching picks: above 0 \
