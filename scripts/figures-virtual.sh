@@ -25,6 +25,10 @@ bench cars-still --animate --path scripts/paths/city-street-still.csv
 ./target/release/shadowlab bench builtin:corridor --light point --sweep virtual --size 640x360 \
     --methods none --frames 30 --warmup 2 --passes --csv "$out/virtual-point-corridor.csv" \
     > "$out/virtual-point-corridor.txt"
+# The same with faces of 4096 (the six coarsest mips, a level each).
+./target/release/shadowlab bench builtin:corridor --light point --sweep virtual --levels 6 \
+    --size 640x360 --methods none --frames 30 --warmup 2 --passes \
+    --csv "$out/virtual-point-corridor-4096.csv" > "$out/virtual-point-corridor-4096.txt"
 ./target/release/shadowlab shot builtin:corridor --light point --shadow virtual --size 1280x720 \
     --eye=-30,2.5,-3 --target=-5,2,2 --overlay light-view \
     --out "$out/virtual-point-pages.png" --stats "$out/virtual-point-pages.json"
