@@ -41,10 +41,10 @@ const _: () = assert!(6 * face_levels(POINT_MIPS) as usize == super::gpu_data::L
 impl VirtualTechnique {
     /// A point light's levels: each face of its cube (`CUBE_FACES`' order) a chain of mips,
     /// 16,384 texels square (with all eight), 8192, ..., down to one page, out to the scene's
-    /// farthest corner, the mips finer than
-    /// 4096 as tiles of 4096 (`mip_tiles`, `geom::tile_frustum`); a spot light's, one
-    /// chain along its cone where it is no wider than `SPOT_CHAIN_MAX_CONE_RAD`. Their pages
-    /// stay where they are (no window moves with the camera).
+    /// farthest corner, the mips finer than 4096 as tiles of 4096 (`mip_tiles`,
+    /// `geom::tile_frustum`); a spot light's, one chain along its cone where it is no wider
+    /// than `SPOT_CHAIN_MAX_CONE_RAD`. Their pages stay where they are (no window moves with
+    /// the camera).
     pub(super) fn punctual_views(
         &mut self,
         light: PointShadow,
