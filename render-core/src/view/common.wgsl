@@ -42,10 +42,11 @@ fn spot_cone(l: vec3<f32>, direction: vec3<f32>, cos_outer: f32, cos_inner: f32)
 
 // Whether the frame's light reaches `p` at all: everywhere but outside a spot's outer cone.
 fn light_reaches(p: vec3<f32>) -> bool {
-    if (frame.point_light.w <= 0.0 || frame.spot.w < -1.5) {
+    if (frame.point_light.w <= 0.0) {
         return true;
     }
-    return dot(normalize(p - frame.point_light.xyz), frame.spot.xyz) > frame.spot.w;
+    let l = normalize(p - frame.point_light.xyz);
+    return spot_cone(l, frame.spot.xyz, frame.spot.w, frame.spot_inner.x) > 0.0;
 }
 
 // From `p` towards the frame's light (xyz, unit) and the illuminance it gets there facing it

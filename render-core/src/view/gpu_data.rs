@@ -50,19 +50,18 @@ pub const NO_CONE: f32 = -2.0;
 /// [`FrameUniforms::point_light`], `spot` and `spot_inner` for `light` (`None`: the sun lights
 /// the frame).
 pub fn punctual_light_fields(light: Option<crate::scene::PointShadow>) -> [[f32; 4]; 3] {
-    let Some(light) = light else {
-        return [[0.0; 4], [0.0, -1.0, 0.0, NO_CONE], [1.0, 0.0, 0.0, 0.0]];
-    };
-    let scale = (light.intensity_cd / crate::scene::Sun::ILLUMINANCE_LX).max(1e-12);
-    let (spot, cos_inner) = light.cone.map_or(([0.0, -1.0, 0.0, NO_CONE], 1.0), |c| {
-        (
-            c.direction.extend(c.outer_rad.cos()).to_array(),
-            c.inner_rad.cos(),
-        )
+    let point = light.map_or([0.0; 4], |l| {
+        let scale = (l.intensity_cd / crate::scene::Sun::ILLUMINANCE_LX).max(1e-12);
+        l.position.extend(scale).to_array()
     });
-    [
-        light.position.extend(scale).to_array(),
-        spot,
-        [cos_inner, 0.0, 0.0, 0.0],
-    ]
+    let (spot, cos_inner) =
+        light
+            .and_then(|l| l.cone)
+            .map_or(([0.0, -1.0, 0.0, NO_CONE], 1.0), |c| {
+                (
+                    c.direction.extend(c.outer_rad.cos()).to_array(),
+                    c.inner_rad.cos(),
+                )
+            });
+    [point, spot, [cos_inner, 0.0, 0.0, 0.0]]
 }

@@ -5,14 +5,14 @@ use bytemuck::Zeroable;
 
 use super::gpu_data::{FrameCounts, VirtualParams, word};
 use super::pipelines::TABLE_PASSES;
-use super::punctual::{POINT_MIPS, face_levels};
+use super::punctual::POINT_MIPS;
 use super::resources::{LEVEL_ENTRIES, Tables};
 use super::{LIGHT_WGSL, VirtualTechnique};
 
 use crate::culling::{CasterOutcome, Method};
 use crate::geom::fit_clipmap_level;
 use crate::gpu::{GpuContext, pass_label};
-use crate::shadow_view::{LEVEL_PAGES, PAGE_TEXELS, ShadowView, ViewTarget, spot_chain};
+use crate::shadow_view::{LEVEL_PAGES, PAGE_TEXELS, ShadowView, ViewTarget};
 use crate::technique::{
     DrawInput, InsetSources, ShadowPasses, ShadowReport, ShadowTechnique, TechniqueInput,
     ViewReport, VirtualPages,
@@ -309,10 +309,10 @@ impl ShadowTechnique for VirtualTechnique {
             // A point light's cube, or a spot's cone: `--levels` mips per face, at most
             // POINT_MIPS.
             self.face_mips = self.settings.levels.min(POINT_MIPS);
-            let faces = if spot_chain(&light).is_some() { 1 } else { 6 };
-            self.settings.levels = faces * face_levels(self.face_mips);
+            let views = self.punctual_views(light, &bounds);
+            self.settings.levels = views.len() as u32;
             self.ensure_tables(ctx);
-            return self.punctual_views(light, &bounds);
+            return views;
         }
         self.ensure_tables(ctx);
         let side = LEVEL_PAGES * PAGE_TEXELS;

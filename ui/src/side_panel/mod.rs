@@ -316,8 +316,9 @@ fn point_light_ui(
     };
     let mut on = settings.point_light.is_some();
     let p = point.position;
+    let chain = render_core::shadow_view::spot_chain(&point);
     let (label, kind, pages) = match point.cone {
-        Some(c) if c.outer_rad <= render_core::shadow_view::SPOT_CHAIN_MAX_CONE_RAD => (
+        Some(_) if chain.is_some() => (
             "From the spot light",
             "spot light",
             "a chain of pages along its cone",
