@@ -129,6 +129,10 @@ const FILES: &[(&str, &str)] = &[
         include_str!("virtual_maps/draw.wgsl"),
     ),
     (
+        "virtual_maps/occlusion.wgsl",
+        include_str!("virtual_maps/occlusion.wgsl"),
+    ),
+    (
         "virtual_maps/light.wgsl",
         include_str!("virtual_maps/light.wgsl"),
     ),

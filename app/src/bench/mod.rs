@@ -75,7 +75,7 @@ pub(crate) struct BenchRow {
     /// Virtual maps: the medians of pages marked, resident, drawn and refused, of the
     /// texels drawn and the texels visible pixels read, of the pages refreshed, and of the
     /// cull's page flags under casters and flags and hierarchy cells it read.
-    pub(crate) pages: Option<[f64; 9]>,
+    pub(crate) pages: Option<[f64; 11]>,
     /// Virtual maps: the share of the measured frames' marked pages that the cache served
     /// (not drawn, not refused), over all of them.
     pub(crate) cache_hit_rate: Option<f64>,
@@ -419,7 +419,7 @@ pub(crate) fn summarise(setting: &str, method: &str, reports: &[(f64, FrameRepor
     }
 }
 
-fn pages_medians(reports: &[(f64, FrameReport)]) -> Option<[f64; 9]> {
+fn pages_medians(reports: &[(f64, FrameReport)]) -> Option<[f64; 11]> {
     let pages: Vec<_> = reports
         .iter()
         .filter_map(|(_, r)| r.virtual_pages)
@@ -446,6 +446,8 @@ fn pages_medians(reports: &[(f64, FrameReport)]) -> Option<[f64; 9]> {
         of(|p| Some(p.pages_refreshed.into())),
         of(|p| Some(p.cull_pages_spanned.into())),
         of(|p| Some(p.cull_flag_reads.into())),
+        of(|p| Some(p.moved_pages_occluded.into())),
+        of(|p| Some(p.caster_pages_occluded.into())),
     ])
 }
 

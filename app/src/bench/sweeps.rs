@@ -115,6 +115,9 @@ pub(crate) fn settings(
             masked.virtual_maps.receiver_mask = true;
             let mut apart_masked = apart;
             apart_masked.virtual_maps.receiver_mask = true;
+            // Static occlusion's share: every moved box refreshes the pages it touches.
+            let mut unoccluded = apart;
+            unoccluded.virtual_maps.static_occlusion = false;
             // A point light's shadows: shadow volumes, exact, where the maps would have none.
             let against = if base.point_light.is_some() {
                 vec![(
@@ -133,6 +136,10 @@ pub(crate) fn settings(
                 ("virtual / cache off".to_owned(), uncached),
                 ("virtual / cache off + receiver mask".to_owned(), masked),
                 ("virtual / static apart".to_owned(), apart),
+                (
+                    "virtual / static apart / occlusion off".to_owned(),
+                    unoccluded,
+                ),
                 (
                     "virtual / static apart + receiver mask".to_owned(),
                     apart_masked,

@@ -111,7 +111,7 @@ pub(crate) fn row_cells(r: &BenchRow) -> [String; 28] {
 }
 
 /// Column `i` of the virtual maps' page medians, `-` for other techniques.
-fn page_cell(pages: Option<[f64; 9]>, i: usize) -> String {
+fn page_cell(pages: Option<[f64; 11]>, i: usize) -> String {
     pages.map_or_else(|| "-".into(), |p| format!("{:.0}", p[i]))
 }
 
@@ -179,7 +179,7 @@ fn csv_text(text: &str) -> std::borrow::Cow<'_, str> {
 
 pub(crate) fn format_csv(rows: &[BenchRow]) -> String {
     let mut out = String::from(
-        "setting,method,frames,frame_ms,gpu_frame_ms,shadow_pass_ms,casters_drawn,casters_oracle,tightness,shadow_triangles,error_px_max,casters_total,speed_up,culling_ms,undersampling_p50,undersampling_p95,exact_error_px,exact_error_percent,exact_error_off_edge_px_max,flicker_moved_px,flicker_turned_px,fill_mfragments,fill_mfragments_max,fill_saved_mean,fill_saved_peak,volume_pass_saved_mean,volume_pass_saved_peak,cpu_culling_ms,pages_marked,pages_resident,pages_rendered,pages_refused,texels_rendered,texels_sampled,pages_refreshed,cull_pages_spanned,cull_flag_reads,cache_hit_rate\n",
+        "setting,method,frames,frame_ms,gpu_frame_ms,shadow_pass_ms,casters_drawn,casters_oracle,tightness,shadow_triangles,error_px_max,casters_total,speed_up,culling_ms,undersampling_p50,undersampling_p95,exact_error_px,exact_error_percent,exact_error_off_edge_px_max,flicker_moved_px,flicker_turned_px,fill_mfragments,fill_mfragments_max,fill_saved_mean,fill_saved_peak,volume_pass_saved_mean,volume_pass_saved_peak,cpu_culling_ms,pages_marked,pages_resident,pages_rendered,pages_refused,texels_rendered,texels_sampled,pages_refreshed,cull_pages_spanned,cull_flag_reads,moved_pages_occluded,caster_pages_occluded,cache_hit_rate\n",
     );
     let opt = |v: Option<f64>| v.map_or_else(String::new, |v| format!("{v:.4}"));
     for r in rows {
@@ -216,7 +216,7 @@ pub(crate) fn format_csv(rows: &[BenchRow]) -> String {
             opt(r.volume_pass_saved.map(|f| f.1)),
             opt(r.cpu_culling_ms),
             r.pages.map_or_else(
-                || ",,,,,,,,".to_owned(),
+                || ",,,,,,,,,,".to_owned(),
                 |p| p.map(|v| format!("{v:.0}")).join(",")
             ),
             opt(r.cache_hit_rate),

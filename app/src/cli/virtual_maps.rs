@@ -40,6 +40,11 @@ pub struct VirtualArgs {
     /// page); a page it leaves partial is drawn again the next frame. Off by default.
     #[arg(long, value_parser = parse_on_off, value_name = "on|off")]
     pub receiver_mask: Option<bool>,
+    /// Virtual maps with static casters apart: a movable caster wholly behind a cached page's
+    /// static casters neither makes the page's movable layer stale nor is drawn into it (on,
+    /// the default; exact), or every moved box refreshes the pages it touches (off).
+    #[arg(long, value_parser = parse_on_off, value_name = "on|off")]
+    pub static_occlusion: Option<bool>,
 }
 
 impl VirtualArgs {
@@ -51,6 +56,7 @@ impl VirtualArgs {
             || self.lod_bias.is_some()
             || self.separate_static.is_some()
             || self.receiver_mask.is_some()
+            || self.static_occlusion.is_some()
     }
 
     /// The options into `settings`; any of them without `--shadow` picks `--shadow virtual`.
@@ -91,6 +97,9 @@ impl VirtualArgs {
         }
         if let Some(mask) = self.receiver_mask {
             s.receiver_mask = mask;
+        }
+        if let Some(occlusion) = self.static_occlusion {
+            s.static_occlusion = occlusion;
         }
         if let Some(texel) = self.finest_texel {
             if !(texel.is_finite() && texel > 0.0 && texel <= 100.0) {
@@ -156,6 +165,10 @@ mod tests {
         assert!(settings(&["--separate-static", "yes"]).is_err());
         let s = settings(&["--receiver-mask", "on", "--cache", "off"]).unwrap();
         assert!(s.virtual_maps.receiver_mask && !s.virtual_maps.cache);
+        assert!(s.virtual_maps.static_occlusion, "on by default");
+        let s = settings(&["--separate-static", "on", "--static-occlusion", "off"]).unwrap();
+        assert!(s.virtual_maps.separate_static && !s.virtual_maps.static_occlusion);
+        assert!(settings(&["--static-occlusion", "maybe"]).is_err());
     }
 
     #[test]

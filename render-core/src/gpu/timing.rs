@@ -41,6 +41,9 @@ pub mod pass_label {
 
     /// The steps of [`VIRTUAL_PAGES`], timed inside it.
     pub mod virtual_maps {
+        /// Static occlusion: the farthest static depth of each block of the pages the last
+        /// frame drew whole.
+        pub const STATIC_DEPTHS: &str = "static depths";
         /// Pages released (moved boxes, left squares) and pages marked by visible pixels.
         pub const MARKING: &str = "marking";
         /// Free pages listed, marked pages given physical pages, eviction, the counts.

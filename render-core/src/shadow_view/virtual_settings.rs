@@ -54,6 +54,12 @@ pub struct VirtualSettings {
     /// with static casters apart); a page the mask left a caster out of is drawn again the
     /// next frame.
     pub receiver_mask: bool,
+    /// With static casters apart: a movable caster wholly behind a cached page's static
+    /// depths (the farthest of each block of 16 x 16 texels it covers) neither makes the
+    /// page's movable layer stale when it moves nor is drawn into it (Unreal's invalidations
+    /// and casters culled against the static pages' depths, `--static-occlusion`). Exact: the
+    /// nearer depth of both layers, all the light reads, stays the same at every texel.
+    pub static_occlusion: bool,
 }
 
 impl Default for VirtualSettings {
@@ -66,6 +72,7 @@ impl Default for VirtualSettings {
             cache: true,
             separate_static: false,
             receiver_mask: false,
+            static_occlusion: true,
         }
     }
 }
@@ -108,6 +115,7 @@ impl VirtualSettings {
             cache: self.cache,
             separate_static: self.separate_static,
             receiver_mask: self.receiver_mask,
+            static_occlusion: self.static_occlusion,
         }
     }
 

@@ -198,6 +198,12 @@ pub struct VirtualPages {
     /// (caster, page) pairs the receiver mask left out: the caster covers none of the
     /// page's blocks that pixels read.
     pub caster_pages_masked: u32,
+    /// Static occlusion (`static_occlusion`): (moved box, page) pairs that left the page's
+    /// movable layer fresh, the box wholly behind its static depths, and (movable caster,
+    /// refreshed page) pairs left out so.
+    pub moved_pages_occluded: u32,
+    pub caster_pages_occluded: u32,
+    pub static_occlusion: bool,
     /// The cull's work: the page flags under the casters' boxes (within each level's drawn
     /// pages), which a walk page by page reads, and the page flags and cells of the hierarchy
     /// of page flags it read walking through that hierarchy.

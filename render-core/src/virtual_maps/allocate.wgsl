@@ -9,20 +9,41 @@
 #import virtual_maps/tables.wgsl
 
 // x: box, y: level. Every entry whose page the box covers is invalid this frame, or, where
-// static casters are kept apart, its movable casters' layer is stale.
+// static casters are kept apart, its movable casters' layer is stale, unless static
+// occlusion finds the box wholly behind the page's cached static depths (the box's old and
+// new places come as boxes of their own: each must be behind for the page to stay fresh).
 @compute @workgroup_size(64)
 fn invalidate_moved(@builtin(global_invocation_id) id: vec3<u32>) {
     let boxes = u32(params.tuning.z);
     if (id.x >= boxes || id.y >= level_count()) {
         return;
     }
-    let pages = box_pages(id.y, moved[2u * id.x].xyz, moved[2u * id.x + 1u].xyz);
+    let lo = moved[2u * id.x].xyz;
+    let hi = moved[2u * id.x + 1u].xyz;
+    let texels = box_texels(id.y, lo, hi);
+    let pages = texel_pages(id.y, texels);
+    let occluding = static_occlusion_on();
+    let nearest = select(0.0, box_nearest_depth(id.y, lo, hi), occluding);
+    let stale = select(PAGE_INVALID, PAGE_DYNAMIC_STALE, static_apart());
     for (var y = pages.y; y <= pages.w; y++) {
         for (var x = pages.x; x <= pages.z; x++) {
-            let stale = select(PAGE_INVALID, PAGE_DYNAMIC_STALE, static_apart());
-            atomicOr(&page_flags[entry_of(id.y, vec2<i32>(x, y))], stale);
+            let page = vec2<i32>(x, y);
+            let e = entry_of(id.y, page);
+            if (occluding && static_layer_cached(e, page) && behind_static(e, page, texels, nearest)) {
+                atomicAdd(&counters.occlusion_spared, 1u);
+                continue;
+            }
+            atomicOr(&page_flags[e], stale);
         }
     }
+}
+
+// Whether entry `e` holds page `page` of its level's square with a static layer drawn in an
+// earlier frame (so `static_depths` holds its blocks): resident, this page's, not released.
+fn static_layer_cached(e: u32, page: vec2<i32>) -> bool {
+    let flags = atomicLoad(&page_flags[e]);
+    return (flags & (PAGE_RESIDENT | PAGE_INVALID)) == PAGE_RESIDENT
+        && all(page_tags[e] == absolute_page(e / LEVEL_ENTRIES, page));
 }
 
 fn entry_count() -> u32 {

@@ -3,7 +3,8 @@
 // flags (`page_hierarchy`: for a caster over more than a few pages, the cells of the coarsest
 // mip at most 2 x 2 under its pages, then blocks of 4 x 4 pages) and then page by page, and
 // with the receiver mask on, against the blocks of the page that pixels read (Unreal 5.6's
-// receiver mask); a caster over any of them gets one indirect draw with an instance per page,
+// receiver mask), and with static occlusion a movable caster against the static depths a
+// refreshed page keeps; a caster over any of them gets one indirect draw with an instance per page,
 // its (caster, entry) pairs listed for the page shader (virtual_maps/draw.wgsl).
 // x: instance, y: level.
 #import virtual_maps/tables.wgsl
@@ -81,6 +82,10 @@ struct CasterPages {
     layer: u32,
     masked: bool,
     partial: u32,
+    // Static occlusion: whether it applies (a movable caster, static casters apart), and the
+    // caster's nearest depth in the level's view.
+    occludable: bool,
+    nearest: f32,
 }
 
 // Casters over at most this many pages walk them one by one: the hierarchy would read more.
@@ -97,6 +102,15 @@ fn visit_range(c: CasterPages, first: vec2<i32>, last: vec2<i32>, base: u32, don
             let e = entry_of(c.level, page);
             flag_reads++;
             if (!page_wanted(e, c.wanted)) {
+                continue;
+            }
+            // A refreshed page keeps its static layer: a movable caster wholly behind it
+            // changes none of the page's nearer depths (tables.wgsl `behind_static`).
+            if (c.occludable && (atomicLoad(&page_flags[e]) & PAGE_RENDERED) == 0u
+                && behind_static(e, page, c.texels, c.nearest)) {
+                if (base == 0xffffffffu) {
+                    atomicAdd(&counters.occlusion_culled, 1u);
+                }
                 continue;
             }
             let read = blocks_read(e, page, c.texels, c.masked);
@@ -177,6 +191,8 @@ fn cull_pages(@builtin(global_invocation_id) id: vec3<u32>) {
         i32(atomicLoad(&counters.rects[level][2])) - 1,
         i32(atomicLoad(&counters.rects[level][3])) - 1,
     );
+    c.occludable = movable && static_occlusion_on();
+    c.nearest = select(0.0, box_nearest_depth(level, b.min, b.max), c.occludable);
     c.texels = box_texels(level, b.min, b.max);
     let box = texel_pages(level, c.texels);
     c.first = max(box.xy, drawn.xy);

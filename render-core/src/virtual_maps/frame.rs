@@ -46,7 +46,8 @@ impl VirtualTechnique {
         params.limits = [
             (FALLBACK_PAGES * self.chains()).min(self.settings.pages / 4),
             u32::from(self.settings.separate_static),
-            u32::from(self.settings.receiver_mask),
+            u32::from(self.settings.receiver_mask)
+                | (u32::from(self.settings.static_occlusion) << 1),
             self.face_mips,
         ];
         for (slot, first) in params.first_page.iter_mut().zip(&self.first_pages) {
@@ -60,10 +61,10 @@ impl VirtualTechnique {
         &self,
         encoder: &mut wgpu::CommandEncoder,
         draw: &DrawInput<'_>,
-        (tables, groups): (&Tables, &[wgpu::BindGroup; 3]),
+        (tables, groups): (&Tables, &[wgpu::BindGroup; 4]),
         (instances, moved, measure): (u32, u32, bool),
     ) {
-        let [table_group, mark_group, cull_group] = groups;
+        let [table_group, mark_group, cull_group, occlusion_group] = groups;
         let levels = tables.levels;
         let entries = (levels * LEVEL_ENTRIES).div_ceil(64);
         let pages = tables.pages.div_ceil(64);
@@ -110,6 +111,12 @@ impl VirtualTechnique {
                 .map(|i| (&self.pipelines.tables[i], sizes[i]))
                 .collect()
         };
+        if self.settings.separate_static && self.settings.static_occlusion {
+            scope.step(pass_label::virtual_maps::STATIC_DEPTHS, encoder, |e| {
+                let reduce = (&self.pipelines.occlusion, [tables.pages, 1]);
+                dispatch(e, &[reduce], Some(occlusion_group));
+            });
+        }
         scope.step(pass_label::virtual_maps::MARKING, encoder, |e| {
             dispatch(e, &table(0..2), None);
             dispatch(e, &[(&self.pipelines.mark[0], pixels)], Some(mark_group));
@@ -199,7 +206,7 @@ impl VirtualTechnique {
         tables: &Tables,
         draw: &DrawInput<'_>,
         scene_gpu: &crate::scene_gpu::SceneGpu,
-    ) -> [wgpu::BindGroup; 4] {
+    ) -> [wgpu::BindGroup; 5] {
         use crate::gpu::{buffer_entry, view_entry};
         let p = &self.pipelines;
         let l = &self.lists;
@@ -227,7 +234,13 @@ impl VirtualTechnique {
                     buffer_entry(8, &l.moved),
                     buffer_entry(9, &tables.receiver_masks),
                     buffer_entry(10, &tables.hierarchy),
+                    buffer_entry(11, &tables.static_depths),
                 ],
+            ),
+            group(
+                "VirtualMaps::occlusion",
+                &p.occlusion_layout,
+                &[view_entry(0, &tables.atlas_view)],
             ),
             group(
                 "VirtualMaps::surface",
@@ -370,13 +383,21 @@ impl ShadowTechnique for VirtualTechnique {
         tables.write_params(ctx, &self.params(invalidate_all, moved));
         encoder.clear_buffer(&tables.counters, 0, None);
         encoder.clear_buffer(&tables.hierarchy, 0, None);
-        let [table_group, mark_group, cull_group, draw_group] =
-            self.bind_groups(&ctx.device, tables, draw, scene_gpu);
+        let [
+            table_group,
+            occlusion_group,
+            mark_group,
+            cull_group,
+            draw_group,
+        ] = self.bind_groups(&ctx.device, tables, draw, scene_gpu);
         let instances = scene_gpu.instance_count;
         self.encode_pages(
             encoder,
             draw,
-            (tables, &[table_group, mark_group, cull_group]),
+            (
+                tables,
+                &[table_group, mark_group, cull_group, occlusion_group],
+            ),
             (instances, moved, input.measure),
         );
         self.failure = self
@@ -446,6 +467,10 @@ impl ShadowTechnique for VirtualTechnique {
                 pages_rendered: c.rendered,
                 pages_refreshed: c.refreshed,
                 caster_pages_masked: c.mask_culled,
+                moved_pages_occluded: c.occlusion_spared,
+                caster_pages_occluded: c.occlusion_culled,
+                static_occlusion: self.settings.separate_static
+                    && self.settings.static_occlusion,
                 cull_pages_spanned: c.cull_spanned,
                 cull_flag_reads: c.cull_reads,
                 receiver_mask: self.settings.receiver_mask,

@@ -18,7 +18,7 @@ pub(super) struct VirtualParams {
     /// The finest texel (m), the level bias (octaves), moved boxes, the atlas's rows of pages.
     pub tuning: [f32; 4],
     /// Physical pages kept back for fallback pages; 1 when static casters are kept apart;
-    /// 1 when the receiver mask culls; mips per face of a point light's cube (0: the sun).
+    /// bit 0 when the receiver mask culls, bit 1 when static casters occlude; mips per face of a point light's cube (0: the sun).
     pub limits: [u32; 4],
     /// Per level, the absolute position of its square's first page.
     pub first_page: [[i32; 4]; LEVEL_SLOTS],
@@ -49,8 +49,10 @@ pub(super) mod word {
     pub const MASK_CULLED: usize = REFRESHED + 2;
     pub const CULL_SPANNED: usize = MASK_CULLED + 1;
     pub const CULL_READS: usize = CULL_SPANNED + 1;
+    pub const OCCLUSION_SPARED: usize = CULL_READS + 1;
+    pub const OCCLUSION_CULLED: usize = OCCLUSION_SPARED + 1;
     /// Words in all.
-    pub const COUNT: usize = CULL_READS + 1;
+    pub const COUNT: usize = OCCLUSION_CULLED + 1;
 }
 
 /// The pages' counts of one frame, as the GPU left them.
@@ -66,6 +68,10 @@ pub(super) struct FrameCounts {
     /// The cull: page flags under the casters' boxes, and the flags and hierarchy cells read.
     pub cull_spanned: u32,
     pub cull_reads: u32,
+    /// Static occlusion: (moved box, page) pairs that left the page's movable layer fresh,
+    /// and (movable caster, refreshed page) pairs left out.
+    pub occlusion_spared: u32,
+    pub occlusion_culled: u32,
     pub refused: u32,
     /// Free physical pages before allocation (after the eviction, where one ran).
     pub free: u32,
@@ -94,6 +100,8 @@ impl FrameCounts {
             mask_culled: words[word::MASK_CULLED],
             cull_spanned: words[word::CULL_SPANNED],
             cull_reads: words[word::CULL_READS],
+            occlusion_spared: words[word::OCCLUSION_SPARED],
+            occlusion_culled: words[word::OCCLUSION_CULLED],
             refused: words[word::REFUSED],
             free: words[word::FREE],
             pairs: words[word::PAIRS],

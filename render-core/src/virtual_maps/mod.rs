@@ -60,8 +60,9 @@ pub(crate) fn shader_sources() -> Vec<(String, String)> {
     out
 }
 
-/// What the cached pages were drawn for: the scene, the light, the levels' texels and the
-/// casters left out. Any change invalidates every page.
+/// What the cached pages were drawn for: the scene, the light, the levels' texels, the
+/// casters left out, and whether static occlusion keeps its blocks' depths (turned on, it
+/// needs them of every cached page). Any change invalidates every page.
 #[derive(Clone, Debug, PartialEq)]
 struct CacheKey {
     scene: u64,
@@ -70,6 +71,7 @@ struct CacheKey {
     /// shadows.
     point_light: Option<[u32; 7]>,
     finest_texel_m: u32,
+    static_occlusion: bool,
     exclusions: u64,
     /// The scene's bounds, which fix every level's depth range.
     bounds: [[u32; 3]; 2],
@@ -246,6 +248,7 @@ impl VirtualTechnique {
                 [x, y, z, cone[0], cone[1], cone[2], cone[3]].map(f32::to_bits)
             }),
             finest_texel_m: self.settings.finest_texel_m.to_bits(),
+            static_occlusion: self.settings.static_occlusion,
             exclusions: self.exclusions_version,
             bounds: [b.min, b.max].map(|v| v.to_array().map(f32::to_bits)),
         }

@@ -33,7 +33,7 @@ pub(super) fn draw_source() -> String {
     )
 }
 
-pub(super) fn compute_sources() -> [(&'static str, String); 3] {
+pub(super) fn compute_sources() -> [(&'static str, String); 4] {
     [
         (
             "VirtualMaps::allocate",
@@ -41,6 +41,10 @@ pub(super) fn compute_sources() -> [(&'static str, String); 3] {
         ),
         ("VirtualMaps::mark", compose("virtual_maps/mark.wgsl", &[])),
         ("VirtualMaps::cull", compose("virtual_maps/cull.wgsl", &[])),
+        (
+            "VirtualMaps::occlusion",
+            compose("virtual_maps/occlusion.wgsl", &[]),
+        ),
     ]
 }
 
@@ -55,6 +59,9 @@ pub(super) struct Pipelines {
     /// `mark_pages`, `mark_fallback`, `mark_sampled` and `count_sampled`.
     pub mark: [wgpu::ComputePipeline; 4],
     pub cull: wgpu::ComputePipeline,
+    /// Static occlusion's `reduce_static`, with its group of the atlas.
+    pub occlusion_layout: wgpu::BindGroupLayout,
+    pub occlusion: wgpu::ComputePipeline,
     /// `None` where the adapter has no `CLIP_DISTANCES`.
     pub draws: Option<[wgpu::RenderPipeline; 2]>,
 }
@@ -65,7 +72,7 @@ impl Pipelines {
         let mut tables_types = vec![uniform()];
         tables_types.extend([storage(false); 7]);
         tables_types.push(storage(true));
-        tables_types.extend([storage(false); 2]);
+        tables_types.extend([storage(false); 3]);
         let tables_layout =
             bind_group_layout(device, "VirtualMaps::tables", compute, &tables_types);
         let float = wgpu::TextureSampleType::Float { filterable: false };
@@ -99,7 +106,13 @@ impl Pipelines {
             wgpu::ShaderStages::FRAGMENT | compute,
             &[uniform(), depth_texture(), storage(true), storage(true)],
         );
-        let [allocate, mark, cull] =
+        let occlusion_layout = bind_group_layout(
+            device,
+            "VirtualMaps::occlusion",
+            compute,
+            &[depth_texture()],
+        );
+        let [allocate, mark, cull, occlusion] =
             compute_sources().map(|(label, source)| shader_module(device, label, source));
         let two = pipeline_layout(
             device,
@@ -127,6 +140,12 @@ impl Pipelines {
             Some(&with("VirtualMaps::cull", &cull_layout)),
             "cull_pages",
         );
+        let occlusion = compute_pipeline(
+            device,
+            &occlusion,
+            Some(&with("VirtualMaps::occlusion", &occlusion_layout)),
+            "reduce_static",
+        );
         let draws = clip.then(|| {
             let module = shader_module(device, "VirtualMaps::draw", draw_source());
             let layout =
@@ -148,6 +167,8 @@ impl Pipelines {
             tables,
             mark,
             cull,
+            occlusion_layout,
+            occlusion,
             draws,
         }
     }

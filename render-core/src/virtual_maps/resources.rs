@@ -37,6 +37,9 @@ pub(super) struct Tables {
     pub texel_bits: wgpu::Buffer,
     /// Per level, the hierarchy of page flags (`tables.wgsl` `page_hierarchy`).
     pub hierarchy: wgpu::Buffer,
+    /// Per physical page, the farthest static depth of each of its 8 x 8 blocks
+    /// (`tables.wgsl` `static_depths`).
+    pub static_depths: wgpu::Buffer,
     pub atlas: wgpu::Texture,
     pub atlas_view: wgpu::TextureView,
     pub readback: AsyncReadback,
@@ -108,6 +111,12 @@ impl Tables {
                 "VirtualMaps::hierarchy",
                 u64::from(settings.levels * HIERARCHY_CELLS) * 4,
                 STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+            ),
+            static_depths: buffer(
+                device,
+                "VirtualMaps::static_depths",
+                pages * 64 * 4,
+                STORAGE,
             ),
             atlas_view: atlas.create_view(&wgpu::TextureViewDescriptor::default()),
             atlas,

@@ -40,6 +40,11 @@ struct Counters {
     // which a walk page by page would read, and the page flags and hierarchy cells it read.
     cull_spanned: atomic<u32>,
     cull_reads: atomic<u32>,
+    // Static occlusion: (moved box, page) pairs that left the page's movable layer fresh,
+    // the box wholly behind its static depths, and (caster, refreshed page) pairs left out
+    // so.
+    occlusion_spared: atomic<u32>,
+    occlusion_culled: atomic<u32>,
 }
 
 @group(1) @binding(1) var<storage, read_write> page_flags: array<atomic<u32>>;
@@ -61,6 +66,11 @@ struct Counters {
 // by the page's place in its level's square. Cleared each frame, written by `tally_pages`,
 // read by the cull.
 @group(1) @binding(10) var<storage, read_write> page_hierarchy: array<atomic<u32>>;
+// Where static casters occlude movable ones: per physical page, row by row, the farthest
+// static depth of each of its 8 x 8 blocks (layer 0), written by `reduce_static`
+// (occlusion.wgsl) the frame after the page was drawn whole and read only while it stays
+// resident.
+@group(1) @binding(11) var<storage, read_write> static_depths: array<f32>;
 
 const HIERARCHY_MIPS: u32 = 5u;
 // Cells per level: 256 + 64 + 16 + 4 + 1.
@@ -147,4 +157,48 @@ fn block_bits(page: vec2<i32>, first: vec2<i32>, last: vec2<i32>) -> vec2<u32> {
         }
     }
     return words;
+}
+
+// What the light's depths may differ by between the cull's corners and the rasteriser's
+// interpolation: a box counts as behind only by more than this.
+const DEPTH_MARGIN: f32 = 1e-6;
+
+// The nearest depth of the world box `lo..hi` in level `level`'s view (a stored depth's
+// scale); 0 where a corner lies behind a face's near plane.
+fn box_nearest_depth(level: u32, lo: vec3<f32>, hi: vec3<f32>) -> f32 {
+    var nearest = 1.0;
+    for (var i = 0u; i < 8u; i++) {
+        let corner = select(lo, hi, vec3<bool>((i & 1u) != 0u, (i & 2u) != 0u, (i & 4u) != 0u));
+        let c = light_clip(shadow_views[level], corner);
+        if (c.w < POINT_NEAR_M) {
+            return 0.0;
+        }
+        nearest = min(nearest, c.z / c.w);
+    }
+    return nearest;
+}
+
+// Whether a movable caster nearest at depth `nearest`, over texels `texels` (`box_texels`),
+// lies wholly behind the static casters of page `page` (entry `e`, resident with its static
+// layer drawn before this frame): every block of the page it covers has all its static depths
+// nearer. Drawn into the page or not, moved or not, it leaves each texel's nearer depth of
+// both layers as it is, which is all the light term reads (light.wgsl `stored_depth`).
+fn behind_static(e: u32, page: vec2<i32>, texels: vec4<f32>, nearest: f32) -> bool {
+    let origin = page * PAGE_TEXELS;
+    let first = vec2<i32>(floor(texels.xy)) - origin;
+    let last = vec2<i32>(floor(texels.zw)) - origin;
+    if (any(last < vec2<i32>(0)) || any(first >= vec2<i32>(PAGE_TEXELS))) {
+        return false;
+    }
+    let lo = clamp(first / BLOCK_TEXELS, vec2<i32>(0), vec2<i32>(7));
+    let hi = clamp(last / BLOCK_TEXELS, vec2<i32>(0), vec2<i32>(7));
+    let base = page_slots[e] * 64u;
+    for (var y = lo.y; y <= hi.y; y++) {
+        for (var x = lo.x; x <= hi.x; x++) {
+            if (static_depths[base + u32(y * 8 + x)] >= nearest - DEPTH_MARGIN) {
+                return false;
+            }
+        }
+    }
+    return true;
 }

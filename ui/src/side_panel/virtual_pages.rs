@@ -28,6 +28,7 @@ const MASK_HELP: &str = "Casters are culled against the blocks of 16 x 16 texels
 const APART_HELP: &str = "Each page keeps static casters' depths apart from movable ones', so a \
     moving object draws only the movable casters of the pages it touches again (Unreal's \
     static separation); the pool takes twice the memory";
+const OCCLUSION_HELP: &str = "With static casters apart: a movable caster wholly behind a cached     page's static casters, as the light sees them (block by block of 16 x 16 texels), neither     makes the page's movable layer stale when it moves nor is drawn into it. A car in a     building's shadow redraws nothing. Exact: no texel's nearest depth changes";
 
 /// The rows (inside the tab's grid).
 pub fn rows(ui: &mut egui::Ui, settings: &mut VirtualSettings, report: Option<&FrameReport>) {
@@ -62,6 +63,15 @@ pub fn rows(ui: &mut egui::Ui, settings: &mut VirtualSettings, report: Option<&F
             "static casters in a layer of their own",
         )
     });
+    grid::labelled(ui, "Static occlusion", OCCLUSION_HELP, |ui| {
+        ui.add_enabled(
+            settings.separate_static,
+            egui::Checkbox::new(
+                &mut settings.static_occlusion,
+                "movable casters behind static ones skipped",
+            ),
+        )
+    });
     grid::labelled(ui, "Receiver mask", MASK_HELP, |ui| {
         ui.checkbox(
             &mut settings.receiver_mask,
@@ -88,6 +98,17 @@ pub fn rows(ui: &mut egui::Ui, settings: &mut VirtualSettings, report: Option<&F
             format!(
                 "{} pages' movable casters alone drawn",
                 thousands(p.pages_refreshed.into())
+            ),
+        );
+    }
+    if p.static_occlusion {
+        grid::row(
+            ui,
+            "Occluded",
+            format!(
+                "{} pages kept fresh behind static casters, {} draws left out",
+                thousands(p.moved_pages_occluded.into()),
+                thousands(p.caster_pages_occluded.into())
             ),
         );
     }

@@ -1,0 +1,279 @@
+//! Static occlusion (`--static-occlusion`, on by default where static casters are apart): a
+//! movable box wholly behind a cached page's static casters, as the light sees them (block by
+//! block of 16 x 16 texels), neither makes the page's movable layer stale when it moves nor
+//! is drawn into it. Here a car moves in the shadow of a static roof: the pages it stays
+//! behind in keep their layers, those it leaves or enters in the sun are refreshed, the car is
+//! left out of refreshed pages where it hides, and every picture is a fresh render's.
+
+use glam::{Mat4, Vec3};
+use render_core::frame::FrameSettings;
+use render_core::geom::Camera;
+use render_core::scene::{Instance, Mobility, PointShadow, Scene, Sun};
+use render_core::shadow_view::{ShadowView, VirtualSettings};
+use shadowlab_tests::virtual_pages::{
+    Frame, Frames, MARKED, REFRESHED, RENDERED, RESIDENT, entries_with, settings, touched_entries,
+};
+use shadowlab_tests::{box_mesh, gpu};
+
+/// A page whose movable layer a moved box left stale (`virtual_maps/pages.wgsl`).
+const DYNAMIC_STALE: u32 = 32;
+const CAR: usize = 2;
+/// The roof's top, metres above the ground.
+const ROOF_TOP_M: f32 = 3.4;
+
+/// A 40 m ground, a static roof of 10 x 10 m whose top is 3.4 m up, and a 1.6 x 1 x 1 m car
+/// on the ground in the middle of the roof's shadow (the roof stands towards the sun from
+/// it, by the height over the sun's slope).
+fn scene() -> Scene {
+    let sun = Sun::default();
+    let to_sun = sun.direction_to_sun;
+    let over_car = Vec3::new(to_sun.x, 0.0, to_sun.z) * (ROOF_TOP_M - 0.2) / to_sun.y;
+    let ground = box_mesh("ground", Vec3::new(20.0, 0.5, 20.0));
+    let roof = box_mesh("roof", Vec3::new(5.0, 0.2, 5.0));
+    let car = box_mesh("car", Vec3::new(0.8, 0.5, 0.5));
+    let at = |x: Vec3| Mat4::from_translation(x);
+    let mut instances = vec![
+        Instance::new("ground", 0, &ground, at(Vec3::new(0.0, -0.5, 0.0))),
+        Instance::new(
+            "roof",
+            1,
+            &roof,
+            at(over_car + Vec3::Y * (ROOF_TOP_M - 0.2)),
+        ),
+        Instance::new("car", 2, &car, at(Vec3::new(0.0, 0.5, 0.0))),
+    ];
+    instances[CAR].mobility = Mobility::Dynamic;
+    Scene::new("test:roof", vec![ground, roof, car], instances, sun)
+}
+
+/// From beside the roof, low, towards the car under it.
+fn camera() -> Camera {
+    Camera::look_at(
+        Vec3::new(-11.0, 2.5, 9.0),
+        Vec3::new(0.0, 0.5, 0.0),
+        60f32.to_radians(),
+        0.1,
+        500.0,
+    )
+}
+
+fn apart(occlusion: bool) -> FrameSettings {
+    settings(VirtualSettings {
+        separate_static: true,
+        static_occlusion: occlusion,
+        ..VirtualSettings::default()
+    })
+}
+
+/// Moves the car by `by`; returns the entries its old and new bounds touch (sorted).
+fn move_car(frames: &mut Frames, scene: &mut Scene, views: &[ShadowView], by: Vec3) -> Vec<usize> {
+    let old = scene.instances[CAR].aabb_in_world;
+    let moved = Mat4::from_translation(by) * scene.instances[CAR].world_from_local;
+    scene.set_world_from_local(CAR, moved);
+    frames
+        .scene_gpu
+        .update_instances(gpu(), scene, &[CAR as u32]);
+    let new = scene.instances[CAR].aabb_in_world;
+    let mut touched = [
+        touched_entries(views, old.min, old.max),
+        touched_entries(views, new.min, new.max),
+    ]
+    .concat();
+    touched.sort_unstable();
+    touched.dedup();
+    touched
+}
+
+fn contains(sorted: &[usize], e: usize) -> bool {
+    sorted.binary_search(&e).is_ok()
+}
+
+/// The picture of one layer drawn from scratch: the reference for every cached one.
+fn fresh(scene: &Scene) -> Frame {
+    Frames::new(scene).frame(scene, &camera(), &settings(VirtualSettings::default()))
+}
+
+/// Where the roof stands: above the car's place along the sun.
+fn over_car(scene: &Scene) -> Vec3 {
+    scene.instances[1].aabb_in_world.center()
+}
+
+fn same_picture(a: &Frame, b: &Frame) {
+    let differing = a
+        .capture
+        .shadow
+        .iter()
+        .zip(&b.capture.shadow)
+        .filter(|(x, y)| x != y)
+        .count();
+    assert_eq!(differing, 0, "pixels whose light differs");
+}
+
+/// The (caster, page) pairs a page-exact cull draws without occlusion: the static ground and
+/// roof into the pages drawn whole, the car into those and the refreshed ones it touches.
+fn pairs_without_occlusion(scene: &Scene, frame: &Frame) -> u32 {
+    let rendered = entries_with(&frame.flags, RENDERED);
+    let refreshed = entries_with(&frame.flags, REFRESHED);
+    let over = |instance: usize| {
+        let b = scene.instances[instance].aabb_in_world;
+        touched_entries(&frame.views, b.min, b.max)
+    };
+    let statics = (0..CAR)
+        .flat_map(over)
+        .filter(|&e| contains(&rendered, e))
+        .count();
+    let car = over(CAR)
+        .into_iter()
+        .filter(|&e| contains(&rendered, e) || contains(&refreshed, e))
+        .count();
+    (statics + car) as u32
+}
+
+/// The finest level's entry that the car's centre lies in and pixels marked: a page the
+/// camera reads the car's surroundings through.
+fn finest_marked_page_at_the_car(scene: &Scene, frame: &Frame) -> usize {
+    let centre = scene.instances[CAR].aabb_in_world.center();
+    let marked = entries_with(&frame.flags, MARKED);
+    touched_entries(&frame.views, centre, centre)
+        .into_iter()
+        .filter(|&e| contains(&marked, e))
+        .min()
+        .expect("pixels read a page at the car")
+}
+
+#[test]
+fn a_car_moving_in_a_static_shadow_leaves_the_pages_it_hides_in_fresh() {
+    let by = Vec3::new(0.7, 0.0, 0.4);
+    let run = |occlusion: bool| {
+        let mut scene = scene();
+        let settings = apart(occlusion);
+        let mut frames = Frames::new(&scene);
+        let first = frames.frame(&scene, &camera(), &settings);
+        let touched = move_car(&mut frames, &mut scene, &first.views, by);
+        let second = frames.frame(&scene, &camera(), &settings);
+        (scene, first, second, touched)
+    };
+    let (scene, first, on, touched) = run(true);
+    let (_, first_off, off, _) = run(false);
+    assert_eq!(first.capture.shadow, first_off.capture.shadow);
+    let reference = fresh(&scene);
+    same_picture(&on, &reference);
+    same_picture(&off, &reference);
+    assert_eq!((on.pages.moved_boxes, off.pages.moved_boxes), (2, 2));
+
+    // Without occlusion every marked page the car touched, resident before, is refreshed.
+    let resident = entries_with(&first.flags, RESIDENT);
+    let read_and_touched: Vec<usize> = entries_with(&off.flags, MARKED)
+        .into_iter()
+        .filter(|&e| contains(&touched, e) && contains(&resident, e))
+        .collect();
+    assert_eq!(entries_with(&off.flags, REFRESHED), read_and_touched);
+    assert_eq!(off.pages.moved_pages_occluded, 0);
+    assert!(!off.pages.static_occlusion && on.pages.static_occlusion);
+
+    // With it, the page the camera reads the car's surroundings through stays as it was:
+    // the car hides behind the roof there before and after.
+    let page = finest_marked_page_at_the_car(&scene, &on);
+    assert!(contains(&read_and_touched, page));
+    assert_eq!(
+        on.flags[page] & (RESIDENT | REFRESHED | RENDERED | DYNAMIC_STALE),
+        RESIDENT,
+        "page {page}: {:#x}",
+        on.flags[page]
+    );
+    let refreshed_on = entries_with(&on.flags, REFRESHED);
+    assert!(refreshed_on.iter().all(|&e| contains(&read_and_touched, e)));
+    assert!(
+        refreshed_on.len() < read_and_touched.len(),
+        "{} of {}",
+        refreshed_on.len(),
+        read_and_touched.len()
+    );
+    assert!(on.pages.moved_pages_occluded > 0, "{:?}", on.pages);
+    assert_eq!(on.pages.pages_refreshed as usize, refreshed_on.len());
+}
+
+#[test]
+fn a_car_leaving_the_shadow_refreshes_its_new_pages_and_coming_back_is_left_out_where_it_hides() {
+    let mut scene = scene();
+    let settings = apart(true);
+    let mut frames = Frames::new(&scene);
+    let first = frames.frame(&scene, &camera(), &settings);
+    // 7 m towards the camera: out from under the roof's shadow into the sun.
+    let out = Vec3::new(-6.5, 0.0, 3.0);
+    move_car(&mut frames, &mut scene, &first.views, out);
+    let sunny = frames.frame(&scene, &camera(), &settings);
+    same_picture(&sunny, &fresh(&scene));
+    assert_ne!(
+        first.capture.shadow, sunny.capture.shadow,
+        "the car's shadow shows"
+    );
+    // In the sun, nothing static is nearer the light than the car over its new pages: every
+    // marked one that was resident is refreshed.
+    let new = scene.instances[CAR].aabb_in_world;
+    let resident = entries_with(&first.flags, RESIDENT);
+    let refreshed = entries_with(&sunny.flags, REFRESHED);
+    let at_new: Vec<usize> = touched_entries(&sunny.views, new.min, new.max)
+        .into_iter()
+        .filter(|&e| contains(&entries_with(&sunny.flags, MARKED), e) && contains(&resident, e))
+        .collect();
+    assert!(!at_new.is_empty());
+    assert!(at_new.iter().all(|&e| contains(&refreshed, e)));
+    assert_eq!(sunny.pages.caster_pages_occluded, 0, "{:?}", sunny.pages);
+    assert_eq!(
+        sunny.pages.caster_pages,
+        pairs_without_occlusion(&scene, &sunny)
+    );
+
+    // Back under the roof: the pages of its sunny place are refreshed, and where one of them
+    // also holds its new place behind the roof, the car is left out of it.
+    move_car(&mut frames, &mut scene, &sunny.views, -out);
+    let back = frames.frame(&scene, &camera(), &settings);
+    same_picture(&back, &fresh(&scene));
+    let p = back.pages;
+    assert!(p.pages_refreshed > 0, "{p:?}");
+    assert!(p.caster_pages_occluded > 0, "{p:?}");
+    // The cull leaves out only what occlusion counts: the rest is the page-exact cull's.
+    assert_eq!(
+        p.caster_pages + p.caster_pages_occluded,
+        pairs_without_occlusion(&scene, &back)
+    );
+}
+
+#[test]
+fn under_a_point_light_the_car_hides_behind_the_roof_in_the_faces_pages_too() {
+    let light = |scene: &Scene, s: FrameSettings| FrameSettings {
+        point_light: Some(PointShadow::omni(over_car(scene) + Vec3::Y * 5.0, 2.0e6)),
+        ..s
+    };
+    let run = |occlusion: bool| {
+        let mut scene = scene();
+        let settings = light(&scene, apart(occlusion));
+        let mut frames = Frames::new(&scene);
+        frames.frame(&scene, &camera(), &settings);
+        move_car(&mut frames, &mut scene, &[], Vec3::new(0.7, 0.0, 0.4));
+        let second = frames.frame(&scene, &camera(), &settings);
+        (scene, second)
+    };
+    let (scene, on) = run(true);
+    let (_, off) = run(false);
+    assert_eq!(on.views.len(), 156, "the cube's levels");
+    let reference = Frames::new(&scene).frame(
+        &scene,
+        &camera(),
+        &light(&scene, settings(VirtualSettings::default())),
+    );
+    same_picture(&on, &reference);
+    same_picture(&off, &reference);
+    let refreshed_off = entries_with(&off.flags, REFRESHED);
+    let refreshed_on = entries_with(&on.flags, REFRESHED);
+    assert!(!refreshed_off.is_empty());
+    assert!(refreshed_on.iter().all(|&e| contains(&refreshed_off, e)));
+    assert!(
+        refreshed_on.len() < refreshed_off.len(),
+        "{} of {}",
+        refreshed_on.len(),
+        refreshed_off.len()
+    );
+    assert!(on.pages.moved_pages_occluded > 0, "{:?}", on.pages);
+}
