@@ -2,7 +2,7 @@
 //! keeps each frame's pages, flags, picture and levels, and the page-table entries a world
 //! box touches, computed on the CPU as `virtual_maps/tables.wgsl` finds them.
 
-use glam::{DVec3, Mat4, Vec3};
+use glam::{Mat4, Vec3};
 use render_core::frame::{
     FrameCapture, FrameInput, FrameRenderer, FrameReport, FrameSettings, ShadowSetup,
 };
@@ -162,54 +162,95 @@ pub fn entries_with(flags: &[u32], bit: u32) -> Vec<usize> {
 /// The page-table entries whose pages (in each level's square) the world box `lo..hi` covers,
 /// widened by a texel, as `box_pages` in `virtual_maps/tables.wgsl` finds them.
 pub fn touched_entries(views: &[ShadowView], lo: Vec3, hi: Vec3) -> Vec<usize> {
+    let mut out: Vec<usize> = touched_blocks(views, lo, hi)
+        .into_iter()
+        .map(|(e, _)| e)
+        .collect();
+    out.sort_unstable();
+    out.dedup();
+    out
+}
+
+/// The entries [`touched_entries`] finds, each with the blocks of 16 x 16 texels of its page
+/// that the box's widened texels cover (`tables.wgsl` `box_blocks`: bit 8 y + x of block
+/// (x, y), over two words), sorted by entry.
+pub fn touched_blocks(views: &[ShadowView], lo: Vec3, hi: Vec3) -> Vec<(usize, [u32; 2])> {
     let side = i64::from(LEVEL_PAGES);
+    let texels = i64::from(PAGE_TEXELS);
     let mut out = Vec::new();
     for (level, view) in views.iter().enumerate() {
-        let light = &view.light;
-        let grid = light.grid.expect("a level has a texel grid");
-        let rows = light.light_from_world.transpose();
-        let t = light.light_from_world.w_axis;
-        let half = f64::from(LEVEL_PAGES * PAGE_TEXELS) * 0.5;
-        let texel = |p: Vec3| {
-            let x = f64::from(rows.x_axis.truncate().dot(p) + t.x) * f64::from(grid.per_metre[0]);
-            let y = f64::from(rows.y_axis.truncate().dot(p) + t.y) * f64::from(grid.per_metre[1]);
-            DVec3::new(
-                x - f64::from(grid.centre_texel[0]) + half,
-                half - (y - f64::from(grid.centre_texel[1])),
-                0.0,
-            )
-        };
-        let (mut min, mut max) = (DVec3::splat(f64::MAX), DVec3::splat(f64::MIN));
+        let (mut min, mut max) = ([f64::MAX; 2], [f64::MIN; 2]);
         for i in 0..8 {
             let corner = Vec3::new(
                 if i & 1 == 0 { lo.x } else { hi.x },
                 if i & 2 == 0 { lo.y } else { hi.y },
                 if i & 4 == 0 { lo.z } else { hi.z },
             );
-            let p = texel(corner);
-            min = min.min(p);
-            max = max.max(p);
+            let p = level_texel(view, corner);
+            min = [min[0].min(p[0]), min[1].min(p[1])];
+            max = [max[0].max(p[0]), max[1].max(p[1])];
         }
-        let page = |v: f64| (v / f64::from(PAGE_TEXELS)).floor() as i64;
-        let first_page = [
-            (f64::from(grid.centre_texel[0]) - half) as i64 / i64::from(PAGE_TEXELS),
-            -((f64::from(grid.centre_texel[1]) - half) as i64 / i64::from(PAGE_TEXELS)) - side,
-        ];
-        for y in page(min.y - 1.0).max(0)..=page(max.y + 1.0).min(side - 1) {
-            for x in page(min.x - 1.0).max(0)..=page(max.x + 1.0).min(side - 1) {
-                let wrapped = [
-                    (first_page[0] + x).rem_euclid(side),
-                    (first_page[1] + y).rem_euclid(side),
-                ];
-                out.push(
-                    level * (side * side) as usize + (wrapped[1] * side + wrapped[0]) as usize,
-                );
+        let first = min.map(|v| (v - 1.0).floor() as i64);
+        let last = max.map(|v| (v + 1.0).floor() as i64);
+        let page = |v: i64| v.div_euclid(texels);
+        for y in page(first[1]).max(0)..=page(last[1]).min(side - 1) {
+            for x in page(first[0]).max(0)..=page(last[0]).min(side - 1) {
+                let block = |v: i64, origin: i64| ((v - origin) / 16).clamp(0, 7);
+                let (bx0, bx1) = (block(first[0], x * texels), block(last[0], x * texels));
+                let (by0, by1) = (block(first[1], y * texels), block(last[1], y * texels));
+                let mut words = [0u32; 2];
+                for by in by0..=by1 {
+                    for bx in bx0..=bx1 {
+                        let bit = by * 8 + bx;
+                        words[(bit / 32) as usize] |= 1 << (bit % 32);
+                    }
+                }
+                out.push((entry(views, level, [x, y]), words));
             }
         }
     }
-    out.sort_unstable();
-    out.dedup();
+    out.sort_unstable_by_key(|&(e, _)| e);
     out
+}
+
+/// Two lists of [`touched_blocks`] as one: an entry's blocks in either (a moved box's old and
+/// new bounds'), sorted by entry.
+pub fn merged_blocks(
+    a: Vec<(usize, [u32; 2])>,
+    b: Vec<(usize, [u32; 2])>,
+) -> Vec<(usize, [u32; 2])> {
+    let mut out: Vec<(usize, [u32; 2])> = Vec::new();
+    for (e, words) in [a, b].concat() {
+        match out.iter_mut().find(|(t, _)| *t == e) {
+            Some((_, w)) => *w = [w[0] | words[0], w[1] | words[1]],
+            None => out.push((e, words)),
+        }
+    }
+    out.sort_unstable_by_key(|&(e, _)| e);
+    out
+}
+
+pub fn entries_of_blocks(blocks: &[(usize, [u32; 2])]) -> Vec<usize> {
+    blocks.iter().map(|&(e, _)| e).collect()
+}
+
+/// The entries among `candidates` whose pixels read (marking's blocks of the last frame, read
+/// back) one of the `stale` blocks of their page: the stale pages `tally_pages` refreshes.
+pub fn reading_stale(
+    renderer: &FrameRenderer,
+    candidates: &[usize],
+    stale: &[(usize, [u32; 2])],
+) -> Vec<usize> {
+    let read = renderer.virtual_receiver_masks(gpu()).expect("reads back");
+    candidates
+        .iter()
+        .copied()
+        .filter(|&e| {
+            stale.iter().any(|&(s, words)| {
+                s == e && (words[0] & read[e][0] != 0 || words[1] & read[e][1] != 0)
+            })
+        })
+        .collect()
 }
 
 /// What `mark.wgsl` reads of the frame, for the CPU's marking.

@@ -1,8 +1,9 @@
 //! Virtual maps with static casters kept apart (`--separate-static on`, Unreal's
 //! `Cache.StaticSeparate`): a moving box leaves the pages it touches resident and draws only
-//! itself into them again (their movable layer), the static ground's depths stay cached, and
-//! the picture equals a full re-render with one layer. A page that goes stale while no pixel
-//! reads it is drawn again when one does.
+//! itself into them again (their movable layer) where pixels read a block of 16 x 16 texels
+//! it made stale, the static ground's depths stay cached, and the picture equals a full
+//! re-render with one layer. A page that goes stale while no pixel reads it is drawn again
+//! when one reads its stale blocks.
 
 use glam::Vec3;
 use render_core::geom::Camera;
@@ -10,8 +11,9 @@ use render_core::scene::{Scene, Sun};
 use render_core::shadow_view::{ShadowView, VirtualSettings};
 use shadowlab_tests::gpu;
 use shadowlab_tests::virtual_pages::{
-    Frame, Frames, MARKED, REFRESHED, RENDERED, RESIDENT, camera, entries_with, entry, level_texel,
-    scene, settings, touched_entries,
+    Frame, Frames, MARKED, REFRESHED, RENDERED, RESIDENT, camera, entries_of_blocks, entries_with,
+    entry, level_texel, merged_blocks, reading_stale, scene, settings, touched_blocks,
+    touched_entries,
 };
 
 /// A page whose movable layer a moved box left stale (`virtual_maps/pages.wgsl`).
@@ -25,18 +27,24 @@ fn apart() -> VirtualSettings {
 }
 
 /// Moves the box (instance 1) 0.9 m along x and 0.4 m along z, across page borders; returns
-/// the page-table entries its old and new bounds touch.
-fn move_box(frames: &mut Frames, scene: &mut Scene, views: &[ShadowView]) -> Vec<usize> {
+/// the page-table entries its old and new bounds touch, each with the blocks of its page they
+/// cover: those of its movable layer the move made stale.
+fn move_box(
+    frames: &mut Frames,
+    scene: &mut Scene,
+    views: &[ShadowView],
+) -> Vec<(usize, [u32; 2])> {
     let [old, new] = frames.move_box(scene);
     let (before, after) = (
+        touched_blocks(views, old.min, old.max),
+        touched_blocks(views, new.min, new.max),
+    );
+    assert_ne!(
         touched_entries(views, old.min, old.max),
         touched_entries(views, new.min, new.max),
+        "the box crosses page borders"
     );
-    assert_ne!(before, after, "the box crosses page borders");
-    let mut touched = [before, after].concat();
-    touched.sort_unstable();
-    touched.dedup();
-    touched
+    merged_blocks(before, after)
 }
 
 /// Pixels whose light differs between two pictures.
@@ -145,7 +153,8 @@ fn a_moving_box_draws_only_itself_again_into_the_pages_it_touches() {
     assert_eq!(p.pages_refreshed, 0);
     assert_eq!(p.caster_pages, expected_pairs(&scene, &first));
 
-    let touched = move_box(&mut frames, &mut scene, &first.views);
+    let stale = move_box(&mut frames, &mut scene, &first.views);
+    let touched = entries_of_blocks(&stale);
     let second = frames.frame(&scene, &camera(), &settings);
     let q = second.pages;
     assert_eq!(q.moved_boxes, 2);
@@ -153,18 +162,30 @@ fn a_moving_box_draws_only_itself_again_into_the_pages_it_touches() {
     let resident_before = entries_with(&first.flags, RESIDENT);
     let marked = entries_with(&second.flags, MARKED);
     // Whole: only the marked pages that were not there before. Refreshed: the marked pages
-    // the box's old or new bounds touch.
+    // the box's old or new bounds touch whose pixels read a block it covered.
     let new_pages: Vec<usize> = marked
         .iter()
         .copied()
         .filter(|&e| !contains(&resident_before, e))
         .collect();
-    let refreshed: Vec<usize> = marked
+    let touched_and_read: Vec<usize> = marked
         .iter()
         .copied()
         .filter(|&e| contains(&touched, e) && contains(&resident_before, e))
         .collect();
+    let refreshed = reading_stale(&frames.renderer, &touched_and_read, &stale);
     assert!(!refreshed.is_empty());
+    assert!(
+        refreshed.len() < touched_and_read.len(),
+        "pages whose pixels read none of the stale blocks wait"
+    );
+    // They stay stale, with those blocks unread (the picture below is a fresh render's).
+    let waiting: Vec<usize> = touched
+        .iter()
+        .copied()
+        .filter(|&e| contains(&resident_before, e) && !contains(&refreshed, e))
+        .collect();
+    assert_eq!(entries_with(&second.flags, DYNAMIC_STALE), waiting);
     assert_eq!(entries_with(&second.flags, RENDERED), new_pages);
     assert_eq!(entries_with(&second.flags, REFRESHED), refreshed);
     assert_eq!(q.pages_refreshed as usize, refreshed.len());
@@ -228,7 +249,8 @@ fn a_page_left_stale_while_unread_is_refreshed_when_read_again() {
         0.1,
         500.0,
     );
-    let touched = move_box(&mut frames, &mut scene, &first.views);
+    let stale_blocks = move_box(&mut frames, &mut scene, &first.views);
+    let touched = entries_of_blocks(&stale_blocks);
     let away = frames.frame(&scene, &sky, &settings);
     assert_eq!(away.pages.pages_marked, 0, "{:?}", away.pages);
     assert_eq!(
@@ -247,13 +269,20 @@ fn a_page_left_stale_while_unread_is_refreshed_when_read_again() {
 
     let back = frames.frame(&scene, &camera(), &settings);
     let marked = entries_with(&back.flags, MARKED);
-    let refreshed: Vec<usize> = marked
+    let read_stale: Vec<usize> = marked
         .iter()
         .copied()
         .filter(|&e| contains(&stale, e))
         .collect();
+    let refreshed = reading_stale(&frames.renderer, &read_stale, &stale_blocks);
     assert!(!refreshed.is_empty());
     assert_eq!(entries_with(&back.flags, REFRESHED), refreshed);
+    let still_stale: Vec<usize> = stale
+        .iter()
+        .copied()
+        .filter(|&e| !contains(&refreshed, e))
+        .collect();
+    assert_eq!(entries_with(&back.flags, DYNAMIC_STALE), still_stale);
     assert_eq!(
         entries_with(&back.flags, RENDERED),
         marked

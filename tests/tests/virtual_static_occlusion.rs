@@ -11,7 +11,8 @@ use render_core::geom::Camera;
 use render_core::scene::{Instance, Mobility, PointShadow, Scene, Sun};
 use render_core::shadow_view::{ShadowView, VirtualSettings};
 use shadowlab_tests::virtual_pages::{
-    Frame, Frames, MARKED, REFRESHED, RENDERED, RESIDENT, entries_with, settings, touched_entries,
+    Frame, Frames, MARKED, REFRESHED, RENDERED, RESIDENT, entries_of_blocks, entries_with,
+    merged_blocks, reading_stale, settings, touched_blocks, touched_entries,
 };
 use shadowlab_tests::{box_mesh, gpu};
 
@@ -65,8 +66,14 @@ fn apart(occlusion: bool) -> FrameSettings {
     })
 }
 
-/// Moves the car by `by`; returns the entries its old and new bounds touch (sorted).
-fn move_car(frames: &mut Frames, scene: &mut Scene, views: &[ShadowView], by: Vec3) -> Vec<usize> {
+/// Moves the car by `by`; returns the entries its old and new bounds touch, each with the
+/// blocks of its page they cover.
+fn move_car(
+    frames: &mut Frames,
+    scene: &mut Scene,
+    views: &[ShadowView],
+    by: Vec3,
+) -> Vec<(usize, [u32; 2])> {
     let old = scene.instances[CAR].aabb_in_world;
     let moved = Mat4::from_translation(by) * scene.instances[CAR].world_from_local;
     scene.set_world_from_local(CAR, moved);
@@ -74,14 +81,10 @@ fn move_car(frames: &mut Frames, scene: &mut Scene, views: &[ShadowView], by: Ve
         .scene_gpu
         .update_instances(gpu(), scene, &[CAR as u32]);
     let new = scene.instances[CAR].aabb_in_world;
-    let mut touched = [
-        touched_entries(views, old.min, old.max),
-        touched_entries(views, new.min, new.max),
-    ]
-    .concat();
-    touched.sort_unstable();
-    touched.dedup();
-    touched
+    merged_blocks(
+        touched_blocks(views, old.min, old.max),
+        touched_blocks(views, new.min, new.max),
+    )
 }
 
 fn contains(sorted: &[usize], e: usize) -> bool {
@@ -149,24 +152,29 @@ fn a_car_moving_in_a_static_shadow_leaves_the_pages_it_hides_in_fresh() {
         let settings = apart(occlusion);
         let mut frames = Frames::new(&scene);
         let first = frames.frame(&scene, &camera(), &settings);
-        let touched = move_car(&mut frames, &mut scene, &first.views, by);
+        let stale = move_car(&mut frames, &mut scene, &first.views, by);
         let second = frames.frame(&scene, &camera(), &settings);
-        (scene, first, second, touched)
+        // The pages the car touched, read and resident before, whose pixels read a block it
+        // covered: what the move refreshes without occlusion.
+        let resident = entries_with(&first.flags, RESIDENT);
+        let touched = entries_of_blocks(&stale);
+        let candidates: Vec<usize> = entries_with(&second.flags, MARKED)
+            .into_iter()
+            .filter(|&e| contains(&touched, e) && contains(&resident, e))
+            .collect();
+        let reading = reading_stale(&frames.renderer, &candidates, &stale);
+        (scene, first, second, reading)
     };
-    let (scene, first, on, touched) = run(true);
-    let (_, first_off, off, _) = run(false);
+    let (scene, first, on, _) = run(true);
+    let (_, first_off, off, read_and_touched) = run(false);
     assert_eq!(first.capture.shadow, first_off.capture.shadow);
     let reference = fresh(&scene);
     same_picture(&on, &reference);
     same_picture(&off, &reference);
     assert_eq!((on.pages.moved_boxes, off.pages.moved_boxes), (2, 2));
 
-    // Without occlusion every marked page the car touched, resident before, is refreshed.
-    let resident = entries_with(&first.flags, RESIDENT);
-    let read_and_touched: Vec<usize> = entries_with(&off.flags, MARKED)
-        .into_iter()
-        .filter(|&e| contains(&touched, e) && contains(&resident, e))
-        .collect();
+    // Without occlusion every page the car touched whose pixels read a block it covered is
+    // refreshed.
     assert_eq!(entries_with(&off.flags, REFRESHED), read_and_touched);
     assert_eq!(off.pages.moved_pages_occluded, 0);
     assert!(!off.pages.static_occlusion && on.pages.static_occlusion);
@@ -209,16 +217,18 @@ fn a_car_leaving_the_shadow_refreshes_its_new_pages_and_coming_back_is_left_out_
         "the car's shadow shows"
     );
     // In the sun, nothing static is nearer the light than the car over its new pages: every
-    // marked one that was resident is refreshed.
+    // one that was resident and whose pixels read a block the car now covers is refreshed.
     let new = scene.instances[CAR].aabb_in_world;
     let resident = entries_with(&first.flags, RESIDENT);
     let refreshed = entries_with(&sunny.flags, REFRESHED);
-    let at_new: Vec<usize> = touched_entries(&sunny.views, new.min, new.max)
+    let new_blocks = touched_blocks(&sunny.views, new.min, new.max);
+    let at_new: Vec<usize> = entries_of_blocks(&new_blocks)
         .into_iter()
         .filter(|&e| contains(&entries_with(&sunny.flags, MARKED), e) && contains(&resident, e))
         .collect();
-    assert!(!at_new.is_empty());
-    assert!(at_new.iter().all(|&e| contains(&refreshed, e)));
+    let reading_new = reading_stale(&frames.renderer, &at_new, &new_blocks);
+    assert!(!reading_new.is_empty());
+    assert!(reading_new.iter().all(|&e| contains(&refreshed, e)));
     assert_eq!(sunny.pages.caster_pages_occluded, 0, "{:?}", sunny.pages);
     assert_eq!(
         sunny.pages.caster_pages,

@@ -9,9 +9,9 @@
 #import virtual_maps/tables.wgsl
 
 // x: box, y: level. Every entry whose page the box covers is invalid this frame, or, where
-// static casters are kept apart, its movable casters' layer is stale, unless static
-// occlusion finds the box wholly behind the page's cached static depths (the box's old and
-// new places come as boxes of their own: each must be behind for the page to stay fresh).
+// static casters are kept apart, the blocks of its movable layer the box covers are stale,
+// less those where static occlusion finds the box behind the page's cached static depths
+// (the box's old and new places come as boxes of their own).
 @compute @workgroup_size(64)
 fn invalidate_moved(@builtin(global_invocation_id) id: vec3<u32>) {
     let boxes = u32(params.tuning.z);
@@ -24,18 +24,41 @@ fn invalidate_moved(@builtin(global_invocation_id) id: vec3<u32>) {
     let pages = texel_pages(id.y, texels);
     let occluding = static_occlusion_on();
     let nearest = select(0.0, box_nearest_depth(id.y, lo, hi), occluding);
-    let stale = select(PAGE_INVALID, PAGE_DYNAMIC_STALE, static_apart());
     for (var y = pages.y; y <= pages.w; y++) {
         for (var x = pages.x; x <= pages.z; x++) {
             let page = vec2<i32>(x, y);
             let e = entry_of(id.y, page);
-            if (occluding && static_layer_cached(e, page) && behind_static(e, page, texels, nearest)) {
-                atomicAdd(&counters.occlusion_spared, 1u);
+            if (!static_apart()) {
+                atomicOr(&page_flags[e], PAGE_INVALID);
                 continue;
             }
-            atomicOr(&page_flags[e], stale);
+            var blocks = box_blocks(page, texels);
+            if (occluding && static_layer_cached(e, page)) {
+                blocks &= ~blocks_behind_static(e, blocks, nearest);
+                if (all(blocks == vec2<u32>(0u))) {
+                    atomicAdd(&counters.occlusion_spared, 1u);
+                    continue;
+                }
+            }
+            make_stale(e, blocks);
         }
     }
+}
+
+// Blocks `blocks` of entry `e`'s movable layer stale.
+fn make_stale(e: u32, blocks: vec2<u32>) {
+    atomicOr(&stale_blocks[2u * e], blocks.x);
+    atomicOr(&stale_blocks[2u * e + 1u], blocks.y);
+    atomicOr(&page_flags[e], PAGE_DYNAMIC_STALE);
+}
+
+// Entry `e`'s movable layer whole again (drawn, or its page released).
+fn clear_stale(e: u32) {
+    if (static_apart()) {
+        atomicStore(&stale_blocks[2u * e], 0u);
+        atomicStore(&stale_blocks[2u * e + 1u], 0u);
+    }
+    atomicAnd(&page_flags[e], ~PAGE_DYNAMIC_STALE);
 }
 
 // Whether entry `e` holds page `page` of its level's square with a static layer drawn in an
@@ -52,6 +75,7 @@ fn entry_count() -> u32 {
 
 fn release(e: u32) {
     owners[page_slots[e]] = 0u;
+    clear_stale(e);
     atomicStore(&page_flags[e], 0u);
 }
 
@@ -61,12 +85,13 @@ fn begin_pages(@builtin(global_invocation_id) id: vec3<u32>) {
     if (e >= entry_count()) {
         return;
     }
-    if (receiver_mask_on()) {
+    if (receiver_mask_on() || static_apart()) {
         atomicStore(&receiver_masks[2u * e], 0u);
         atomicStore(&receiver_masks[2u * e + 1u], 0u);
     }
     let flags = atomicLoad(&page_flags[e]);
     if ((flags & PAGE_RESIDENT) == 0u) {
+        clear_stale(e);
         atomicStore(&page_flags[e], 0u);
         return;
     }
@@ -80,8 +105,10 @@ fn begin_pages(@builtin(global_invocation_id) id: vec3<u32>) {
         atomicAdd(&counters.invalidated, 1u);
         return;
     }
-    let stale = select(flags & PAGE_DYNAMIC_STALE, PAGE_DYNAMIC_STALE, partial);
-    atomicStore(&page_flags[e], PAGE_RESIDENT | stale);
+    atomicStore(&page_flags[e], PAGE_RESIDENT | (flags & PAGE_DYNAMIC_STALE));
+    if (partial) {
+        make_stale(e, vec2<u32>(0xffffffffu));
+    }
 }
 
 // Every free physical page into the free list. The second round runs only where the first
@@ -183,6 +210,14 @@ fn allocate_fallback(@builtin(global_invocation_id) id: vec3<u32>) {
     }
 }
 
+// Whether this frame's pixels read a stale block of entry `e`'s movable layer (marking's
+// blocks, `receiver_masks`, kept where static casters are apart).
+fn reads_stale(e: u32) -> bool {
+    let stale = vec2<u32>(atomicLoad(&stale_blocks[2u * e]), atomicLoad(&stale_blocks[2u * e + 1u]));
+    let read = vec2<u32>(atomicLoad(&receiver_masks[2u * e]), atomicLoad(&receiver_masks[2u * e + 1u]));
+    return any((stale & read) != vec2<u32>(0u));
+}
+
 @compute @workgroup_size(64)
 fn tally_pages(@builtin(global_invocation_id) id: vec3<u32>) {
     let e = id.x;
@@ -196,15 +231,16 @@ fn tally_pages(@builtin(global_invocation_id) id: vec3<u32>) {
     if ((flags & PAGE_REFUSED) != 0u) {
         atomicAdd(&counters.refused, 1u);
     }
-    // A page drawn whole needs no refresh; a marked page with a stale movable layer, cached
-    // otherwise, has that layer drawn. Unmarked, it stays stale (and unread: light.wgsl).
+    // A page drawn whole needs no refresh; a marked page whose pixels read a block of its
+    // movable layer that went stale, cached otherwise, has that layer drawn. Else it stays
+    // stale where it is (and those blocks unread: light.wgsl).
     let stale_and_read = PAGE_RESIDENT | PAGE_MARKED | PAGE_DYNAMIC_STALE;
     var item = e;
     if ((flags & PAGE_RENDERED) != 0u) {
-        atomicAnd(&page_flags[e], ~PAGE_DYNAMIC_STALE);
+        clear_stale(e);
         atomicAdd(&counters.rendered, 1u);
-    } else if ((flags & stale_and_read) == stale_and_read) {
-        atomicAnd(&page_flags[e], ~PAGE_DYNAMIC_STALE);
+    } else if ((flags & stale_and_read) == stale_and_read && reads_stale(e)) {
+        clear_stale(e);
         atomicOr(&page_flags[e], PAGE_REFRESHED);
         atomicAdd(&counters.refreshed, 1u);
         item = e | DYNAMIC_ONLY;

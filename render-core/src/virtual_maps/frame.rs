@@ -235,6 +235,7 @@ impl VirtualTechnique {
                     buffer_entry(9, &tables.receiver_masks),
                     buffer_entry(10, &tables.hierarchy),
                     buffer_entry(11, &tables.static_depths),
+                    buffer_entry(12, &tables.stale_blocks),
                 ],
             ),
             group(

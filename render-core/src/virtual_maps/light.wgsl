@@ -10,6 +10,8 @@
 @group(1) @binding(1) var page_atlas: texture_depth_2d;
 @group(1) @binding(2) var<storage, read> page_flags: array<u32>;
 @group(1) @binding(3) var<storage, read> page_slots: array<u32>;
+// Per entry, the stale blocks of its movable layer (tables.wgsl `stale_blocks`).
+@group(1) @binding(4) var<storage, read> stale_blocks: array<u32>;
 
 struct LightReaching {
     method: f32,
@@ -26,13 +28,22 @@ fn light_unshadowed(world_pos: vec3<f32>, geometric: vec3<f32>) -> vec3<f32> {
 
 fn taps_resident(l: ShadowLookup) -> bool {
     let pages = tap_pages(l);
+    let last = l.first + vec2<i32>(l.kernel - 1);
     for (var y = pages[0].y; y <= pages[1].y; y++) {
         for (var x = pages[0].x; x <= pages[1].x; x++) {
-            // A page whose movable layer is stale (no pixel read it when it went stale) is
-            // not read until it is drawn again.
-            let flags = page_flags[entry_of(l.view, vec2<i32>(x, y))];
-            if ((flags & (PAGE_RESIDENT | PAGE_DYNAMIC_STALE)) != PAGE_RESIDENT) {
+            let page = vec2<i32>(x, y);
+            let e = entry_of(l.view, page);
+            let flags = page_flags[e];
+            if ((flags & PAGE_RESIDENT) == 0u) {
                 return false;
+            }
+            // The blocks of a movable layer that went stale where no pixel read them are not
+            // read until the layer is drawn again.
+            if ((flags & PAGE_DYNAMIC_STALE) != 0u) {
+                let stale = vec2<u32>(stale_blocks[2u * e], stale_blocks[2u * e + 1u]);
+                if (any((block_bits(page, l.first, last) & stale) != vec2<u32>(0u))) {
+                    return false;
+                }
             }
         }
     }

@@ -11,8 +11,9 @@
 // When measuring: per physical page, a bit per texel that a visible pixel's tap reads.
 @group(2) @binding(3) var<storage, read_write> texel_bits: array<atomic<u32>>;
 
-// The pages lookup `l`'s taps read marked, and with the receiver mask on, the blocks of those
-// taps widened by a texel.
+// The pages lookup `l`'s taps read marked, and with the receiver mask on or static casters
+// apart (whose stale blocks are refreshed only where read), the blocks of those taps widened
+// by a texel.
 fn mark_taps(l: ShadowLookup) {
     let pages = tap_pages(l);
     let last = l.first + vec2<i32>(l.kernel - 1);
@@ -23,7 +24,7 @@ fn mark_taps(l: ShadowLookup) {
                 atomicAdd(&counters.marked, 1u);
                 atomicAdd(&counters.level_marked[l.view], 1u);
             }
-            if (receiver_mask_on()) {
+            if (receiver_mask_on() || static_apart()) {
                 // A texel more each way: the shading pass finds the taps from its own
                 // interpolated position, which may land a texel over a block's edge.
                 let blocks = block_bits(vec2<i32>(x, y), l.first - 1, last + 1);

@@ -241,3 +241,24 @@ fn holding_level(world_pos: vec3<f32>, n: vec3<f32>) -> u32 {
 fn tap_pages(l: ShadowLookup) -> array<vec2<i32>, 2> {
     return array<vec2<i32>, 2>(l.first / PAGE_TEXELS, (l.first + l.kernel - 1) / PAGE_TEXELS);
 }
+
+// The blocks of page `page` that texels `first..=last` (relative to the level's square,
+// any range) cover, as the receiver mask's two words.
+fn block_bits(page: vec2<i32>, first: vec2<i32>, last: vec2<i32>) -> vec2<u32> {
+    let origin = page * PAGE_TEXELS;
+    let lo = clamp((first - origin) / BLOCK_TEXELS, vec2<i32>(0), vec2<i32>(7));
+    let hi = clamp((last - origin) / BLOCK_TEXELS, vec2<i32>(0), vec2<i32>(7));
+    var words = vec2<u32>(0u);
+    if (any(last < origin) || any(first >= origin + PAGE_TEXELS)) {
+        return words;
+    }
+    let row = ((1u << u32(hi.x - lo.x + 1)) - 1u) << u32(lo.x);
+    for (var y = lo.y; y <= hi.y; y++) {
+        if (y < 4) {
+            words.x |= row << u32(8 * y);
+        } else {
+            words.y |= row << u32(8 * (y - 4));
+        }
+    }
+    return words;
+}

@@ -72,7 +72,7 @@ impl Pipelines {
         let mut tables_types = vec![uniform()];
         tables_types.extend([storage(false); 7]);
         tables_types.push(storage(true));
-        tables_types.extend([storage(false); 3]);
+        tables_types.extend([storage(false); 4]);
         let tables_layout =
             bind_group_layout(device, "VirtualMaps::tables", compute, &tables_types);
         let float = wgpu::TextureSampleType::Float { filterable: false };
@@ -104,7 +104,13 @@ impl Pipelines {
             device,
             "VirtualMaps::light",
             wgpu::ShaderStages::FRAGMENT | compute,
-            &[uniform(), depth_texture(), storage(true), storage(true)],
+            &[
+                uniform(),
+                depth_texture(),
+                storage(true),
+                storage(true),
+                storage(true),
+            ],
         );
         let occlusion_layout = bind_group_layout(
             device,

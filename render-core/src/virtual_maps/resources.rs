@@ -40,6 +40,9 @@ pub(super) struct Tables {
     /// Per physical page, the farthest static depth of each of its 8 x 8 blocks
     /// (`tables.wgsl` `static_depths`).
     pub static_depths: wgpu::Buffer,
+    /// Per entry, two words: the stale blocks of its movable layer (`tables.wgsl`
+    /// `stale_blocks`).
+    pub stale_blocks: wgpu::Buffer,
     pub atlas: wgpu::Texture,
     pub atlas_view: wgpu::TextureView,
     pub readback: AsyncReadback,
@@ -118,6 +121,12 @@ impl Tables {
                 pages * 64 * 4,
                 STORAGE,
             ),
+            stale_blocks: buffer(
+                device,
+                "VirtualMaps::stale_blocks",
+                entries * 8,
+                STORAGE | wgpu::BufferUsages::COPY_SRC,
+            ),
             atlas_view: atlas.create_view(&wgpu::TextureViewDescriptor::default()),
             atlas,
             readback: AsyncReadback::new(device, "VirtualMaps::counts", counters_size, 3),
@@ -145,6 +154,7 @@ impl Tables {
                 view_entry(1, &self.atlas_view),
                 buffer_entry(2, &self.flags),
                 buffer_entry(3, &self.slots),
+                buffer_entry(4, &self.stale_blocks),
             ],
         })
     }

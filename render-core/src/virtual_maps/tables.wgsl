@@ -71,6 +71,11 @@ struct Counters {
 // (occlusion.wgsl) the frame after the page was drawn whole and read only while it stays
 // resident.
 @group(1) @binding(11) var<storage, read_write> static_depths: array<f32>;
+// Where static casters are apart: per entry, two words, the blocks of its page whose movable
+// layer a moved box made stale (`block_bits`' layout; meaningful while PAGE_DYNAMIC_STALE is
+// set). A read page is refreshed only where pixels read one of them (`tally_pages`), and the
+// light term reads none of them (light.wgsl).
+@group(1) @binding(12) var<storage, read_write> stale_blocks: array<atomic<u32>>;
 
 const HIERARCHY_MIPS: u32 = 5u;
 // Cells per level: 256 + 64 + 16 + 4 + 1.
@@ -138,26 +143,6 @@ fn box_pages(level: u32, lo: vec3<f32>, hi: vec3<f32>) -> vec4<i32> {
     return texel_pages(level, box_texels(level, lo, hi));
 }
 
-// The blocks of page `page` that texels `first..=last` (relative to the level's square,
-// any range) cover, as the receiver mask's two words.
-fn block_bits(page: vec2<i32>, first: vec2<i32>, last: vec2<i32>) -> vec2<u32> {
-    let origin = page * PAGE_TEXELS;
-    let lo = clamp((first - origin) / BLOCK_TEXELS, vec2<i32>(0), vec2<i32>(7));
-    let hi = clamp((last - origin) / BLOCK_TEXELS, vec2<i32>(0), vec2<i32>(7));
-    var words = vec2<u32>(0u);
-    if (any(last < origin) || any(first >= origin + PAGE_TEXELS)) {
-        return words;
-    }
-    let row = ((1u << u32(hi.x - lo.x + 1)) - 1u) << u32(lo.x);
-    for (var y = lo.y; y <= hi.y; y++) {
-        if (y < 4) {
-            words.x |= row << u32(8 * y);
-        } else {
-            words.y |= row << u32(8 * (y - 4));
-        }
-    }
-    return words;
-}
 
 // What the light's depths may differ by between the cull's corners and the rasteriser's
 // interpolation: a box counts as behind only by more than this.
@@ -178,27 +163,37 @@ fn box_nearest_depth(level: u32, lo: vec3<f32>, hi: vec3<f32>) -> f32 {
     return nearest;
 }
 
-// Whether a movable caster nearest at depth `nearest`, over texels `texels` (`box_texels`),
-// lies wholly behind the static casters of page `page` (entry `e`, resident with its static
-// layer drawn before this frame): every block of the page it covers has all its static depths
-// nearer. Drawn into the page or not, moved or not, it leaves each texel's nearer depth of
-// both layers as it is, which is all the light term reads (light.wgsl `stored_depth`).
-fn behind_static(e: u32, page: vec2<i32>, texels: vec4<f32>, nearest: f32) -> bool {
-    let origin = page * PAGE_TEXELS;
-    let first = vec2<i32>(floor(texels.xy)) - origin;
-    let last = vec2<i32>(floor(texels.zw)) - origin;
-    if (any(last < vec2<i32>(0)) || any(first >= vec2<i32>(PAGE_TEXELS))) {
-        return false;
-    }
-    let lo = clamp(first / BLOCK_TEXELS, vec2<i32>(0), vec2<i32>(7));
-    let hi = clamp(last / BLOCK_TEXELS, vec2<i32>(0), vec2<i32>(7));
+// The blocks of `covered` (`block_bits`' words) in the page of entry `e` (resident, its
+// static layer drawn before this frame) behind whose static depths, all of them nearer, lies
+// a movable caster nearest at depth `nearest`. Drawn there or not, moved there or not, such a
+// caster leaves each texel's nearer depth of both layers as it is, which is all the light
+// term reads (light.wgsl `stored_depth`).
+fn blocks_behind_static(e: u32, covered: vec2<u32>, nearest: f32) -> vec2<u32> {
     let base = page_slots[e] * 64u;
-    for (var y = lo.y; y <= hi.y; y++) {
-        for (var x = lo.x; x <= hi.x; x++) {
-            if (static_depths[base + u32(y * 8 + x)] >= nearest - DEPTH_MARGIN) {
-                return false;
+    var behind = vec2<u32>(0u);
+    for (var b = 0u; b < 64u; b++) {
+        let bit = 1u << (b % 32u);
+        let word = select(covered.x, covered.y, b >= 32u);
+        if ((word & bit) != 0u && static_depths[base + b] < nearest - DEPTH_MARGIN) {
+            if (b < 32u) {
+                behind.x |= bit;
+            } else {
+                behind.y |= bit;
             }
         }
     }
-    return true;
+    return behind;
+}
+
+// The blocks of page `page` that a box's texels `texels` (`box_texels`) cover.
+fn box_blocks(page: vec2<i32>, texels: vec4<f32>) -> vec2<u32> {
+    return block_bits(page, vec2<i32>(floor(texels.xy)), vec2<i32>(floor(texels.zw)));
+}
+
+// Whether a movable caster nearest at depth `nearest` over texels `texels` lies wholly behind
+// the static casters of page `page` (entry `e`): behind every block of it that it covers.
+fn behind_static(e: u32, page: vec2<i32>, texels: vec4<f32>, nearest: f32) -> bool {
+    let covered = box_blocks(page, texels);
+    return any(covered != vec2<u32>(0u))
+        && all(blocks_behind_static(e, covered, nearest) == covered);
 }
