@@ -23,7 +23,10 @@ fn invalidate_moved(@builtin(global_invocation_id) id: vec3<u32>) {
     let texels = box_texels(id.y, lo, hi);
     let pages = texel_pages(id.y, texels);
     let occluding = static_occlusion_on();
-    let nearest = select(0.0, box_nearest_depth(id.y, lo, hi), occluding);
+    var nearest = 0.0;
+    if (occluding) {
+        nearest = box_nearest_depth(id.y, lo, hi);
+    }
     for (var y = pages.y; y <= pages.w; y++) {
         for (var x = pages.x; x <= pages.z; x++) {
             let page = vec2<i32>(x, y);
@@ -52,13 +55,19 @@ fn make_stale(e: u32, blocks: vec2<u32>) {
     atomicOr(&page_flags[e], PAGE_DYNAMIC_STALE);
 }
 
-// Entry `e`'s movable layer whole again (drawn, or its page released).
+// Entry `e`'s movable layer whole again (drawn): no block stale.
 fn clear_stale(e: u32) {
+    clear_stale_blocks(e);
+    atomicAnd(&page_flags[e], ~PAGE_DYNAMIC_STALE);
+}
+
+// Where static casters are apart, entry `e`'s stale blocks forgotten (its flags are cleared
+// apart, or its page drawn).
+fn clear_stale_blocks(e: u32) {
     if (static_apart()) {
         atomicStore(&stale_blocks[2u * e], 0u);
         atomicStore(&stale_blocks[2u * e + 1u], 0u);
     }
-    atomicAnd(&page_flags[e], ~PAGE_DYNAMIC_STALE);
 }
 
 // Whether entry `e` holds page `page` of its level's square with a static layer drawn in an
@@ -75,7 +84,7 @@ fn entry_count() -> u32 {
 
 fn release(e: u32) {
     owners[page_slots[e]] = 0u;
-    clear_stale(e);
+    clear_stale_blocks(e);
     atomicStore(&page_flags[e], 0u);
 }
 
@@ -91,7 +100,7 @@ fn begin_pages(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let flags = atomicLoad(&page_flags[e]);
     if ((flags & PAGE_RESIDENT) == 0u) {
-        clear_stale(e);
+        clear_stale_blocks(e);
         atomicStore(&page_flags[e], 0u);
         return;
     }

@@ -88,6 +88,10 @@ struct CasterPages {
     nearest: f32,
 }
 
+// Whether this pipeline tests movable casters against refreshed pages' static depths (static
+// occlusion): a pipeline of its own, so the cull without it carries none of its code.
+override STATIC_OCCLUSION: bool = false;
+
 // Casters over at most this many pages walk them one by one: the hierarchy would read more.
 const SMALL_SPAN: i32 = 8;
 
@@ -191,8 +195,11 @@ fn cull_pages(@builtin(global_invocation_id) id: vec3<u32>) {
         i32(atomicLoad(&counters.rects[level][2])) - 1,
         i32(atomicLoad(&counters.rects[level][3])) - 1,
     );
-    c.occludable = movable && static_occlusion_on();
-    c.nearest = select(0.0, box_nearest_depth(level, b.min, b.max), c.occludable);
+    c.occludable = STATIC_OCCLUSION && movable && static_occlusion_on();
+    // (Computed only where used: a call in `select` runs for every caster and level.)
+    if (c.occludable) {
+        c.nearest = box_nearest_depth(level, b.min, b.max);
+    }
     c.texels = box_texels(level, b.min, b.max);
     let box = texel_pages(level, c.texels);
     c.first = max(box.xy, drawn.xy);

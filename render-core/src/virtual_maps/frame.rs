@@ -111,7 +111,9 @@ impl VirtualTechnique {
                 .map(|i| (&self.pipelines.tables[i], sizes[i]))
                 .collect()
         };
-        if self.settings.separate_static && self.settings.static_occlusion {
+        let occluding =
+            usize::from(self.settings.separate_static && self.settings.static_occlusion);
+        if occluding == 1 {
             scope.step(pass_label::virtual_maps::STATIC_DEPTHS, encoder, |e| {
                 let reduce = (&self.pipelines.occlusion, [tables.pages, 1]);
                 dispatch(e, &[reduce], Some(occlusion_group));
@@ -144,7 +146,10 @@ impl VirtualTechnique {
             }
             dispatch(
                 e,
-                &[(&self.pipelines.cull, [instances.div_ceil(64), levels])],
+                &[(
+                    &self.pipelines.cull[occluding],
+                    [instances.div_ceil(64), levels],
+                )],
                 Some(cull_group),
             );
         });

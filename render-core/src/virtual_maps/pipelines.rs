@@ -58,7 +58,8 @@ pub(super) struct Pipelines {
     pub tables: Vec<wgpu::ComputePipeline>,
     /// `mark_pages`, `mark_fallback`, `mark_sampled` and `count_sampled`.
     pub mark: [wgpu::ComputePipeline; 4],
-    pub cull: wgpu::ComputePipeline,
+    /// `cull_pages` without and with static occlusion.
+    pub cull: [wgpu::ComputePipeline; 2],
     /// Static occlusion's `reduce_static`, with its group of the atlas.
     pub occlusion_layout: wgpu::BindGroupLayout,
     pub occlusion: wgpu::ComputePipeline,
@@ -140,12 +141,20 @@ impl Pipelines {
             "count_sampled",
         ]
         .map(|entry| compute_pipeline(device, &mark, Some(&mark_pipeline_layout), entry));
-        let cull = compute_pipeline(
-            device,
-            &cull,
-            Some(&with("VirtualMaps::cull", &cull_layout)),
-            "cull_pages",
-        );
+        let cull_pipeline_layout = with("VirtualMaps::cull", &cull_layout);
+        let cull = [false, true].map(|occlusion| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("cull_pages"),
+                layout: Some(&cull_pipeline_layout),
+                module: &cull,
+                entry_point: Some("cull_pages"),
+                compilation_options: wgpu::PipelineCompilationOptions {
+                    constants: &[("STATIC_OCCLUSION", f64::from(u8::from(occlusion)))],
+                    ..Default::default()
+                },
+                cache: None,
+            })
+        });
         let occlusion = compute_pipeline(
             device,
             &occlusion,

@@ -171,16 +171,18 @@ fn box_nearest_depth(level: u32, lo: vec3<f32>, hi: vec3<f32>) -> f32 {
 fn blocks_behind_static(e: u32, covered: vec2<u32>, nearest: f32) -> vec2<u32> {
     let base = page_slots[e] * 64u;
     var behind = vec2<u32>(0u);
-    for (var b = 0u; b < 64u; b++) {
-        let bit = 1u << (b % 32u);
-        let word = select(covered.x, covered.y, b >= 32u);
-        if ((word & bit) != 0u && static_depths[base + b] < nearest - DEPTH_MARGIN) {
-            if (b < 32u) {
-                behind.x |= bit;
-            } else {
-                behind.y |= bit;
+    for (var w = 0u; w < 2u; w++) {
+        // The covered blocks of word w, lowest first.
+        var left = select(covered.x, covered.y, w == 1u);
+        var found = 0u;
+        while (left != 0u) {
+            let bit = countTrailingZeros(left);
+            left &= left - 1u;
+            if (static_depths[base + 32u * w + bit] < nearest - DEPTH_MARGIN) {
+                found |= 1u << bit;
             }
         }
+        behind = select(vec2<u32>(found, behind.y), vec2<u32>(behind.x, found), w == 1u);
     }
     return behind;
 }

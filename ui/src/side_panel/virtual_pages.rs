@@ -27,7 +27,8 @@ const MASK_HELP: &str = "Casters are culled against the blocks of 16 x 16 texels
     drawn again next frame";
 const APART_HELP: &str = "Each page keeps static casters' depths apart from movable ones', so a \
     moving object draws only the movable casters of the pages it touches again (Unreal's \
-    static separation); the pool takes twice the memory";
+    static separation), and only once pixels read a block of 16 x 16 texels it covered; the \
+    pool takes twice the memory";
 const OCCLUSION_HELP: &str = "With static casters apart: a movable caster wholly behind a cached     page's static casters, as the light sees them (block by block of 16 x 16 texels), neither     makes the page's movable layer stale when it moves nor is drawn into it. A car in a     building's shadow redraws nothing. Exact: no texel's nearest depth changes";
 
 /// The rows (inside the tab's grid).
