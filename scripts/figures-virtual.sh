@@ -21,6 +21,13 @@ bench still
 bench cars --animate
 bench moving-sun --moving-sun 0.5
 bench cars-still --animate --path scripts/paths/city-street-still.csv
+# Every car driving with static casters apart at slower paces of the path (pages drawn whole
+# and refreshed against resident, the goal's 25%).
+for frames in 120 480; do
+    ./target/release/shadowlab bench builtin:city --shadow virtual --separate-static on \
+        --pages 512 --animate --frames "$frames" --warmup 2 --no-truth --methods none \
+        --size 640x360 --csv "$out/virtual-cars-apart-$frames.csv" > /dev/null
+done
 # The corridor's point light, its cube of pages against shadow volumes (exact).
 ./target/release/shadowlab bench builtin:corridor --light point --sweep virtual --size 640x360 \
     --methods none --frames 30 --warmup 2 --passes --csv "$out/virtual-point-corridor.csv" \
