@@ -1026,6 +1026,9 @@ fn the_virtual_setup_sets_its_pool_and_cache_and_says_what_its_pages_did() {
         receiver_mask: true,
         caster_pages_masked: 700,
         caster_pages: 2500,
+        static_occlusion: true,
+        moved_pages_occluded: 254,
+        caster_pages_occluded: 72,
         ..Default::default()
     });
     let mut harness = harness_on(lab, PanelTab::Shadows);
@@ -1033,6 +1036,7 @@ fn the_virtual_setup_sets_its_pool_and_cache_and_says_what_its_pages_did() {
     harness.get_by_label("89% of the marked pages were kept");
     harness.get_by_label("31 pages' movable casters alone drawn");
     harness.get_by_label("2,500 (caster, page) draws, 700 left out by the receiver mask");
+    harness.get_by_label("254 pages kept fresh behind static casters, 72 draws left out");
     harness.get_by_label("3 refused (pool full), 5 evicted");
     harness.get_by_label("100% of 1024 pages");
     harness.get_by_label("64 MiB");
@@ -1047,6 +1051,13 @@ fn the_virtual_setup_sets_its_pool_and_cache_and_says_what_its_pages_did() {
         .click();
     harness.run();
     assert!(harness.state().settings.virtual_maps.separate_static);
+    // Static occlusion, on by default, applies with static casters apart.
+    assert!(harness.state().settings.virtual_maps.static_occlusion);
+    harness
+        .get_by_role_and_label(Role::CheckBox, "Static occlusion")
+        .click();
+    harness.run();
+    assert!(!harness.state().settings.virtual_maps.static_occlusion);
 }
 
 #[test]
