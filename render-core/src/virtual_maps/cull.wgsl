@@ -4,8 +4,8 @@
 // mip at most 2 x 2 under its pages, then blocks of 4 x 4 pages) and then page by page, and
 // with the receiver mask on, against the blocks of the page that pixels read (Unreal 5.6's
 // receiver mask), and with static occlusion a movable caster against the static depths a
-// refreshed page keeps; a caster over any of them gets one indirect draw with an instance per page,
-// its (caster, entry) pairs listed for the page shader (virtual_maps/draw.wgsl).
+// refreshed page keeps; a caster over any of them gets one indirect draw with an instance
+// per page, its (caster, entry) pairs listed for the page shader (virtual_maps/draw.wgsl).
 // x: instance, y: level.
 #import virtual_maps/tables.wgsl
 

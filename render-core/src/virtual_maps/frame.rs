@@ -244,11 +244,6 @@ impl VirtualTechnique {
                 ],
             ),
             group(
-                "VirtualMaps::occlusion",
-                &p.occlusion_layout,
-                &[view_entry(0, &tables.atlas_view)],
-            ),
-            group(
                 "VirtualMaps::surface",
                 &p.mark_layout,
                 &[
@@ -267,6 +262,11 @@ impl VirtualTechnique {
                     buffer_entry(2, &l.pairs),
                     buffer_entry(3, &l.draws),
                 ],
+            ),
+            group(
+                "VirtualMaps::occlusion",
+                &p.occlusion_layout,
+                &[view_entry(0, &tables.atlas_view)],
             ),
             group(
                 "VirtualMaps::draw",
@@ -391,9 +391,9 @@ impl ShadowTechnique for VirtualTechnique {
         encoder.clear_buffer(&tables.hierarchy, 0, None);
         let [
             table_group,
-            occlusion_group,
             mark_group,
             cull_group,
+            occlusion_group,
             draw_group,
         ] = self.bind_groups(&ctx.device, tables, draw, scene_gpu);
         let instances = scene_gpu.instance_count;

@@ -1,4 +1,4 @@
-// Static occlusion (virtual_maps/occlusion.rs): where static casters are kept apart, each
+// Static occlusion (virtual_maps/frame.rs `encode_pages`): with static casters apart, each
 // physical page drawn whole in the last frame has the farthest static depth of each of its
 // 8 x 8 blocks of 16 x 16 texels written to `static_depths`, before this frame's moved boxes
 // are tested against them (allocate.wgsl `invalidate_moved`) and the cull leaves out the
