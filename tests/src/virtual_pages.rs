@@ -213,6 +213,29 @@ pub fn touched_blocks(views: &[ShadowView], lo: Vec3, hi: Vec3) -> Vec<(usize, [
     out
 }
 
+/// Whether sorted entries `sorted` hold `e`.
+pub fn contains(sorted: &[usize], e: usize) -> bool {
+    sorted.binary_search(&e).is_ok()
+}
+
+/// The (caster, page) pairs a page-exact cull draws where static casters are apart: each
+/// static instance into the pages drawn whole that its bounds touch, each movable one into
+/// those and the refreshed ones.
+pub fn pairs_apart(scene: &Scene, frame: &Frame) -> u32 {
+    let rendered = entries_with(&frame.flags, RENDERED);
+    let refreshed = entries_with(&frame.flags, REFRESHED);
+    let mut pairs = 0;
+    for instance in &scene.instances {
+        let b = instance.aabb_in_world;
+        let movable = instance.mobility != Mobility::Static;
+        pairs += touched_entries(&frame.views, b.min, b.max)
+            .into_iter()
+            .filter(|&e| contains(&rendered, e) || (movable && contains(&refreshed, e)))
+            .count();
+    }
+    pairs as u32
+}
+
 /// Two lists of [`touched_blocks`] as one: an entry's blocks in either (a moved box's old and
 /// new bounds'), sorted by entry.
 pub fn merged_blocks(

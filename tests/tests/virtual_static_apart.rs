@@ -11,9 +11,9 @@ use render_core::scene::{Scene, Sun};
 use render_core::shadow_view::{ShadowView, VirtualSettings};
 use shadowlab_tests::gpu;
 use shadowlab_tests::virtual_pages::{
-    Frame, Frames, MARKED, REFRESHED, RENDERED, RESIDENT, camera, entries_of_blocks, entries_with,
-    entry, level_texel, merged_blocks, reading_stale, scene, settings, touched_blocks,
-    touched_entries,
+    Frame, Frames, MARKED, REFRESHED, RENDERED, RESIDENT, camera, contains, entries_of_blocks,
+    entries_with, entry, level_texel, merged_blocks, pairs_apart, reading_stale, scene, settings,
+    touched_blocks, touched_entries,
 };
 
 /// A page whose movable layer a moved box left stale (`virtual_maps/pages.wgsl`).
@@ -51,30 +51,6 @@ fn move_box(
 fn differing(a: &[u8], b: &[u8]) -> usize {
     assert_eq!(a.len(), b.len());
     a.iter().zip(b).filter(|(x, y)| x != y).count()
-}
-
-fn contains(sorted: &[usize], e: usize) -> bool {
-    sorted.binary_search(&e).is_ok()
-}
-
-/// The (caster, page) pairs a frame draws: the static ground into the pages drawn whole, the
-/// movable box into those and the refreshed ones its bounds touch.
-fn expected_pairs(scene: &Scene, frame: &Frame) -> u32 {
-    let rendered = entries_with(&frame.flags, RENDERED);
-    let refreshed = entries_with(&frame.flags, REFRESHED);
-    let over = |instance: usize| {
-        let b = scene.instances[instance].aabb_in_world;
-        touched_entries(&frame.views, b.min, b.max)
-    };
-    let ground = over(0)
-        .into_iter()
-        .filter(|&e| contains(&rendered, e))
-        .count();
-    let boxed = over(1)
-        .into_iter()
-        .filter(|&e| contains(&rendered, e) || contains(&refreshed, e))
-        .count();
-    (ground + boxed) as u32
 }
 
 /// The hierarchy of page flags (`virtual_maps/tables.wgsl` `page_hierarchy`) from the
@@ -151,7 +127,7 @@ fn a_moving_box_draws_only_itself_again_into_the_pages_it_touches() {
         "{p:?}"
     );
     assert_eq!(p.pages_refreshed, 0);
-    assert_eq!(p.caster_pages, expected_pairs(&scene, &first));
+    assert_eq!(p.caster_pages, pairs_apart(&scene, &first));
 
     let stale = move_box(&mut frames, &mut scene, &first.views);
     let touched = entries_of_blocks(&stale);
@@ -189,7 +165,7 @@ fn a_moving_box_draws_only_itself_again_into_the_pages_it_touches() {
     assert_eq!(entries_with(&second.flags, RENDERED), new_pages);
     assert_eq!(entries_with(&second.flags, REFRESHED), refreshed);
     assert_eq!(q.pages_refreshed as usize, refreshed.len());
-    assert_eq!(q.caster_pages, expected_pairs(&scene, &second));
+    assert_eq!(q.caster_pages, pairs_apart(&scene, &second));
     // The hierarchy the cull walks holds, in each cell, exactly what its pages did.
     let hierarchy = frames
         .renderer

@@ -11,8 +11,9 @@ use render_core::geom::Camera;
 use render_core::scene::{Instance, Mobility, PointShadow, Scene, Sun};
 use render_core::shadow_view::{ShadowView, VirtualSettings};
 use shadowlab_tests::virtual_pages::{
-    Frame, Frames, MARKED, REFRESHED, RENDERED, RESIDENT, entries_of_blocks, entries_with,
-    merged_blocks, reading_stale, settings, touched_blocks, touched_entries,
+    Frame, Frames, MARKED, REFRESHED, RENDERED, RESIDENT, contains, entries_of_blocks,
+    entries_with, merged_blocks, pairs_apart, reading_stale, settings, touched_blocks,
+    touched_entries,
 };
 use shadowlab_tests::{box_mesh, gpu};
 
@@ -87,8 +88,15 @@ fn move_car(
     )
 }
 
-fn contains(sorted: &[usize], e: usize) -> bool {
-    sorted.binary_search(&e).is_ok()
+/// Asserts that sorted entries `fewer` are some of `more`, not all.
+fn strictly_within(fewer: &[usize], more: &[usize]) {
+    assert!(fewer.iter().all(|&e| contains(more, e)));
+    assert!(
+        fewer.len() < more.len(),
+        "{} of {}",
+        fewer.len(),
+        more.len()
+    );
 }
 
 /// The picture of one layer drawn from scratch: the reference for every cached one.
@@ -110,26 +118,6 @@ fn same_picture(a: &Frame, b: &Frame) {
         .filter(|(x, y)| x != y)
         .count();
     assert_eq!(differing, 0, "pixels whose light differs");
-}
-
-/// The (caster, page) pairs a page-exact cull draws without occlusion: the static ground and
-/// roof into the pages drawn whole, the car into those and the refreshed ones it touches.
-fn pairs_without_occlusion(scene: &Scene, frame: &Frame) -> u32 {
-    let rendered = entries_with(&frame.flags, RENDERED);
-    let refreshed = entries_with(&frame.flags, REFRESHED);
-    let over = |instance: usize| {
-        let b = scene.instances[instance].aabb_in_world;
-        touched_entries(&frame.views, b.min, b.max)
-    };
-    let statics = (0..CAR)
-        .flat_map(over)
-        .filter(|&e| contains(&rendered, e))
-        .count();
-    let car = over(CAR)
-        .into_iter()
-        .filter(|&e| contains(&rendered, e) || contains(&refreshed, e))
-        .count();
-    (statics + car) as u32
 }
 
 /// The finest level's entry that the car's centre lies in and pixels marked: a page the
@@ -190,13 +178,7 @@ fn a_car_moving_in_a_static_shadow_leaves_the_pages_it_hides_in_fresh() {
         on.flags[page]
     );
     let refreshed_on = entries_with(&on.flags, REFRESHED);
-    assert!(refreshed_on.iter().all(|&e| contains(&read_and_touched, e)));
-    assert!(
-        refreshed_on.len() < read_and_touched.len(),
-        "{} of {}",
-        refreshed_on.len(),
-        read_and_touched.len()
-    );
+    strictly_within(&refreshed_on, &read_and_touched);
     assert!(on.pages.moved_pages_occluded > 0, "{:?}", on.pages);
     assert_eq!(on.pages.pages_refreshed as usize, refreshed_on.len());
 }
@@ -230,10 +212,7 @@ fn a_car_leaving_the_shadow_refreshes_its_new_pages_and_coming_back_is_left_out_
     assert!(!reading_new.is_empty());
     assert!(reading_new.iter().all(|&e| contains(&refreshed, e)));
     assert_eq!(sunny.pages.caster_pages_occluded, 0, "{:?}", sunny.pages);
-    assert_eq!(
-        sunny.pages.caster_pages,
-        pairs_without_occlusion(&scene, &sunny)
-    );
+    assert_eq!(sunny.pages.caster_pages, pairs_apart(&scene, &sunny));
 
     // Back under the roof: the pages of its sunny place are refreshed, and where one of them
     // also holds its new place behind the roof, the car is left out of it.
@@ -246,7 +225,7 @@ fn a_car_leaving_the_shadow_refreshes_its_new_pages_and_coming_back_is_left_out_
     // The cull leaves out only what occlusion counts: the rest is the page-exact cull's.
     assert_eq!(
         p.caster_pages + p.caster_pages_occluded,
-        pairs_without_occlusion(&scene, &back)
+        pairs_apart(&scene, &back)
     );
 }
 
@@ -278,12 +257,6 @@ fn under_a_point_light_the_car_hides_behind_the_roof_in_the_faces_pages_too() {
     let refreshed_off = entries_with(&off.flags, REFRESHED);
     let refreshed_on = entries_with(&on.flags, REFRESHED);
     assert!(!refreshed_off.is_empty());
-    assert!(refreshed_on.iter().all(|&e| contains(&refreshed_off, e)));
-    assert!(
-        refreshed_on.len() < refreshed_off.len(),
-        "{} of {}",
-        refreshed_on.len(),
-        refreshed_off.len()
-    );
+    strictly_within(&refreshed_on, &refreshed_off);
     assert!(on.pages.moved_pages_occluded > 0, "{:?}", on.pages);
 }

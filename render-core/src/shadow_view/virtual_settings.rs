@@ -82,6 +82,11 @@ impl VirtualSettings {
     pub const MAX_PAGES: u32 = 4096;
     pub const MAX_LEVELS: u32 = 24;
 
+    /// Whether static occlusion works: it needs static casters apart.
+    pub fn static_occlusion_applies(&self) -> bool {
+        self.separate_static && self.static_occlusion
+    }
+
     /// Depth layers of a physical page: 2 when static casters are kept apart.
     pub fn page_layers(&self) -> u32 {
         1 + u32::from(self.separate_static)

@@ -88,8 +88,9 @@ struct CasterPages {
     nearest: f32,
 }
 
-// Whether this pipeline tests movable casters against refreshed pages' static depths (static
-// occlusion): a pipeline of its own, so the cull without it carries none of its code.
+// Whether this pipeline tests movable casters against refreshed pages' static depths: the
+// pipeline frame.rs picks where static occlusion applies, so the cull without it carries
+// none of its code.
 override STATIC_OCCLUSION: bool = false;
 
 // Casters over at most this many pages walk them one by one: the hierarchy would read more.
@@ -195,7 +196,7 @@ fn cull_pages(@builtin(global_invocation_id) id: vec3<u32>) {
         i32(atomicLoad(&counters.rects[level][2])) - 1,
         i32(atomicLoad(&counters.rects[level][3])) - 1,
     );
-    c.occludable = STATIC_OCCLUSION && movable && static_occlusion_on();
+    c.occludable = STATIC_OCCLUSION && movable;
     // (Computed only where used: a call in `select` runs for every caster and level.)
     if (c.occludable) {
         c.nearest = box_nearest_depth(level, b.min, b.max);

@@ -47,7 +47,7 @@ impl VirtualTechnique {
             (FALLBACK_PAGES * self.chains()).min(self.settings.pages / 4),
             u32::from(self.settings.separate_static),
             u32::from(self.settings.receiver_mask)
-                | (u32::from(self.settings.static_occlusion) << 1),
+                | (u32::from(self.settings.static_occlusion_applies()) << 1),
             self.face_mips,
         ];
         for (slot, first) in params.first_page.iter_mut().zip(&self.first_pages) {
@@ -111,8 +111,7 @@ impl VirtualTechnique {
                 .map(|i| (&self.pipelines.tables[i], sizes[i]))
                 .collect()
         };
-        let occluding =
-            usize::from(self.settings.separate_static && self.settings.static_occlusion);
+        let occluding = usize::from(self.settings.static_occlusion_applies());
         if occluding == 1 {
             scope.step(pass_label::virtual_maps::STATIC_DEPTHS, encoder, |e| {
                 let reduce = (&self.pipelines.occlusion, [tables.pages, 1]);
@@ -475,8 +474,7 @@ impl ShadowTechnique for VirtualTechnique {
                 caster_pages_masked: c.mask_culled,
                 moved_pages_occluded: c.occlusion_spared,
                 caster_pages_occluded: c.occlusion_culled,
-                static_occlusion: self.settings.separate_static
-                    && self.settings.static_occlusion,
+                static_occlusion: self.settings.static_occlusion_applies(),
                 cull_pages_spanned: c.cull_spanned,
                 cull_flag_reads: c.cull_reads,
                 receiver_mask: self.settings.receiver_mask,

@@ -18,7 +18,8 @@ pub(super) struct VirtualParams {
     /// The finest texel (m), the level bias (octaves), moved boxes, the atlas's rows of pages.
     pub tuning: [f32; 4],
     /// Physical pages kept back for fallback pages; 1 when static casters are kept apart;
-    /// bit 0 when the receiver mask culls, bit 1 when static casters occlude; mips per face of a point light's cube (0: the sun).
+    /// bit 0 when the receiver mask culls, bit 1 when static casters occlude; mips per face
+    /// of a point light's cube (0: the sun).
     pub limits: [u32; 4],
     /// Per level, the absolute position of its square's first page.
     pub first_page: [[i32; 4]; LEVEL_SLOTS],

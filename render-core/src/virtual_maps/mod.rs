@@ -248,7 +248,7 @@ impl VirtualTechnique {
                 [x, y, z, cone[0], cone[1], cone[2], cone[3]].map(f32::to_bits)
             }),
             finest_texel_m: self.settings.finest_texel_m.to_bits(),
-            static_occlusion: self.settings.static_occlusion,
+            static_occlusion: self.settings.static_occlusion_applies(),
             exclusions: self.exclusions_version,
             bounds: [b.min, b.max].map(|v| v.to_array().map(f32::to_bits)),
         }

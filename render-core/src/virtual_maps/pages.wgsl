@@ -50,7 +50,7 @@ struct VirtualParams {
     // pixels whose own pages were refused; y: 1 when static casters are kept apart (a second
     // layer of pages, below the first in the atlas, holds the movable ones); z: bit 0 when the
     // receiver mask culls casters per block of a page, bit 1 when static casters occlude
-    // movable ones per page; w: mips per face of a point light's cube (0: the sun's clipmap).
+    // movable ones per page (static casters apart); w: mips per face of a point light's cube (0: the sun's clipmap).
     limits: vec4<u32>,
     // Per level, xy: the absolute position of its square's first page (column, row).
     first_page: array<vec4<i32>, 156>,
@@ -166,11 +166,11 @@ fn receiver_mask_on() -> bool {
     return (params.limits.z & 1u) != 0u;
 }
 
-// Where static casters are apart: a movable caster wholly behind a page's cached static
-// depths neither makes its movable layer stale nor is drawn into it (tables.wgsl
-// `behind_static`).
+// Static occlusion, set only where static casters are apart: a movable caster wholly behind
+// a page's cached static depths neither makes its movable layer stale nor is drawn into it
+// (tables.wgsl `behind_static`).
 fn static_occlusion_on() -> bool {
-    return static_apart() && (params.limits.z & 2u) != 0u;
+    return (params.limits.z & 2u) != 0u;
 }
 
 // Resolution matching: the finest mip of the point's chain whose texel is no larger than the
