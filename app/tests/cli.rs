@@ -214,10 +214,18 @@ fn bench_animates_the_cars_for_incremental_updates() {
             "--methods",
             "none,incr",
             "--animate",
+            "--speed",
+            "15",
             "--csv",
         ])
         .arg(&csv));
     assert!(output.status.success(), "{}", text(&output));
+    // Driving pace: half a metre a frame, two frames' worth of the street measured.
+    assert!(
+        text(&output).contains("camera at 15 m/s: 0.50 m a frame, 1 of the path's 360 m"),
+        "{}",
+        text(&output)
+    );
     let table = std::fs::read_to_string(&csv).expect("CSV written");
     let rows: Vec<Vec<String>> = table
         .lines()
@@ -581,6 +589,28 @@ fn bad_input_gets_a_message_that_names_the_problem() {
                 dir.join("missing.csv").display().to_string(),
             ],
             "missing.csv",
+        ),
+        (
+            vec![
+                "bench".into(),
+                "builtin:boxes".into(),
+                "--speed".into(),
+                "0".into(),
+            ],
+            "'0' is not a speed",
+        ),
+        (
+            vec![
+                "bench".into(),
+                "builtin:city-small".into(),
+                "--speed".into(),
+                "3000".into(),
+                "--frames".into(),
+                "10".into(),
+                "--size".into(),
+                "64x64".into(),
+            ],
+            "past the end of path 'city streets'",
         ),
     ];
     for (args, expected) in cases {

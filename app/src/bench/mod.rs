@@ -6,9 +6,11 @@
 mod maps;
 mod maps_plot;
 mod objects;
+mod pace;
 mod sweeps;
 mod table;
 
+pub(crate) use pace::{camera_at, pace};
 pub(crate) use sweeps::{SweepValues, settings as sweep_settings};
 
 pub(crate) use table::{COLUMNS, format_csv, row_cells};
@@ -108,6 +110,13 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
         baseline.name(),
         session.ctx.adapter_description()
     );
+    if let Some((per_frame, flown)) = pace(&path, &RunOptions::from(args))? {
+        eprintln!(
+            "camera at {} m/s: {per_frame:.2} m a frame, {flown:.0} of the path's {:.0} m",
+            args.speed.unwrap_or(0.0),
+            path.length_m()
+        );
+    }
     if args.sweep == Some(Sweep::Maps) {
         return maps::sweep_maps(args, &mut session, (base, &path, &template));
     }
@@ -236,6 +245,9 @@ pub(crate) struct RunOptions {
     pub flicker: bool,
     /// The sun turns about the up axis this many degrees a second, 1/30 s a frame.
     pub moving_sun_deg_per_s: f32,
+    /// The camera flies the path from its start at this many metres a second, 1/30 s a
+    /// frame; without it the measured frames spread over the whole path.
+    pub speed_m_per_s: Option<f32>,
 }
 
 impl From<&BenchArgs> for RunOptions {
@@ -248,6 +260,7 @@ impl From<&BenchArgs> for RunOptions {
             no_truth: args.no_truth,
             flicker: args.flicker,
             moving_sun_deg_per_s: args.moving_sun.unwrap_or(0.0),
+            speed_m_per_s: args.speed,
         }
     }
 }
@@ -266,6 +279,7 @@ pub(crate) fn run_path(
     let mut settings = *settings;
     let (azimuth, elevation) = settings.sun.azimuth_elevation_deg();
     let frames = options.frames.max(1);
+    pace(path, options)?;
     session.renderer = FrameRenderer::new(&session.ctx);
     let mut reports = Vec::new();
     for frame in 0..options.warmup + frames {
@@ -309,26 +323,6 @@ pub(crate) fn run_path(
         done(frame);
     }
     Ok(reports)
-}
-
-/// Frame `frame` of a run along `path` (the warm-up frames at its start), with `template`'s
-/// lens and up.
-pub(crate) fn camera_at(
-    path: &CameraPath,
-    template: &Camera,
-    (frame, options): (u32, &RunOptions),
-) -> Camera {
-    let frames = options.frames.max(1);
-    let u = frame.saturating_sub(options.warmup) as f32 / (frames.max(2) - 1) as f32;
-    let key = path.sample(u);
-    Camera::look_at(
-        key.eye,
-        key.target,
-        template.fov_y_rad,
-        template.near_m,
-        template.far_m,
-    )
-    .with_up(template.world_up)
 }
 
 pub(crate) fn median(mut values: Vec<f64>) -> Option<f64> {

@@ -74,6 +74,12 @@ pub struct BenchArgs {
     /// scene's street path or an orbit.
     #[arg(long, value_name = "P")]
     pub path: Option<PathBuf>,
+    /// Fly the path from its start at this speed, metres a second (1/30 s a frame, the clock
+    /// of `--animate` and `--moving-sun`; the window plays paths at 15): the measured frames
+    /// cover frames x speed / 30 metres of it. Without it they spread over the whole path,
+    /// however long.
+    #[arg(long, value_parser = parse_speed, value_name = "M_PER_S")]
+    pub speed: Option<f32>,
     /// Methods to compare: comma list or `all`.
     #[arg(long, default_value = "all", value_name = "m1,m2")]
     pub methods: String,
@@ -253,4 +259,14 @@ pub struct CheckArgs {
     /// frame rendering).
     #[arg(long)]
     pub no_truth: bool,
+}
+
+/// `--speed`: a positive, finite number of metres a second.
+fn parse_speed(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        _ => Err(format!(
+            "'{s}' is not a speed: give metres a second, a number above 0 (15 drives, 1.4 walks)"
+        )),
+    }
 }

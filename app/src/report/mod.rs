@@ -85,6 +85,7 @@ pub fn report(args: &ReportArgs) -> anyhow::Result<()> {
         no_truth: args.no_truth,
         flicker: false,
         moving_sun_deg_per_s: 0.0,
+        speed_m_per_s: None,
     };
     let sweep_options = RunOptions {
         frames: args.sweep_frames.max(1),

@@ -58,10 +58,8 @@ pub struct PathPlayer {
 
 impl PathPlayer {
     pub fn new(path: CameraPath) -> Self {
-        let keys = path.keys();
-        let length_m: f32 = keys.windows(2).map(|k| k[0].eye.distance(k[1].eye)).sum();
-        let duration_s = ((keys.len() - 1) as f32 * KEY_INTERVAL_S)
-            .max(length_m / PLAY_SPEED_M_S)
+        let duration_s = ((path.keys().len() - 1) as f32 * KEY_INTERVAL_S)
+            .max(path.length_m() / PLAY_SPEED_M_S)
             .max(KEY_INTERVAL_S);
         Self {
             path,

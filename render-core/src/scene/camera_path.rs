@@ -72,6 +72,38 @@ impl CameraPath {
         }
     }
 
+    /// The length of the eye's path, metres.
+    pub fn length_m(&self) -> f32 {
+        self.keys
+            .windows(2)
+            .map(|k| k[0].eye.distance(k[1].eye))
+            .sum()
+    }
+
+    /// Eye and target `metres` along the eye's path from its first key (clamped to its ends),
+    /// so a camera flown at a steady speed covers the same distance every frame however the
+    /// keys are spaced. A stretch where only the target moves is passed in no distance: the
+    /// view turns at once there.
+    pub fn sample_at_distance(&self, metres: f32) -> PathKey {
+        let mut left = if metres.is_finite() {
+            metres.max(0.0)
+        } else {
+            0.0
+        };
+        for k in self.keys.windows(2) {
+            let length = k[0].eye.distance(k[1].eye);
+            if left < length {
+                let t = left / length;
+                return PathKey {
+                    eye: k[0].eye.lerp(k[1].eye, t),
+                    target: k[0].target.lerp(k[1].target, t),
+                };
+            }
+            left -= length;
+        }
+        self.keys[if metres > 0.0 { self.keys.len() - 1 } else { 0 }]
+    }
+
     /// The default path of a scene: streets for the built-in cities, an orbit otherwise.
     pub fn default_for(scene: &Scene) -> Self {
         match scene.name.as_str() {
@@ -229,6 +261,38 @@ mod tests {
         assert_eq!(path.sample(1.0).eye, Vec3::new(10.0, 0.0, 0.0));
         assert_eq!(path.sample(0.25).eye, Vec3::new(2.5, 0.0, 0.0));
         assert_eq!(path.sample(f32::NAN).eye, Vec3::ZERO);
+    }
+
+    #[test]
+    fn sampling_by_distance_covers_equal_metres_whatever_the_keys() {
+        let key = |x: f32, target: Vec3| PathKey {
+            eye: Vec3::new(x, 0.0, 0.0),
+            target,
+        };
+        // 2 m, then 8 m: by key the first metre would be a quarter of the path.
+        let path = CameraPath::new(
+            "t",
+            vec![key(0.0, Vec3::X), key(2.0, Vec3::Y), key(10.0, Vec3::Z)],
+        )
+        .expect("three keys");
+        assert!((path.length_m() - 10.0).abs() < 1e-6);
+        assert_eq!(path.sample_at_distance(1.0).eye, Vec3::new(1.0, 0.0, 0.0));
+        assert_eq!(
+            path.sample_at_distance(1.0).target,
+            Vec3::new(0.5, 0.5, 0.0)
+        );
+        assert_eq!(path.sample_at_distance(6.0).eye, Vec3::new(6.0, 0.0, 0.0));
+        assert_eq!(
+            path.sample_at_distance(6.0).target,
+            Vec3::new(0.0, 0.5, 0.5)
+        );
+        assert_eq!(path.sample_at_distance(-3.0), path.keys()[0]);
+        assert_eq!(path.sample_at_distance(f32::NAN), path.keys()[0]);
+        assert_eq!(path.sample_at_distance(25.0), path.keys()[2]);
+        // A still path (every key at one eye) stays at its first key until any distance.
+        let still = CameraPath::new("s", vec![key(3.0, Vec3::X), key(3.0, Vec3::Y)]).expect("keys");
+        assert!(still.length_m().abs() < 1e-6);
+        assert_eq!(still.sample_at_distance(0.0), still.keys()[0]);
     }
 
     #[test]
