@@ -117,13 +117,19 @@ impl FrameReport {
         self.virtual_pages = shadows.virtual_pages;
     }
 
-    /// Takes a measured frame: error, and the oracle per view and in total.
+    /// Takes a measured frame: error, and the oracle per view and in total (the virtual
+    /// maps' own per-page oracle, `virtual_maps/oracle.rs`).
     pub(super) fn set_measured(&mut self, measured: &Measured) {
-        self.counts.casters_oracle = Some(measured.casters_oracle);
         self.error = Some(measured.error);
         self.measured_frame_index = Some(measured.frame_index);
-        for (view, oracle) in self.views.iter_mut().zip(&measured.oracle_per_view) {
-            view.casters_oracle = Some(*oracle);
+        if self.virtual_pages.is_some() {
+            // The virtual maps' per-page oracle, where the frame drew every page it reads.
+            self.counts.casters_oracle = self.views.iter().map(|v| v.casters_oracle).sum();
+        } else {
+            self.counts.casters_oracle = Some(measured.casters_oracle);
+            for (view, oracle) in self.views.iter_mut().zip(&measured.oracle_per_view) {
+                view.casters_oracle = Some(*oracle);
+            }
         }
         for (view, histogram) in self.views.iter_mut().zip(&measured.undersampling_per_view) {
             view.undersampling = crate::metrics::Undersampling::from_histogram(histogram);

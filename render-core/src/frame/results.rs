@@ -158,6 +158,15 @@ impl FrameRenderer {
         self.techniques.virtual_maps().read_receiver_masks(ctx)
     }
 
+    /// The virtual maps' (caster, page) pairs of the last frame, and which of them the
+    /// per-page oracle holds (when it measured). Blocks: for tests.
+    pub fn virtual_pairs(
+        &self,
+        ctx: &GpuContext,
+    ) -> Result<Vec<crate::virtual_maps::DrawnPair>, GpuError> {
+        self.techniques.virtual_maps().read_pairs(ctx)
+    }
+
     /// The virtual maps' hierarchy of page flags as the last frame left it (341 words per
     /// level). Blocks: for tests.
     pub fn virtual_page_hierarchy(&self, ctx: &GpuContext) -> Result<Vec<u32>, GpuError> {

@@ -32,8 +32,8 @@ fn in_atlas(e: u32, layer: u32, local: vec2<f32>, z: f32, w: f32) -> PageOut {
     return out;
 }
 
-@vertex
-fn vs_page(@location(0) position: vec3<f32>, @builtin(instance_index) pair_index: u32) -> PageOut {
+// The caster of pair `pair_index` at `position`, in its page's place.
+fn page_vertex(position: vec3<f32>, pair_index: u32) -> PageOut {
     let pair = pairs[pair_index];
     let e = pair.y & ENTRY_BITS;
     let layer = select(0u, 1u, (pair.y & DYNAMIC_ONLY) != 0u);
@@ -43,6 +43,11 @@ fn vs_page(@location(0) position: vec3<f32>, @builtin(instance_index) pair_index
     let texel = vec2<f32>(c.x * 0.5 + 0.5 * c.w, 0.5 * c.w - c.y * 0.5) * size;
     let origin = vec2<f32>(window_page(e) * PAGE_TEXELS);
     return in_atlas(e, layer, texel - origin * c.w, c.z, c.w);
+}
+
+@vertex
+fn vs_page(@location(0) position: vec3<f32>, @builtin(instance_index) pair_index: u32) -> PageOut {
+    return page_vertex(position, pair_index);
 }
 
 @vertex
@@ -60,4 +65,47 @@ fn vs_clear(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> P
     let edge = select(1.0, -1.0, kept);
     out.edges = array<f32, 4>(edge, edge, edge, edge);
     return out;
+}
+
+// When measuring (the per-page oracle, virtual_maps/frame.rs `encode_oracle`): the pairs
+// drawn again over the atlas, read-only with an EQUAL depth test, so a fragment runs only
+// where its caster holds the texel's depth; a pair holding a texel that `mark_shadowed`
+// (mark.wgsl) found shadowed for a visible pixel's tap is in the oracle.
+// Per physical page and layer, a bit per texel.
+@group(2) @binding(0) var<storage, read> oracle_texels: array<u32>;
+// Per level, its pairs in the oracle (LEVEL_SLOTS words), then a bit per pair.
+@group(2) @binding(1) var<storage, read_write> oracle: array<atomic<u32>>;
+
+const ORACLE_LEVELS: u32 = 156u;
+
+struct OracleOut {
+    @invariant @builtin(position) clip: vec4<f32>,
+    @builtin(clip_distances) edges: array<f32, 4>,
+    @location(0) @interpolate(flat) pair: u32,
+}
+
+@vertex
+fn vs_oracle(@location(0) position: vec3<f32>, @builtin(instance_index) pair_index: u32) -> OracleOut {
+    let out = page_vertex(position, pair_index);
+    return OracleOut(out.clip, out.edges, pair_index);
+}
+
+@fragment
+@early_depth_test(force)
+fn fs_oracle(@builtin(position) frag: vec4<f32>, @location(0) @interpolate(flat) pair_index: u32) {
+    let pair = pairs[pair_index];
+    let e = pair.y & ENTRY_BITS;
+    let layer = select(0u, 1u, (pair.y & DYNAMIC_ONLY) != 0u);
+    let slot = page_slots[e];
+    let local = vec2<i32>(frag.xy) - layer_origin(slot, layer);
+    let bit = u32(local.y * PAGE_TEXELS + local.x);
+    let layers = 1u + params.limits.y;
+    let word = oracle_texels[(slot * layers + layer) * 512u + bit / 32u];
+    if ((word & (1u << (bit % 32u))) == 0u) {
+        return;
+    }
+    let flag = 1u << (pair_index % 32u);
+    if ((atomicOr(&oracle[ORACLE_LEVELS + pair_index / 32u], flag) & flag) == 0u) {
+        atomicAdd(&oracle[e / LEVEL_ENTRIES], 1u);
+    }
 }

@@ -185,6 +185,19 @@ impl VirtualTechnique {
         pass.set_pipeline(clear);
         pass.draw_indirect(&tables.counters, (word::CLEAR_ARGS * 4) as u64);
         pass.set_pipeline(page);
+        self.draw_pairs(&mut pass, scene_gpu, tables);
+        drop(pass);
+        draw.timer.end_pass(encoder, query);
+        Ok(())
+    }
+
+    /// The cull's (caster, page) pairs, its indirect draws.
+    pub(super) fn draw_pairs(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        scene_gpu: &crate::scene_gpu::SceneGpu,
+        tables: &Tables,
+    ) {
         pass.set_vertex_buffer(0, scene_gpu.vertex_buffer.slice(..));
         pass.set_index_buffer(scene_gpu.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
         let lists = &self.lists;
@@ -199,9 +212,6 @@ impl VirtualTechnique {
         } else {
             pass.multi_draw_indexed_indirect(&lists.draws, 0, lists.draws_capacity);
         }
-        drop(pass);
-        draw.timer.end_pass(encoder, query);
-        Ok(())
     }
 
     fn bind_groups(
@@ -210,7 +220,7 @@ impl VirtualTechnique {
         tables: &Tables,
         draw: &DrawInput<'_>,
         scene_gpu: &crate::scene_gpu::SceneGpu,
-    ) -> [wgpu::BindGroup; 5] {
+    ) -> [wgpu::BindGroup; 6] {
         use crate::gpu::{buffer_entry, view_entry};
         let p = &self.pipelines;
         let l = &self.lists;
@@ -250,6 +260,8 @@ impl VirtualTechnique {
                     view_entry(1, &t.positions_view),
                     view_entry(2, &t.normals_view),
                     buffer_entry(3, &tables.texel_bits),
+                    view_entry(4, &tables.atlas_view),
+                    buffer_entry(5, &tables.oracle_texels),
                 ],
             ),
             group(
@@ -277,13 +289,26 @@ impl VirtualTechnique {
                     buffer_entry(3, &tables.rendered),
                 ],
             ),
+            group(
+                "VirtualMaps::oracle",
+                &p.oracle_layout,
+                &[
+                    buffer_entry(0, &tables.oracle_texels),
+                    buffer_entry(1, &l.oracle),
+                ],
+            ),
         ]
     }
 
-    /// Level `level`'s part of the report: its casters are its (caster, page) draws.
+    /// Level `level`'s part of the report: its casters are its (caster, page) draws, and
+    /// where the frame was measured with every page it reads drawn, its oracle's pairs.
     fn view_report(&self, level: usize, view: &ShadowView) -> ViewReport {
         let light = &view.light;
         let counts = self.latest.as_ref().map(|(_, c)| c);
+        let whole_and_measured = self.latest.as_ref().is_some_and(|(tag, _)| {
+            let frame = self.frame_tags.iter().find(|f| f.0 == *tag);
+            frame.is_some_and(|&(_, all_invalid, _, measured)| all_invalid && measured)
+        });
         let texel = light.texel_size_m[0];
         let shadow = &self.shadow;
         ViewReport {
@@ -291,6 +316,9 @@ impl VirtualTechnique {
             casters_rendered: counts
                 .and_then(|c| c.level_pairs.get(level).copied())
                 .unwrap_or(0),
+            casters_oracle: counts
+                .filter(|_| whole_and_measured)
+                .and_then(|c| c.level_oracle.get(level).copied()),
             texel_size_m: light.texel_size_m,
             depth_range_m: light.depth_range_m,
             shades_depth_m: [None, None],
@@ -394,6 +422,7 @@ impl ShadowTechnique for VirtualTechnique {
             cull_group,
             occlusion_group,
             draw_group,
+            oracle_group,
         ] = self.bind_groups(&ctx.device, tables, draw, scene_gpu);
         let instances = scene_gpu.instance_count;
         self.encode_pages(
@@ -401,13 +430,22 @@ impl ShadowTechnique for VirtualTechnique {
             draw,
             (
                 tables,
-                &[table_group, mark_group, cull_group, occlusion_group],
+                &[
+                    table_group.clone(),
+                    mark_group.clone(),
+                    cull_group,
+                    occlusion_group,
+                ],
             ),
             (instances, moved, input.measure),
         );
         self.failure = self
             .encode_draws(encoder, draw, scene_gpu, (tables, &draw_group))
             .err();
+        if input.measure && self.failure.is_none() {
+            let groups = [&table_group, &mark_group, &draw_group, &oracle_group];
+            self.encode_oracle(encoder, draw, scene_gpu, (tables, groups));
+        }
         if let Some(failure) = &self.failure {
             self.failures.warn(failure);
         }

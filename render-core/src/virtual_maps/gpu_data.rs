@@ -52,8 +52,11 @@ pub(super) mod word {
     pub const CULL_READS: usize = CULL_SPANNED + 1;
     pub const OCCLUSION_SPARED: usize = CULL_READS + 1;
     pub const OCCLUSION_CULLED: usize = OCCLUSION_SPARED + 1;
+    /// When measuring, per level its (caster, page) pairs in the per-page oracle, copied
+    /// from the oracle's buffer (`draw.wgsl` `oracle`).
+    pub const LEVEL_ORACLE: usize = OCCLUSION_CULLED + 1;
     /// Words in all.
-    pub const COUNT: usize = OCCLUSION_CULLED + 1;
+    pub const COUNT: usize = LEVEL_ORACLE + LEVEL_SLOTS;
 }
 
 /// The pages' counts of one frame, as the GPU left them.
@@ -85,6 +88,9 @@ pub(super) struct FrameCounts {
     pub level_marked: Vec<u32>,
     pub level_rendered: Vec<u32>,
     pub level_pairs: Vec<u32>,
+    /// When measuring, per level the pairs drawn that hold a texel a visible pixel's tap
+    /// reads shadowed (the per-page oracle).
+    pub level_oracle: Vec<u32>,
 }
 
 impl FrameCounts {
@@ -114,6 +120,7 @@ impl FrameCounts {
             level_marked: per_level(word::LEVEL_MARKED),
             level_rendered: per_level(word::LEVEL_RENDERED),
             level_pairs: per_level(word::LEVEL_PAIRS),
+            level_oracle: per_level(word::LEVEL_ORACLE),
         })
     }
 }
@@ -137,6 +144,8 @@ mod tests {
             "level_marked, level_rendered, level_pairs"
         );
         assert!(tables.contains(&format!("array<atomic<u32>, 4>, {LEVEL_SLOTS}>")));
+        let draw = include_str!("draw.wgsl");
+        assert!(draw.contains(&format!("ORACLE_LEVELS: u32 = {LEVEL_SLOTS}u;")));
         assert!(tables.contains(&format!("HIERARCHY_CELLS: u32 = {HIERARCHY_CELLS}u;")));
         assert!(pages.contains(&format!("POINT_NEAR_M: f32 = {:?};", crate::geom::NEAR_M)));
         let overlap = crate::geom::TILE_OVERLAP_TEXELS;

@@ -52,8 +52,7 @@ fn taps_resident(l: ShadowLookup) -> bool {
 
 // Tap `t` (texels of the level's square) in the atlas's layer `layer`.
 fn atlas_texel(l: ShadowLookup, t: vec2<i32>, layer: u32) -> vec2<i32> {
-    let page = t / PAGE_TEXELS;
-    return layer_origin(page_slots[entry_of(l.view, page)], layer) + (t - page * PAGE_TEXELS);
+    return slot_texel(page_slots[entry_of(l.view, t / PAGE_TEXELS)], layer, t);
 }
 
 // The nearest caster's depth at tap `t`: of both layers where static casters are apart.

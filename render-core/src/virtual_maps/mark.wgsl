@@ -10,6 +10,9 @@
 @group(2) @binding(2) var surface_normals: texture_2d<f32>;
 // When measuring: per physical page, a bit per texel that a visible pixel's tap reads.
 @group(2) @binding(3) var<storage, read_write> texel_bits: array<atomic<u32>>;
+// When measuring, after the page draws (the oracle's texels, `mark_shadowed`).
+@group(2) @binding(4) var page_atlas: texture_depth_2d;
+@group(2) @binding(5) var<storage, read_write> oracle_texels: array<atomic<u32>>;
 
 // The pages lookup `l`'s taps read marked, and with the receiver mask on or static casters
 // apart (whose stale blocks are refreshed only where read), the blocks of those taps widened
@@ -86,47 +89,102 @@ fn mark_pages(@builtin(global_invocation_id) id: vec3<u32>) {
     }
 }
 
-// Whether every page lookup `l`'s taps read is resident (as light.wgsl asks).
+// Whether every page lookup `l`'s taps read is resident and none of the blocks they read
+// stale (as light.wgsl asks).
 fn taps_resident(l: ShadowLookup) -> bool {
     let pages = tap_pages(l);
+    let last = l.first + vec2<i32>(l.kernel - 1);
     for (var y = pages[0].y; y <= pages[1].y; y++) {
         for (var x = pages[0].x; x <= pages[1].x; x++) {
-            if ((atomicLoad(&page_flags[entry_of(l.view, vec2<i32>(x, y))]) & PAGE_RESIDENT) == 0u) {
+            let page = vec2<i32>(x, y);
+            let e = entry_of(l.view, page);
+            let flags = atomicLoad(&page_flags[e]);
+            if ((flags & PAGE_RESIDENT) == 0u) {
                 return false;
+            }
+            if ((flags & PAGE_DYNAMIC_STALE) != 0u) {
+                let stale = vec2<u32>(
+                    atomicLoad(&stale_blocks[2u * e]),
+                    atomicLoad(&stale_blocks[2u * e + 1u]),
+                );
+                if (any((block_bits(page, l.first, last) & stale) != vec2<u32>(0u))) {
+                    return false;
+                }
             }
         }
     }
     return true;
 }
 
-// When measuring, after allocation: the texels shading will read, at the level it will read
-// them from (light.wgsl `light_reaching`), a bit each in their physical page.
-@compute @workgroup_size(8, 8)
-fn mark_sampled(@builtin(global_invocation_id) id: vec3<u32>) {
-    let surface = receiver_at(id.xy);
+// The lookup shading reads at the receiver surface of pixel `id` (light.wgsl
+// `light_reaching`); a kernel of 0 where it reads none.
+fn shading_lookup(id: vec2<u32>) -> ShadowLookup {
+    let surface = receiver_at(id);
+    var none: ShadowLookup;
     if (frame.params.z == 0u || surface[0].w == 0.0) {
-        return;
+        return none;
     }
     let p = surface[0].xyz;
     let n = surface[1].xyz;
     let chain = chain_of(p);
     for (var m = matched_mip(p, n); m < chain_mips(); m++) {
-        let level = mip_level(p, chain, m);
-        let l = shadow_lookup(p, n, level);
-        if (!lookup_contained(l) || !taps_resident(l)) {
-            continue;
+        let l = shadow_lookup(p, n, mip_level(p, chain, m));
+        if (lookup_contained(l) && taps_resident(l)) {
+            return l;
         }
-        for (var j = 0; j < l.kernel; j++) {
-            for (var i = 0; i < l.kernel; i++) {
-                let t = l.first + vec2<i32>(i, j);
-                let page = t / PAGE_TEXELS;
-                let local = t - page * PAGE_TEXELS;
-                let bit = u32(local.y * PAGE_TEXELS + local.x);
-                let slot = page_slots[entry_of(level, page)];
-                atomicOr(&texel_bits[slot * 512u + bit / 32u], 1u << (bit % 32u));
+    }
+    return none;
+}
+
+// Tap `t`'s bit in its physical page: the page's word and the bit in it.
+fn texel_bit(l: ShadowLookup, t: vec2<i32>) -> vec2<u32> {
+    let local = t % PAGE_TEXELS;
+    let bit = u32(local.y * PAGE_TEXELS + local.x);
+    let slot = page_slots[entry_of(l.view, t / PAGE_TEXELS)];
+    return vec2<u32>(slot * 512u + bit / 32u, 1u << (bit % 32u));
+}
+
+// When measuring, after allocation: the texels shading will read, at the level it will read
+// them from, a bit each in their physical page.
+@compute @workgroup_size(8, 8)
+fn mark_sampled(@builtin(global_invocation_id) id: vec3<u32>) {
+    let l = shading_lookup(id.xy);
+    for (var j = 0; j < l.kernel; j++) {
+        for (var i = 0; i < l.kernel; i++) {
+            let bit = texel_bit(l, l.first + vec2<i32>(i, j));
+            atomicOr(&texel_bits[bit.x], bit.y);
+        }
+    }
+}
+
+// When measuring, after the page draws (the per-page oracle): the texels whose taps shading
+// reads shadowed, a bit each in their physical page's layer that holds the nearest depth
+// there (both layers where they hold the same). The casters drawn there are the oracle's
+// (draw.wgsl `fs_oracle`).
+@compute @workgroup_size(8, 8)
+fn mark_shadowed(@builtin(global_invocation_id) id: vec3<u32>) {
+    let l = shading_lookup(id.xy);
+    let layers = 1u + params.limits.y;
+    for (var j = 0; j < l.kernel; j++) {
+        for (var i = 0; i < l.kernel; i++) {
+            let t = l.first + vec2<i32>(i, j);
+            let slot = page_slots[entry_of(l.view, t / PAGE_TEXELS)];
+            var depths = vec2<f32>(textureLoad(page_atlas, slot_texel(slot, 0u, t), 0), 1.0);
+            if (layers == 2u) {
+                depths.y = textureLoad(page_atlas, slot_texel(slot, 1u, t), 0);
+            }
+            let nearest = min(depths.x, depths.y);
+            if (tap_threshold(l, t) <= nearest) {
+                continue;
+            }
+            let bit = texel_bit(l, t);
+            let page_words = bit.x - slot * 512u;
+            for (var layer = 0u; layer < layers; layer++) {
+                if (depths[layer] == nearest) {
+                    atomicOr(&oracle_texels[(slot * layers + layer) * 512u + page_words], bit.y);
+                }
             }
         }
-        return;
     }
 }
 

@@ -28,6 +28,7 @@
 
 mod frame;
 mod gpu_data;
+mod oracle;
 mod overlay;
 mod pipelines;
 mod punctual;
@@ -39,6 +40,7 @@ use crate::scene::{Mobility, Scene};
 use crate::shadow_view::{ShadowView, VirtualSettings};
 use crate::technique::TechniqueInput;
 use gpu_data::FrameCounts;
+pub use oracle::DrawnPair;
 use pipelines::Pipelines;
 use resources::{HIERARCHY_CELLS, LEVEL_ENTRIES, Lists, Tables};
 

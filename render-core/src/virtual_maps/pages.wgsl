@@ -158,6 +158,12 @@ fn layer_origin(slot: u32, layer: u32) -> vec2<i32> {
     return slot_origin(slot) + vec2<i32>(0, i32(layer) * rows * PAGE_TEXELS);
 }
 
+// Texel `t` of a level's square (within page `t / PAGE_TEXELS`, held by physical page
+// `slot`) in the atlas's layer `layer`.
+fn slot_texel(slot: u32, layer: u32, t: vec2<i32>) -> vec2<i32> {
+    return layer_origin(slot, layer) + t % PAGE_TEXELS;
+}
+
 fn static_apart() -> bool {
     return params.limits.y != 0u;
 }

@@ -56,8 +56,8 @@ pub(super) struct Pipelines {
     pub light_layout: wgpu::BindGroupLayout,
     /// In the order of [`TABLE_PASSES`].
     pub tables: Vec<wgpu::ComputePipeline>,
-    /// `mark_pages`, `mark_fallback`, `mark_sampled` and `count_sampled`.
-    pub mark: [wgpu::ComputePipeline; 4],
+    /// `mark_pages`, `mark_fallback`, `mark_sampled`, `count_sampled` and `mark_shadowed`.
+    pub mark: [wgpu::ComputePipeline; 5],
     /// `cull_pages` without and with static occlusion.
     pub cull: [wgpu::ComputePipeline; 2],
     /// Static occlusion's `reduce_static`, with its group of the atlas.
@@ -65,6 +65,10 @@ pub(super) struct Pipelines {
     pub occlusion: wgpu::ComputePipeline,
     /// `None` where the adapter has no `CLIP_DISTANCES`.
     pub draws: Option<[wgpu::RenderPipeline; 2]>,
+    /// When measuring, the pairs drawn again for the per-page oracle (`fs_oracle`), with its
+    /// group of the oracle's texels and pairs; `None` with `draws`.
+    pub oracle_layout: wgpu::BindGroupLayout,
+    pub oracle: Option<wgpu::RenderPipeline>,
 }
 
 impl Pipelines {
@@ -87,6 +91,8 @@ impl Pipelines {
                 texture(float, d2),
                 texture(float, d2),
                 storage(false),
+                depth_texture(),
+                storage(false),
             ],
         );
         let cull_layout = bind_group_layout(
@@ -98,8 +104,14 @@ impl Pipelines {
         let draw_layout = bind_group_layout(
             device,
             "VirtualMaps::draw",
-            wgpu::ShaderStages::VERTEX,
+            wgpu::ShaderStages::VERTEX_FRAGMENT,
             &[uniform(), storage(true), storage(true), storage(true)],
+        );
+        let oracle_layout = bind_group_layout(
+            device,
+            "VirtualMaps::oracle",
+            wgpu::ShaderStages::FRAGMENT,
+            &[storage(true), storage(false)],
         );
         let light_layout = bind_group_layout(
             device,
@@ -139,6 +151,7 @@ impl Pipelines {
             "mark_fallback",
             "mark_sampled",
             "count_sampled",
+            "mark_shadowed",
         ]
         .map(|entry| compute_pipeline(device, &mark, Some(&mark_pipeline_layout), entry));
         let cull_pipeline_layout = with("VirtualMaps::cull", &cull_layout);
@@ -161,17 +174,25 @@ impl Pipelines {
             Some(&with("VirtualMaps::occlusion", &occlusion_layout)),
             "reduce_static",
         );
-        let draws = clip.then(|| {
-            let module = shader_module(device, "VirtualMaps::draw", draw_source());
+        let module = clip.then(|| shader_module(device, "VirtualMaps::draw", draw_source()));
+        let draws = module.as_ref().map(|module| {
             let layout =
                 pipeline_layout(device, "VirtualMaps::draw", &[frame_layout, &draw_layout]);
             // The clears write the far depth whatever is there; casters as every map draws them.
             let always = (true, wgpu::CompareFunction::Always);
             let less = (false, wgpu::CompareFunction::Less);
             [
-                depth_pipeline(device, (&layout, &module, "vs_clear"), None, always),
-                depth_pipeline(device, (&layout, &module, "vs_page"), None, less),
+                depth_pipeline(device, (&layout, module, "vs_clear"), None, always),
+                depth_pipeline(device, (&layout, module, "vs_page"), None, less),
             ]
+        });
+        let oracle = module.as_ref().map(|module| {
+            let layout = pipeline_layout(
+                device,
+                "VirtualMaps::oracle",
+                &[frame_layout, &draw_layout, &oracle_layout],
+            );
+            oracle_pipeline(device, &layout, module)
         });
         Self {
             tables_layout,
@@ -185,6 +206,44 @@ impl Pipelines {
             occlusion_layout,
             occlusion,
             draws,
+            oracle_layout,
+            oracle,
         }
     }
+}
+
+/// The page draw again, its depth read with an EQUAL test and not written, `fs_oracle`
+/// running only where the caster holds the texel's depth.
+fn oracle_pipeline(
+    device: &wgpu::Device,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+) -> wgpu::RenderPipeline {
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("VirtualMaps::oracle"),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs_oracle"),
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            buffers: &[Some(crate::scene_gpu::VERTEX_LAYOUT)],
+        },
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: crate::shadow_view::SHADOW_FORMAT,
+            depth_write_enabled: Some(false),
+            depth_compare: Some(wgpu::CompareFunction::Equal),
+            stencil: wgpu::StencilState::default(),
+            bias: wgpu::DepthBiasState::default(),
+        }),
+        multisample: wgpu::MultisampleState::default(),
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some("fs_oracle"),
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            targets: &[],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
 }

@@ -4,7 +4,7 @@
 //! the cull. Long-lived; remade when the pool or the levels change (every page is then
 //! invalid), the pairs and draws grown when a frame overflows them.
 
-use super::gpu_data::{VirtualParams, word};
+use super::gpu_data::{LEVEL_SLOTS, VirtualParams, word};
 use super::pipelines::Pipelines;
 use crate::gpu::{AsyncReadback, GpuContext, buffer, buffer_entry, view_entry};
 use crate::scene::{Mobility, Scene};
@@ -17,6 +17,8 @@ pub(super) const LEVEL_ENTRIES: u32 = LEVEL_PAGES * LEVEL_PAGES;
 pub(super) const HIERARCHY_CELLS: u32 = 256 + 64 + 16 + 4 + 1;
 
 const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE;
+/// The pairs are read back by tests (`oracle.rs` `read_pairs`).
+const PAIRS_USAGE: wgpu::BufferUsages = STORAGE.union(wgpu::BufferUsages::COPY_SRC);
 
 /// The pool and tables of one (pages, levels).
 pub(super) struct Tables {
@@ -35,6 +37,9 @@ pub(super) struct Tables {
     pub receiver_masks: wgpu::Buffer,
     /// When measuring: a bit per texel of each physical page that a tap reads.
     pub texel_bits: wgpu::Buffer,
+    /// When measuring, the per-page oracle's texels: per physical page and layer, a bit per
+    /// texel whose layer holds the nearest depth where a tap reads it shadowed.
+    pub oracle_texels: wgpu::Buffer,
     /// Per level, the hierarchy of page flags (`tables.wgsl` `page_hierarchy`).
     pub hierarchy: wgpu::Buffer,
     /// Per physical page, the farthest static depth of each of its 8 x 8 blocks
@@ -109,6 +114,14 @@ impl Tables {
                 pages * u64::from(PAGE_TEXELS * PAGE_TEXELS / 8),
                 STORAGE,
             ),
+            oracle_texels: buffer(
+                device,
+                "VirtualMaps::oracle_texels",
+                pages
+                    * u64::from(settings.page_layers())
+                    * u64::from(PAGE_TEXELS * PAGE_TEXELS / 8),
+                STORAGE,
+            ),
             hierarchy: buffer(
                 device,
                 "VirtualMaps::hierarchy",
@@ -171,6 +184,20 @@ pub(super) struct Lists {
     pub pairs_capacity: u32,
     pub draws: wgpu::Buffer,
     pub draws_capacity: u32,
+    /// When measuring, the per-page oracle: per level its pairs in it, then a bit per pair
+    /// (`draw.wgsl` `oracle`); as the pairs grow.
+    pub oracle: wgpu::Buffer,
+}
+
+/// The per-page oracle's buffer for `pairs` pairs.
+fn oracle_buffer(device: &wgpu::Device, pairs: u32) -> wgpu::Buffer {
+    let words = LEVEL_SLOTS as u64 + u64::from(pairs.div_ceil(32));
+    buffer(
+        device,
+        "VirtualMaps::oracle",
+        4 * words,
+        STORAGE | wgpu::BufferUsages::COPY_SRC,
+    )
 }
 
 /// Bytes of one `DrawIndexedIndirectArgs`.
@@ -183,7 +210,7 @@ impl Lists {
             moved_capacity: 64,
             ranges: buffer(device, "VirtualMaps::ranges", 16, STORAGE),
             ranges_scene: None,
-            pairs: buffer(device, "VirtualMaps::pairs", 8 << 20, STORAGE),
+            pairs: buffer(device, "VirtualMaps::pairs", 8 << 20, PAIRS_USAGE),
             pairs_capacity: 1 << 20,
             draws: buffer(
                 device,
@@ -192,6 +219,7 @@ impl Lists {
                 STORAGE | wgpu::BufferUsages::INDIRECT,
             ),
             draws_capacity: 1 << 17,
+            oracle: oracle_buffer(device, 1 << 20),
         }
     }
 
@@ -256,8 +284,9 @@ impl Lists {
                 device,
                 "VirtualMaps::pairs",
                 8 * u64::from(self.pairs_capacity),
-                STORAGE,
+                PAIRS_USAGE,
             );
+            self.oracle = oracle_buffer(device, self.pairs_capacity);
         }
         if draws > self.draws_capacity {
             self.draws_capacity = draws.next_power_of_two();

@@ -45,6 +45,9 @@ struct Counters {
     // so.
     occlusion_spared: atomic<u32>,
     occlusion_culled: atomic<u32>,
+    // When measuring: per level, the pairs in the per-page oracle (copied in after the
+    // oracle's draw, draw.wgsl).
+    level_oracle: array<u32, 156>,
 }
 
 @group(1) @binding(1) var<storage, read_write> page_flags: array<atomic<u32>>;
