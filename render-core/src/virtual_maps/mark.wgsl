@@ -136,12 +136,16 @@ fn shading_lookup(id: vec2<u32>) -> ShadowLookup {
     return none;
 }
 
-// Tap `t`'s bit in its physical page: the page's word and the bit in it.
-fn texel_bit(l: ShadowLookup, t: vec2<i32>) -> vec2<u32> {
+// Texel `t`'s bit in its page: the word of the page's 512 and the bit in it.
+fn texel_bit(t: vec2<i32>) -> vec2<u32> {
     let local = t % PAGE_TEXELS;
     let bit = u32(local.y * PAGE_TEXELS + local.x);
-    let slot = page_slots[entry_of(l.view, t / PAGE_TEXELS)];
-    return vec2<u32>(slot * 512u + bit / 32u, 1u << (bit % 32u));
+    return vec2<u32>(bit / 32u, 1u << (bit % 32u));
+}
+
+// The physical page holding tap `t` of lookup `l`.
+fn tap_slot(l: ShadowLookup, t: vec2<i32>) -> u32 {
+    return page_slots[entry_of(l.view, t / PAGE_TEXELS)];
 }
 
 // When measuring, after allocation: the texels shading will read, at the level it will read
@@ -151,8 +155,9 @@ fn mark_sampled(@builtin(global_invocation_id) id: vec3<u32>) {
     let l = shading_lookup(id.xy);
     for (var j = 0; j < l.kernel; j++) {
         for (var i = 0; i < l.kernel; i++) {
-            let bit = texel_bit(l, l.first + vec2<i32>(i, j));
-            atomicOr(&texel_bits[bit.x], bit.y);
+            let t = l.first + vec2<i32>(i, j);
+            let bit = texel_bit(t);
+            atomicOr(&texel_bits[tap_slot(l, t) * 512u + bit.x], bit.y);
         }
     }
 }
@@ -168,7 +173,7 @@ fn mark_shadowed(@builtin(global_invocation_id) id: vec3<u32>) {
     for (var j = 0; j < l.kernel; j++) {
         for (var i = 0; i < l.kernel; i++) {
             let t = l.first + vec2<i32>(i, j);
-            let slot = page_slots[entry_of(l.view, t / PAGE_TEXELS)];
+            let slot = tap_slot(l, t);
             var depths = vec2<f32>(textureLoad(page_atlas, slot_texel(slot, 0u, t), 0), 1.0);
             if (layers == 2u) {
                 depths.y = textureLoad(page_atlas, slot_texel(slot, 1u, t), 0);
@@ -177,11 +182,10 @@ fn mark_shadowed(@builtin(global_invocation_id) id: vec3<u32>) {
             if (tap_threshold(l, t) <= nearest) {
                 continue;
             }
-            let bit = texel_bit(l, t);
-            let page_words = bit.x - slot * 512u;
+            let bit = texel_bit(t);
             for (var layer = 0u; layer < layers; layer++) {
                 if (depths[layer] == nearest) {
-                    atomicOr(&oracle_texels[(slot * layers + layer) * 512u + page_words], bit.y);
+                    atomicOr(&oracle_texels[(slot * layers + layer) * 512u + bit.x], bit.y);
                 }
             }
         }
