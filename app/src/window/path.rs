@@ -52,19 +52,22 @@ pub struct PathPlayer {
     path: CameraPath,
     elapsed_s: f32,
     duration_s: f32,
+    /// A path of few keys is flown at `PLAY_SPEED_M_S` by distance; a recorded one key by key,
+    /// as it was recorded.
+    by_distance: bool,
     /// The last key was given.
     ended: bool,
 }
 
 impl PathPlayer {
     pub fn new(path: CameraPath) -> Self {
-        let duration_s = ((path.keys().len() - 1) as f32 * KEY_INTERVAL_S)
-            .max(path.length_m() / PLAY_SPEED_M_S)
-            .max(KEY_INTERVAL_S);
+        let recorded_s = (path.keys().len() - 1) as f32 * KEY_INTERVAL_S;
+        let flown_s = path.length_m() / PLAY_SPEED_M_S;
         Self {
             path,
             elapsed_s: 0.0,
-            duration_s,
+            duration_s: recorded_s.max(flown_s).max(KEY_INTERVAL_S),
+            by_distance: flown_s > recorded_s,
             ended: false,
         }
     }
@@ -80,8 +83,14 @@ impl PathPlayer {
         }
         let u = (self.elapsed_s / self.duration_s).min(1.0);
         self.ended = u >= 1.0;
+        let key = if self.by_distance {
+            self.path
+                .sample_at_distance(u * self.duration_s * PLAY_SPEED_M_S)
+        } else {
+            self.path.sample(u)
+        };
         self.elapsed_s += dt_s.max(0.0);
-        Some(self.path.sample(u))
+        Some(key)
     }
 }
 
@@ -223,5 +232,24 @@ mod tests {
             "ends at the last key: {last:?}"
         );
         assert!(player.advance(0.1).is_none());
+    }
+
+    #[test]
+    fn a_path_of_few_keys_plays_at_fifteen_metres_a_second_however_its_keys_are_spaced() {
+        let key = |x: f32| PathKey {
+            eye: Vec3::new(x, 0.0, 0.0),
+            target: Vec3::new(x, 0.0, 1.0),
+        };
+        // 30 m, then 270 m: by key, half the time would go to the first 30 m.
+        let path = CameraPath::new("few", vec![key(0.0), key(30.0), key(300.0)]).expect("keys");
+        let mut player = PathPlayer::new(path);
+        let mut eyes = Vec::new();
+        while let Some(key) = player.advance(1.0) {
+            eyes.push(key.eye.x);
+        }
+        assert_eq!(eyes.len(), 21, "{eyes:?}");
+        for (second, x) in eyes.iter().enumerate() {
+            assert!((x - 15.0 * second as f32).abs() < 1e-3, "{eyes:?}");
+        }
     }
 }
