@@ -28,6 +28,25 @@ for frames in 120 480; do
         --pages 512 --animate --frames "$frames" --warmup 2 --no-truth --methods none \
         --size 640x360 --csv "$out/virtual-cars-apart-$frames.csv" > /dev/null
 done
+# The whole street path at 15 m/s (the window's pace, 0.5 m a frame): the still sun, every
+# car driving with static casters apart, and with one layer per page.
+paced="--shadow virtual --speed 15 --frames 2790 --warmup 2 --no-truth --methods none --size 640x360"
+./target/release/shadowlab bench builtin:city $paced \
+    --csv "$out/virtual-still-15.csv" > "$out/virtual-still-15.txt"
+./target/release/shadowlab bench builtin:city $paced --separate-static on --pages 512 --animate \
+    --csv "$out/virtual-cars-apart-15.csv" > "$out/virtual-cars-apart-15.txt"
+./target/release/shadowlab bench builtin:city $paced --animate \
+    --csv "$out/virtual-cars-one-15.csv" > "$out/virtual-cars-one-15.txt"
+# The per-page oracle: pairs drawn against pairs needed, where every page is drawn (the
+# cache off), without and with the receiver mask, on the street path and the corridor.
+for mask in off on; do
+    ./target/release/shadowlab bench builtin:city --shadow virtual --cache off \
+        --receiver-mask "$mask" --frames 30 --warmup 2 --no-truth --methods none \
+        --size 640x360 --csv "$out/virtual-oracle-city-mask-$mask.csv" > /dev/null
+    ./target/release/shadowlab bench builtin:corridor --light point --shadow virtual \
+        --cache off --receiver-mask "$mask" --frames 30 --warmup 2 --no-truth --methods none \
+        --size 640x360 --csv "$out/virtual-oracle-corridor-mask-$mask.csv" > /dev/null
+done
 # The corridor's point light, its cube of pages against shadow volumes (exact).
 ./target/release/shadowlab bench builtin:corridor --light point --sweep virtual --size 640x360 \
     --methods none --frames 30 --warmup 2 --passes --csv "$out/virtual-point-corridor.csv" \

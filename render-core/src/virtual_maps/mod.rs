@@ -20,10 +20,11 @@
 //!           each caster against the pages drawn this frame, through the hierarchy of page
 //!           flags; then one pass over the atlas (draw.wgsl):
 //!           each drawn page cleared, each (caster, page) pair drawn with clip distances at the
-//!           page's edges, by indirect draws
+//!           page's edges, by indirect draws; when measuring, the per-page oracle
+//!           (oracle.rs): the pairs drawn again, kept where they hold a shadowed tap's texel
 //! light     light.wgsl: the matched level, or the first coarser one whose pages are there
 //! report    pages marked, resident, drawn, refused, and when measuring the texels pixels
-//!           read (a frame or more later)
+//!           read and the oracle's pairs per level (a frame or more later)
 //! ```
 
 mod frame;
