@@ -318,6 +318,22 @@ pub fn entry(views: &[ShadowView], level: usize, page: [i64; 2]) -> usize {
     level * (side * side) as usize + (wrapped[1] * side + wrapped[0]) as usize
 }
 
+impl<'a> Marking<'a> {
+    /// What marking reads of a frame of `SIZE` through `camera`, with the default shadow
+    /// settings (PCF and normal offset).
+    pub fn new(camera: &'a Camera, views: &'a [ShadowView], virtual_maps: VirtualSettings) -> Self {
+        let shadow = render_core::shadow_view::ShadowSettings::default();
+        Self {
+            camera,
+            views,
+            virtual_maps,
+            pixel_at_1m: 2.0 * f64::from((camera.fov_y_rad * 0.5).tan()) / f64::from(SIZE.1),
+            normal_offset_texels: f64::from(shadow.normal_offset_texels),
+            kernel: i64::from(shadow.pcf.width()),
+        }
+    }
+}
+
 impl Marking<'_> {
     /// The entries the pixel at `p` with normal `n` marks, and whether the answer is certain:
     /// false where its level's octave or a tap's texel lies so near a boundary that the GPU's

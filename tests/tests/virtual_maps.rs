@@ -250,14 +250,7 @@ fn page_marking_equals_the_cpu_reference() {
     let settings = settings(VirtualSettings::default());
     let camera = camera();
     let frame = Frames::new(&scene).frame(&scene, &camera, &settings);
-    let marking = Marking {
-        camera: &camera,
-        views: &frame.views,
-        virtual_maps: settings.virtual_maps,
-        pixel_at_1m: 2.0 * f64::from((camera.fov_y_rad * 0.5).tan()) / f64::from(SIZE.1),
-        normal_offset_texels: f64::from(settings.shadow.normal_offset_texels),
-        kernel: i64::from(settings.shadow.pcf.width()),
-    };
+    let marking = Marking::new(&camera, &frame.views, settings.virtual_maps);
     let (mut certain, mut uncertain) = (Vec::new(), Vec::new());
     let (mut sure_texels, mut all_texels) = (Vec::new(), Vec::new());
     let mut unsure_texel_pixels = 0;

@@ -75,15 +75,7 @@ fn the_oracle_holds_the_box_in_exactly_the_pages_its_shadow_is_read_from() {
     // neighbours are wholly shadowed and its pages certain; possible wherever a pixel or a
     // neighbour has any tap shadowed (marking reads the surface a texel apart from shading).
     let camera = camera();
-    let shadow = render_core::shadow_view::ShadowSettings::default();
-    let marking = Marking {
-        camera: &camera,
-        views: &frame.views,
-        virtual_maps: v,
-        pixel_at_1m: 2.0 * f64::from((camera.fov_y_rad * 0.5).tan()) / f64::from(SIZE.1),
-        normal_offset_texels: f64::from(shadow.normal_offset_texels),
-        kernel: i64::from(shadow.pcf.width()),
-    };
+    let marking = Marking::new(&camera, &frame.views, v);
     let factor = |x: i64, y: i64| {
         let (x, y) = (
             x.clamp(0, i64::from(SIZE.0) - 1),

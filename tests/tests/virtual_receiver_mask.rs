@@ -38,15 +38,7 @@ fn mask_has(masks: &[[u32; 2]], (e, bit): Block) -> bool {
 /// first tap).
 fn cpu_blocks(scene: &Scene, frame: &Frame, v: VirtualSettings) -> (Vec<Block>, Vec<Block>) {
     let camera = camera();
-    let shadow = render_core::shadow_view::ShadowSettings::default();
-    let marking = Marking {
-        camera: &camera,
-        views: &frame.views,
-        virtual_maps: v,
-        pixel_at_1m: 2.0 * f64::from((camera.fov_y_rad * 0.5).tan()) / f64::from(SIZE.1),
-        normal_offset_texels: f64::from(shadow.normal_offset_texels),
-        kernel: i64::from(shadow.pcf.width()),
-    };
+    let marking = Marking::new(&camera, &frame.views, v);
     let (mut sure, mut possible) = (Vec::new(), Vec::new());
     for y in 0..SIZE.1 {
         for x in 0..SIZE.0 {
