@@ -110,10 +110,11 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
         baseline.name(),
         session.ctx.adapter_description()
     );
-    if let Some((per_frame, flown)) = pace(&path, &RunOptions::from(args))? {
+    if let (Some(speed), Some((per_frame, flown))) =
+        (args.speed, pace(&path, &RunOptions::from(args))?)
+    {
         eprintln!(
-            "camera at {} m/s: {per_frame:.2} m a frame, {flown:.0} of the path's {:.0} m",
-            args.speed.unwrap_or(0.0),
+            "camera at {speed} m/s: {per_frame:.2} m a frame, {flown:.0} of the path's {:.0} m",
             path.length_m()
         );
     }

@@ -67,7 +67,7 @@ fn vs_clear(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> P
     return out;
 }
 
-// When measuring (the per-page oracle, virtual_maps/frame.rs `encode_oracle`): the pairs
+// When measuring (the per-page oracle, virtual_maps/oracle.rs `encode_oracle`): the pairs
 // drawn again over the atlas, read-only with an EQUAL depth test, so a fragment runs only
 // where its caster holds the texel's depth; a pair holding a texel that `mark_shadowed`
 // (mark.wgsl) found shadowed for a visible pixel's tap is in the oracle.
@@ -97,11 +97,9 @@ fn fs_oracle(@builtin(position) frag: vec4<f32>, @location(0) @interpolate(flat)
     let e = pair.y & ENTRY_BITS;
     let layer = select(0u, 1u, (pair.y & DYNAMIC_ONLY) != 0u);
     let slot = page_slots[e];
-    let local = vec2<i32>(frag.xy) - layer_origin(slot, layer);
-    let bit = u32(local.y * PAGE_TEXELS + local.x);
+    let bit = texel_bit(vec2<i32>(frag.xy) - layer_origin(slot, layer));
     let layers = 1u + params.limits.y;
-    let word = oracle_texels[(slot * layers + layer) * 512u + bit / 32u];
-    if ((word & (1u << (bit % 32u))) == 0u) {
+    if ((oracle_texels[(slot * layers + layer) * 512u + bit.x] & bit.y) == 0u) {
         return;
     }
     let flag = 1u << (pair_index % 32u);

@@ -61,7 +61,7 @@ impl VirtualTechnique {
         &self,
         encoder: &mut wgpu::CommandEncoder,
         draw: &DrawInput<'_>,
-        (tables, groups): (&Tables, &[wgpu::BindGroup; 4]),
+        (tables, groups): (&Tables, [&wgpu::BindGroup; 4]),
         (instances, moved, measure): (u32, u32, bool),
     ) {
         let [table_group, mark_group, cull_group, occlusion_group] = groups;
@@ -430,12 +430,7 @@ impl ShadowTechnique for VirtualTechnique {
             draw,
             (
                 tables,
-                &[
-                    table_group.clone(),
-                    mark_group.clone(),
-                    cull_group,
-                    occlusion_group,
-                ],
+                [&table_group, &mark_group, &cull_group, &occlusion_group],
             ),
             (instances, moved, input.measure),
         );

@@ -128,6 +128,7 @@ impl FrameCounts {
 #[cfg(test)]
 mod tests {
     use super::LEVEL_SLOTS;
+    use crate::virtual_maps::oracle::{DYNAMIC_ONLY, ENTRY_BITS};
     use crate::virtual_maps::resources::HIERARCHY_CELLS;
 
     /// The constants the shaders repeat by hand are the ones Rust sizes their buffers by.
@@ -144,6 +145,8 @@ mod tests {
             "level_marked, level_rendered, level_pairs"
         );
         assert!(tables.contains(&format!("array<atomic<u32>, 4>, {LEVEL_SLOTS}>")));
+        assert!(pages.contains(&format!("DYNAMIC_ONLY: u32 = {DYNAMIC_ONLY:#010x}u;")));
+        assert!(pages.contains(&format!("ENTRY_BITS: u32 = {ENTRY_BITS:#010x}u;")));
         let draw = include_str!("draw.wgsl");
         assert!(draw.contains(&format!("ORACLE_LEVELS: u32 = {LEVEL_SLOTS}u;")));
         assert!(tables.contains(&format!("HIERARCHY_CELLS: u32 = {HIERARCHY_CELLS}u;")));

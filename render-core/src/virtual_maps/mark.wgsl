@@ -136,13 +136,6 @@ fn shading_lookup(id: vec2<u32>) -> ShadowLookup {
     return none;
 }
 
-// Texel `t`'s bit in its page: the word of the page's 512 and the bit in it.
-fn texel_bit(t: vec2<i32>) -> vec2<u32> {
-    let local = t % PAGE_TEXELS;
-    let bit = u32(local.y * PAGE_TEXELS + local.x);
-    return vec2<u32>(bit / 32u, 1u << (bit % 32u));
-}
-
 // The physical page holding tap `t` of lookup `l`.
 fn tap_slot(l: ShadowLookup, t: vec2<i32>) -> u32 {
     return page_slots[entry_of(l.view, t / PAGE_TEXELS)];

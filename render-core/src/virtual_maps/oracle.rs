@@ -85,8 +85,8 @@ pub struct DrawnPair {
 }
 
 /// The pair list's bit of the movable layer and the entry's bits (`pages.wgsl`).
-const DYNAMIC_ONLY: u32 = 0x4000_0000;
-const ENTRY_BITS: u32 = 0x3fff_ffff;
+pub(super) const DYNAMIC_ONLY: u32 = 0x4000_0000;
+pub(super) const ENTRY_BITS: u32 = 0x3fff_ffff;
 
 impl VirtualTechnique {
     /// The last frame's (caster, page) pairs, in the cull's order, and which of them the

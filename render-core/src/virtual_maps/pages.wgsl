@@ -164,6 +164,13 @@ fn slot_texel(slot: u32, layer: u32, t: vec2<i32>) -> vec2<i32> {
     return layer_origin(slot, layer) + t % PAGE_TEXELS;
 }
 
+// Texel `t`'s bit in its page (of 512 words, row by row): the word and the bit in it.
+fn texel_bit(t: vec2<i32>) -> vec2<u32> {
+    let local = t % PAGE_TEXELS;
+    let bit = u32(local.y * PAGE_TEXELS + local.x);
+    return vec2<u32>(bit / 32u, 1u << (bit % 32u));
+}
+
 fn static_apart() -> bool {
     return params.limits.y != 0u;
 }
