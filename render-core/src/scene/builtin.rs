@@ -32,8 +32,8 @@ pub const BUILTIN_SCENES: &[BuiltinScene] = &[
     },
     BuiltinScene {
         name: "robots",
-        description: "a walled hall of 120 walking robots under a low sun (Lloyd et al.'s \
-                      robot scene): about 70K triangles, high occlusion",
+        description: "a walled hall crowded with 384 walking robots under a low sun (Lloyd et al.'s \
+                      robot scene): about 106K triangles, high occlusion",
     },
     BuiltinScene {
         name: "corridor",
