@@ -150,7 +150,9 @@ impl ExactShadow {
     /// is on an edge too where the truth changes inside it: at one of a grid of
     /// `SUBPIXELS` x `SUBPIXELS` points over the pixel, its sides included (a gap between two
     /// shadows, or a shadow, narrower than a pixel: the corridor's struts leave lit specks an
-    /// eighth of a pixel wide). `rays` are the scene's as the view was cast.
+    /// eighth of a pixel wide), or where an occluding contour crosses its centre
+    /// ([`PixelRays::contour_at`]: a silhouette edge crossing the pixel centre, where the
+    /// rasteriser's rounding decides). `rays` are the scene's as the view was cast.
     pub fn error_within(&self, rays: &SceneRays, light: &[f32]) -> ShadowError {
         const SUBPIXELS: u32 = 9;
         let mut error = self.error_of(light);
@@ -164,21 +166,30 @@ impl ExactShadow {
             let pixel = self.point_pixels[i];
             let own = self.pixels[pixel as usize];
             let (x, y) = ((pixel % width) as f32, (pixel / width) as f32);
-            let inside = (0..SUBPIXELS * SUBPIXELS).any(|k| {
-                let at = |j: u32| j as f32 / (SUBPIXELS - 1) as f32;
-                let (truth, _, _) = view.truth_at(
-                    rays,
-                    &self.key,
-                    (x + at(k % SUBPIXELS), y + at(k / SUBPIXELS)),
-                );
-                truth != own
-            });
+            let contour = view.contour_at(rays, (x + 0.5, y + 0.5));
+            let inside = contour
+                || (0..SUBPIXELS * SUBPIXELS).any(|k| {
+                    let at = |j: u32| j as f32 / (SUBPIXELS - 1) as f32;
+                    let (truth, _, _) = view.truth_at(
+                        rays,
+                        &self.key,
+                        (x + at(k % SUBPIXELS), y + at(k / SUBPIXELS)),
+                    );
+                    truth != own
+                });
             off_edges += u32::from(!inside);
         }
         error.off_edge_px = Some(off_edges);
         error
     }
 }
+
+/// How near a pixel centre an occluding contour counts as crossing it, pixels: rasterisers
+/// snap vertices to 1/256 of a pixel, so an edge nearer than this may fall either side.
+const CONTOUR_PX: f32 = 1.0 / 128.0;
+/// The jump in view depth, as a fraction, across [`CONTOUR_PX`] that marks an occluding
+/// contour (a smooth surface changes less unless it is seen almost edge-on).
+const CONTOUR_DEPTH_JUMP: f32 = 0.01;
 
 /// The camera rays of a view: through any point of its picture, in pixels from the top left.
 struct PixelRays {
@@ -206,6 +217,43 @@ impl PixelRays {
         }
     }
 
+    /// The surface the ray through picture point `(x, y)` meets first.
+    fn first_hit(&self, rays: &SceneRays, (x, y): (f32, f32)) -> Option<SurfaceHit> {
+        let (width, height) = self.size;
+        let ndc_x = 2.0 * x / width - 1.0;
+        let ndc_y = 1.0 - 2.0 * y / height;
+        // With `forward` of unit length, `t` along this direction is the view depth.
+        let direction = self.forward
+            + self.right * (ndc_x * self.tan_half * width / height)
+            + self.up * (ndc_y * self.tan_half);
+        rays.first_hit(self.eye, direction, self.depths.0, self.depths.1)
+    }
+
+    /// Whether what the picture shows changes within [`CONTOUR_PX`] of picture point `at`:
+    /// another instance, the sky, or a jump in depth of more than [`CONTOUR_DEPTH_JUMP`]. An
+    /// occluding contour (a silhouette edge as the eye sees it) then crosses the point, and
+    /// which side of it a pixel centre shows is the rasteriser's rounding of the edge, which
+    /// two passes may round apart: a shadow volume's side, which starts on its caster's
+    /// silhouette, counted at a centre where the caster's own face was not drawn.
+    fn contour_at(&self, rays: &SceneRays, (x, y): (f32, f32)) -> bool {
+        let depth_at = |at| {
+            self.first_hit(rays, at)
+                .map(|hit| (hit.instance, (hit.position - self.eye).dot(self.forward)))
+        };
+        let centre = depth_at((x, y));
+        [(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0)]
+            .iter()
+            .any(
+                |&(dx, dy)| match (centre, depth_at((x + dx * CONTOUR_PX, y + dy * CONTOUR_PX))) {
+                    (Some((a, da)), Some((b, db))) => {
+                        a != b || (da - db).abs() > CONTOUR_DEPTH_JUMP * da.max(db)
+                    }
+                    (None, None) => false,
+                    _ => true,
+                },
+            )
+    }
+
     /// The truth at picture point `(x, y)` (a pixel's centre is at half-integers), the
     /// surface point where it is counted, and the instance it shows (`u32::MAX`: sky).
     fn truth_at(
@@ -214,14 +262,7 @@ impl PixelRays {
         key: &ViewKey,
         (x, y): (f32, f32),
     ) -> (PixelTruth, Option<SurfacePoint>, u32) {
-        let (width, height) = self.size;
-        let ndc_x = 2.0 * x / width - 1.0;
-        let ndc_y = 1.0 - 2.0 * y / height;
-        // With `forward` of unit length, `t` along this direction is the view depth.
-        let direction = self.forward
-            + self.right * (ndc_x * self.tan_half * width / height)
-            + self.up * (ndc_y * self.tan_half);
-        let Some(hit) = rays.first_hit(self.eye, direction, self.depths.0, self.depths.1) else {
+        let Some(hit) = self.first_hit(rays, (x, y)) else {
             return (PixelTruth::Sky, None, u32::MAX);
         };
         if !hit.receives_shadow {
