@@ -42,6 +42,19 @@ struct VolumeFrame {
     // For a point light, the pyramid from it to the camera's near rectangle: planes
     // (xyz: normal, w: offset) with the pyramid on their positive side (`counts_z_pass`).
     near_planes: array<vec4<f32>, 5>,
+    // xy: the picture's size in pixels (written when the volumes are drawn).
+    picture: vec4<f32>,
+}
+
+// The strip coordinate of picture point `position` (pixels from the top left, a pixel's
+// centre at half-integers): -1 to 1 across the picture along `slicing` (volumes/grid.wgsl
+// `slice_of` places pixel centres in strips by the same coordinate).
+fn strip_coordinate(position: vec2<f32>) -> f32 {
+    let ndc = vec2<f32>(
+        2.0 * position.x / volume.picture.x - 1.0,
+        1.0 - 2.0 * position.y / volume.picture.y,
+    );
+    return dot(ndc, volume.slicing.xy) / max(volume.slicing.z, 1e-6);
 }
 
 fn from_point() -> bool {

@@ -167,7 +167,10 @@ fn vs_moved_cap_pass(@builtin(vertex_index) v: u32, @builtin(instance_index) r: 
 // The camera's depth (the prepass's), to tell fragments behind the surface.
 @group(3) @binding(1) var scene_depth: texture_depth_2d;
 
-fn count_fill(position: vec4<f32>, z_pass: bool) {
+// Every fragment rasterised counts as fill; a stencil write only where the stencil pass
+// keeps it (`fs_stencil`).
+fn count_fill(f: FragmentIn, z_pass: bool) {
+    let position = f.position;
     let pixel = vec2<u32>(position.xy);
     let size = textureDimensions(scene_depth);
     if (any(pixel >= size)) {
@@ -175,25 +178,37 @@ fn count_fill(position: vec4<f32>, z_pass: bool) {
     }
     atomicAdd(&fill[0], 1u);
     // Reversed depth: in front of the surface is greater (the stencil pass's depth test).
-    if ((position.z > textureLoad(scene_depth, vec2<i32>(pixel), 0)) == z_pass) {
+    if ((position.z > textureLoad(scene_depth, vec2<i32>(pixel), 0)) == z_pass && whole_at(f)) {
         atomicAdd(&fill[1], 1u);
     }
     atomicAdd(&fill[2u + pixel.y * size.x + pixel.x], 1u);
 }
 
 @fragment
-fn fs_fill(@builtin(position) position: vec4<f32>) {
-    count_fill(position, false);
+fn fs_fill(f: FragmentIn) {
+    count_fill(f, false);
 }
 
 @fragment
-fn fs_fill_pass(@builtin(position) position: vec4<f32>) {
-    count_fill(position, true);
+fn fs_fill_pass(f: FragmentIn) {
+    count_fill(f, true);
+}
+
+// The stencil pass where pieces are cut to their strips: a fragment counts only where its
+// piece is whole (volumes/strips_clipped.wgsl `whole_at`).
+@fragment
+fn fs_stencil(f: FragmentIn) {
+    if (!whole_at(f)) {
+        discard;
+    }
 }
 
 // The `volumes` overlay: each volume face in front of the visible surface, translucent
 // yellow (Lloyd et al.'s Figure 1), so overlapping layers grow brighter.
 @fragment
-fn fs_volume() -> @location(0) vec4<f32> {
+fn fs_volume(f: FragmentIn) -> @location(0) vec4<f32> {
+    if (!whole_at(f)) {
+        discard;
+    }
     return vec4<f32>(PALETTE_VOLUME, 0.12);
 }

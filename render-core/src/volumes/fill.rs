@@ -59,7 +59,7 @@ impl Fill {
         let pipelines = VolumePipelines::new(
             device,
             (&pipeline_layout, module),
-            (format, depth_clamped),
+            (format, depth_clamped, false),
             VolumePass::Fill,
         );
         let heat_layout = bind_group_layout(

@@ -121,6 +121,7 @@ pub(super) fn uniforms(
             // Corners in turn round the rectangle.
             pyramid_planes(p, [near[0], near[1], near[3], near[2]])
         }),
+        picture: [1.0, 1.0, 0.0, 0.0],
     }
 }
 

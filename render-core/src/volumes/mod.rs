@@ -116,7 +116,10 @@ impl VolumeTechnique {
             wgpu::TextureFormat::Depth24PlusStencil8
         };
         let depth_clamped = features.contains(wgpu::Features::DEPTH_CLIP_CONTROL);
-        let stages = wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::VERTEX;
+        let cut = features.contains(wgpu::Features::CLIP_DISTANCES);
+        // The fragment stages read the frame's uniforms (volumes/strips_clipped.wgsl).
+        let stages =
+            wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT;
         let scene_layout = bind_group_layout(
             device,
             "Volumes::scene_layout",
@@ -154,11 +157,8 @@ impl VolumeTechnique {
             &[frame_layout, &scene_layout, &find_layout],
         );
         let depth = depth_pipeline(device, frame_layout, format);
-        let draw_module = shader_module(
-            device,
-            "Volumes::draw",
-            pipelines::draw_shader_source(features.contains(wgpu::Features::CLIP_DISTANCES)),
-        );
+        let draw_module =
+            shader_module(device, "Volumes::draw", pipelines::draw_shader_source(cut));
         let draw_pipeline_layout = pipeline_layout(
             device,
             "Volumes::draw_pipeline_layout",
@@ -167,13 +167,13 @@ impl VolumeTechnique {
         let volumes = VolumePipelines::new(
             device,
             (&draw_pipeline_layout, &draw_module),
-            (format, depth_clamped),
+            (format, depth_clamped, cut),
             VolumePass::Stencil,
         );
         let overlay = VolumePipelines::new(
             device,
             (&draw_pipeline_layout, &draw_module),
-            (format, depth_clamped),
+            (format, depth_clamped, cut),
             VolumePass::Overlay,
         );
         let fill = Fill::new(
@@ -211,7 +211,7 @@ impl VolumeTechnique {
             boxes: box_clamp::BoxClamp::default(),
             light_frame: [[0.0; 4]; 3],
             clamp_cpu_ms: 0.0,
-            clip_distances: features.contains(wgpu::Features::CLIP_DISTANCES),
+            clip_distances: cut,
             readback: AsyncReadback::new(
                 device,
                 "Volumes::counters_readback",
@@ -358,6 +358,11 @@ impl ShadowTechnique for VolumeTechnique {
         draw: &DrawInput<'_>,
     ) -> ShadowPasses {
         self.ensure_target(&draw.ctx.device, (draw.targets.width, draw.targets.height));
+        let (offset, picture) =
+            VolumeFrameGpu::picture_bytes((draw.targets.width, draw.targets.height));
+        draw.ctx
+            .queue
+            .write_buffer(&self.uniforms, offset, bytemuck::bytes_of(&picture));
         let (Some(scene), Some(target)) = (self.scene.as_ref(), self.target.as_ref()) else {
             unreachable!("ensured in prepare and above");
         };

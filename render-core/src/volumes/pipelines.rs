@@ -83,6 +83,18 @@ pub(super) struct VolumeFrameGpu {
     pub grid: [u32; 4],
     pub point: [f32; 4],
     pub near_planes: [[f32; 4]; 5],
+    /// Written apart when the volumes are drawn (`picture_bytes`).
+    pub picture: [f32; 4],
+}
+
+impl VolumeFrameGpu {
+    /// Where `picture` lies in the buffer, and its bytes for a picture of `size`.
+    pub fn picture_bytes(size: (u32, u32)) -> (u64, [f32; 4]) {
+        (
+            std::mem::offset_of!(Self, picture) as u64,
+            [size.0.max(1) as f32, size.1.max(1) as f32, 0.0, 0.0],
+        )
+    }
 }
 
 /// The most intervals a caster's volume is drawn in (`MAX_INTERVALS` in
@@ -245,18 +257,20 @@ const CAP_BIAS: wgpu::DepthBiasState = wgpu::DepthBiasState {
 pub(super) struct VolumePipelines([wgpu::RenderPipeline; DRAWS.len()]);
 
 impl VolumePipelines {
-    /// `depth_clamped`: the adapter clamps depth (`DEPTH_CLIP_CONTROL`).
+    /// `depth_clamped`: the adapter clamps depth (`DEPTH_CLIP_CONTROL`); `cut`: `module` cuts
+    /// each interval to its strips (`draw_shader_source`), so the stencil pass keeps a
+    /// fragment only where its piece is whole (`fs_stencil`).
     pub fn new(
         device: &wgpu::Device,
         (layout, module): (&wgpu::PipelineLayout, &wgpu::ShaderModule),
-        (format, depth_clamped): (wgpu::TextureFormat, bool),
+        (format, depth_clamped, cut): (wgpu::TextureFormat, bool, bool),
         kind: VolumePass,
     ) -> Self {
         Self(DRAWS.each_ref().map(|draw| {
             volume_pipeline(
                 device,
                 (layout, module, draw.entry),
-                (format, depth_clamped && draw.faces != Faces::NearCaps),
+                (format, depth_clamped && draw.faces != Faces::NearCaps, cut),
                 (kind, draw.counting, draw.faces),
             )
         }))
@@ -275,7 +289,7 @@ impl VolumePipelines {
 fn volume_pipeline(
     device: &wgpu::Device,
     (layout, module, entry): (&wgpu::PipelineLayout, &wgpu::ShaderModule, &str),
-    (format, unclipped_depth): (wgpu::TextureFormat, bool),
+    (format, unclipped_depth, cut): (wgpu::TextureFormat, bool, bool),
     (kind, counting, faces): (VolumePass, Counting, Faces),
 ) -> wgpu::RenderPipeline {
     use wgpu::StencilOperation::{DecrementWrap, IncrementWrap, Keep};
@@ -299,7 +313,12 @@ fn volume_pipeline(
                 read_mask: 0xff,
                 write_mask: 0xff,
             },
-            None,
+            cut.then_some(wgpu::FragmentState {
+                module,
+                entry_point: Some("fs_stencil"),
+                compilation_options: wgpu::PipelineCompilationOptions::default(),
+                targets: &[],
+            }),
         ),
         VolumePass::Fill => (
             wgpu::CompareFunction::Always,

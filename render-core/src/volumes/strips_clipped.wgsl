@@ -13,11 +13,35 @@ struct VolumeOut {
     @builtin(position) @invariant clip: vec4<f32>,
     // Past the first strip's start and before the last one's end: both at least 0 inside.
     @builtin(clip_distances) strip: array<f32, 2>,
+    // The strip coordinates the piece is clipped at (`in_strips`).
+    @location(0) @interpolate(flat) cut: vec2<f32>,
 }
+
+// What the fragment stages read.
+struct FragmentIn {
+    @builtin(position) position: vec4<f32>,
+    @location(0) @interpolate(flat) cut: vec2<f32>,
+}
+
+// Past every strip coordinate.
+const UNCUT: vec2<f32> = vec2<f32>(-4.0, 4.0);
+// How far inside its cuts a pixel centre must lie for the piece to be drawn there: a pixel
+// centre on a cut sees the faces cut there edge-on, and the rasteriser rounds each face's
+// cut edge on its own, so the piece counts there as neither whole nor absent. The pixels of
+// the strips the piece is drawn across lie CUT_MARGIN inside, twice this.
+const CUT_GUARD: f32 = 5e-4;
+const CUT_MARGIN: f32 = 1e-3;
 
 // A vertex at clip-space position `clip`, in every strip.
 fn at_clip(clip: vec4<f32>) -> VolumeOut {
-    return VolumeOut(clip, array<f32, 2>(1.0, 1.0));
+    return VolumeOut(clip, array<f32, 2>(1.0, 1.0), UNCUT);
+}
+
+// Whether the piece a fragment belongs to is whole at its pixel centre: well inside the cuts.
+// Where it is not, the pixel lies in no strip the piece is drawn across, so no volume is lost.
+fn whole_at(f: FragmentIn) -> bool {
+    let u = strip_coordinate(f.position.xy);
+    return u >= f.cut.x + CUT_GUARD && u <= f.cut.y - CUT_GUARD;
 }
 
 // `v` clipped to the strips of the interval of `caster_word` (volumes/find.wgsl
@@ -30,13 +54,14 @@ fn in_strips(v: VolumeOut, caster_word: u32) -> VolumeOut {
     let first = f32(word & 0xffu);
     let last = f32((word >> 8u) & 0xffu);
     let u = dot(v.clip.xy, volume.slicing.xy) / max(volume.slicing.z, 1e-6);
-    let start = -1.0 + 2.0 * first / k - 1e-3;
-    let end = -1.0 + 2.0 * (last + 1.0) / k + 1e-3;
+    let start = -1.0 + 2.0 * first / k - CUT_MARGIN;
+    let end = -1.0 + 2.0 * (last + 1.0) / k + CUT_MARGIN;
     return VolumeOut(
         v.clip,
         array<f32, 2>(
             select(u - start * v.clip.w, 1.0, first == 0.0),
             select(end * v.clip.w - u, 1.0, last >= k - 1.0),
         ),
+        vec2<f32>(select(start, UNCUT.x, first == 0.0), select(end, UNCUT.y, last >= k - 1.0)),
     );
 }

@@ -11,6 +11,16 @@ struct VolumeOut {
     @builtin(position) @invariant clip: vec4<f32>,
 }
 
+// What the fragment stages read.
+struct FragmentIn {
+    @builtin(position) position: vec4<f32>,
+}
+
+// Every piece is whole: nothing is cut.
+fn whole_at(f: FragmentIn) -> bool {
+    return true;
+}
+
 // A vertex at clip-space position `clip`.
 fn at_clip(clip: vec4<f32>) -> VolumeOut {
     return VolumeOut(clip);
