@@ -48,7 +48,7 @@ struct VolumeFrame {
 
 // The strip coordinate of picture point `position` (pixels from the top left, a pixel's
 // centre at half-integers): -1 to 1 across the picture along `slicing` (volumes/grid.wgsl
-// `slice_of` places pixel centres in strips by the same coordinate).
+// `slice_of` places pixel centres in strips by it).
 fn strip_coordinate(position: vec2<f32>) -> f32 {
     let ndc = vec2<f32>(
         2.0 * position.x / volume.picture.x - 1.0,

@@ -17,15 +17,11 @@ fn cell_of(p: vec2<f32>) -> vec2<i32> {
 }
 
 // The strip of the view (Lloyd's slice between two planes through the eye) that pixel
-// `pixel` of a view of `size` lies in: planes through the eye that hold the axis across both
+// `pixel` lies in (`strip_coordinate`): planes through the eye that hold the axis across both
 // the light and the view direction cut the picture into parallel strips of equal width.
-fn slice_of(pixel: vec2<u32>, size: vec2<u32>) -> u32 {
+fn slice_of(pixel: vec2<u32>) -> u32 {
     let k = volume.grid.x;
-    let ndc = vec2<f32>(
-        2.0 * (f32(pixel.x) + 0.5) / f32(size.x) - 1.0,
-        1.0 - 2.0 * (f32(pixel.y) + 0.5) / f32(size.y),
-    );
-    let u = dot(ndc, volume.slicing.xy) / max(volume.slicing.z, 1e-6);
+    let u = strip_coordinate(vec2<f32>(pixel) + 0.5);
     return min(u32(max((u * 0.5 + 0.5) * f32(k), 0.0)), k - 1u);
 }
 
@@ -105,7 +101,7 @@ fn receiver_pixel(pixel: vec2<u32>) -> ReceiverPixel {
     }
     r.found = true;
     r.cell = clamp(cell_of(p.xy), vec2<i32>(0), grid_last());
-    r.slice = slice_of(pixel, size);
+    r.slice = slice_of(pixel);
     r.depth = max(p.z, 0.0);
     r.instance = object - 1u;
     return r;
