@@ -308,7 +308,7 @@ fn the_map_is_read_at_the_truths_points_and_its_error_counted() {
     );
 }
 
-/// One robot of the crowd (`builtin:robots`, alone), seen so that the top rim of its arm, a
+/// One robot of the crowd (`builtin:robots`, its six parts alone), seen so that the top rim of its arm, a
 /// silhouette edge, crosses the centre of pixel (136, 235) at 640x360: the centre's ray meets
 /// the chest behind the rim, lit, and a hundredth of a pixel lower the arm's top, lit too.
 /// Which of the two a rasteriser shows there is its rounding, and two passes may round
@@ -318,13 +318,10 @@ fn the_map_is_read_at_the_truths_points_and_its_error_counted() {
 #[test]
 fn a_silhouette_edge_across_a_pixel_centre_is_an_edge() {
     let crowd = load_builtin("robots", 0).expect("a built-in scene");
-    let robot = crowd.instances[105].clone();
-    let scene = Scene::new(
-        "robot".to_string(),
-        crowd.meshes.clone(),
-        vec![robot],
-        crowd.sun,
-    );
+    // The 101st robot: the floor and the four walls come first, then six parts a robot.
+    let robot = crowd.instances[605..611].to_vec();
+    assert!(robot.iter().all(|i| i.name.starts_with("robot_4_4_")));
+    let scene = Scene::new("robot".to_string(), crowd.meshes.clone(), robot, crowd.sun);
     let camera = Camera::look_at(
         Vec3::new(-19.42857, 1.7, -7.058_822_6),
         Vec3::new(4.285_714_6, 1.7, -7.058_822),

@@ -33,7 +33,8 @@ pub const BUILTIN_SCENES: &[BuiltinScene] = &[
     BuiltinScene {
         name: "robots",
         description: "a walled hall crowded with 384 walking robots under a low sun (Lloyd et al.'s \
-                      robot scene): about 106K triangles, high occlusion",
+                      robot scene): about 106K triangles, high occlusion; each robot's six parts \
+                      are casters of their own",
     },
     BuiltinScene {
         name: "corridor",
