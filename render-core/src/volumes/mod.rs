@@ -42,6 +42,7 @@ use crate::technique::{
     TechniqueOverlays,
 };
 pub use crate::technique::{VolumeFill, VolumePasses};
+pub use calibrate::measured_pixels_per_vertex;
 use fill::{Fill, FillDraw};
 use find_passes::{FindInput, FindPasses};
 #[cfg(test)]
