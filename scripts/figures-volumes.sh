@@ -2,7 +2,8 @@
 # Regenerates the shadow volumes' goal figures in screenshots/: standard volumes against every
 # clamping, with and without culling, along both of Lloyd's scenes' paths (the corridor under
 # the sun and under its point lamp, the robot crowd), against the exact shadow; and discrete
-# clamping's slices from 1 to 32 (Lloyd's Figure 9). Each run's table (.txt) and rows (.csv).
+# clamping's slices from 1 to 32 against standard volumes (Lloyd's Figure 9, also drawn as
+# volumes-slices.png). Each run's table (.txt) and rows (.csv).
 # SIZE (default 640x360; the GPU tables in README.md are 1280x720), FRAMES (default 8) and OUT
 # (default screenshots) choose the runs. Minutes each on a software adapter.
 set -euo pipefail
@@ -25,4 +26,4 @@ sweep robots builtin:robots
 ./target/release/shadowlab bench builtin:corridor --shadow volumes --overlay fill --sweep slices \
     --volume-clamp conservative --methods none,bvol --baseline none --size "$size" \
     --frames "$frames" --warmup 2 --passes --no-truth --csv "$out/volumes-slices.csv" \
-    > "$out/volumes-slices.txt"
+    --plot "$out/volumes-slices.png" > "$out/volumes-slices.txt"

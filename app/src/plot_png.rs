@@ -1,10 +1,13 @@
 //! Plots as PNG files: plotters' bitmap backend with egui's own font (nothing read from the
-//! system), shared by `bench --plot` and `report`.
+//! system), shared by `bench --plot` and `report`; lines across named ticks.
 
 use std::path::Path;
 
 use anyhow::Context as _;
 use plotters::prelude::*;
+
+/// A plot's picture, pixels.
+pub const SIZE: (u32, u32) = (960, 480);
 
 /// The font every label uses.
 pub const FONT: &str = "sans-serif";
@@ -70,4 +73,94 @@ pub fn write_png(
     image
         .save(out)
         .with_context(|| format!("writing {}", out.display()))
+}
+
+/// One line across a plot's ticks (frames along a path, a sweep's values): a value per tick
+/// (none where it was not measured).
+pub struct Series {
+    pub label: String,
+    pub values: Vec<Option<f64>>,
+}
+
+/// `series` across the values `ticks` names (a sweep's settings, the frames of a path), a
+/// line each, into the PNG `out`.
+pub fn across(
+    series: &[Series],
+    ticks: &[String],
+    (title, x_label, y_label): (&str, &str, &str),
+    out: &Path,
+) -> anyhow::Result<()> {
+    if ticks.is_empty() || series.iter().all(|s| s.values.iter().all(Option::is_none)) {
+        anyhow::bail!("{title}: nothing was measured");
+    }
+    write_png(SIZE, out, |root| {
+        draw_lines(root, series, ticks, (title, x_label, y_label))
+    })
+}
+
+fn draw_lines(
+    root: &Area<'_>,
+    series: &[Series],
+    ticks: &[String],
+    (title, x_label, y_label): (&str, &str, &str),
+) -> DrawResult {
+    let top = series
+        .iter()
+        .flat_map(|s| s.values.iter().flatten())
+        .fold(0.0f64, |a, &b| a.max(b))
+        .max(1e-3)
+        * 1.1;
+    let count = ticks.len() as i32;
+    let mut chart = ChartBuilder::on(root)
+        .caption(title, (FONT, 20))
+        .margin(12)
+        .x_label_area_size(36)
+        .y_label_area_size(60)
+        .build_cartesian_2d((0..count - 1).into_segmented(), 0f64..top)?;
+    // Every tick named while they fit; past 16, every k-th.
+    let every = ticks.len().div_ceil(16).max(1);
+    let tick_name = |value: &SegmentValue<i32>| match value {
+        SegmentValue::CenterOf(k) if (*k as usize).is_multiple_of(every) => {
+            ticks.get(*k as usize).cloned().unwrap_or_default()
+        }
+        _ => String::new(),
+    };
+    chart
+        .configure_mesh()
+        .x_desc(x_label)
+        .y_desc(y_label)
+        .label_style((FONT, 14))
+        .x_labels(ticks.len() + 1)
+        .x_label_formatter(&tick_name)
+        .light_line_style(WHITE)
+        .draw()?;
+    for (i, s) in series.iter().enumerate() {
+        let colour = COLOURS[i % COLOURS.len()];
+        // Past the palette, lines repeat its colours thicker.
+        let stroke = colour.stroke_width(1 + (i / COLOURS.len()) as u32 * 2);
+        let line: Vec<(SegmentValue<i32>, f64)> = s
+            .values
+            .iter()
+            .enumerate()
+            .filter_map(|(k, v)| v.map(|v| (SegmentValue::CenterOf(k as i32), v)))
+            .collect();
+        chart
+            .draw_series(LineSeries::new(line.clone(), stroke))?
+            .label(s.label.as_str())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], stroke));
+        chart.draw_series(line.into_iter().map(|p| Circle::new(p, 3, colour.filled())))?;
+    }
+    // The legend on the side away from the highest point.
+    let highest = series
+        .iter()
+        .flat_map(|s| s.values.iter().enumerate())
+        .filter_map(|(k, v)| v.map(|v| (k, v)))
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .map_or(0, |(k, _)| k);
+    let position = if highest * 2 >= ticks.len() {
+        SeriesLabelPosition::UpperLeft
+    } else {
+        SeriesLabelPosition::UpperRight
+    };
+    legend(&mut chart, position, 13)
 }

@@ -612,6 +612,17 @@ fn bad_input_gets_a_message_that_names_the_problem() {
             ],
             "past the end of path 'city streets'",
         ),
+        (
+            vec![
+                "bench".into(),
+                "builtin:boxes".into(),
+                "--sweep".into(),
+                "clamp".into(),
+                "--plot".into(),
+                dir.join("clamp.png").display().to_string(),
+            ],
+            "--plot draws `--sweep maps` and `--sweep slices` only",
+        ),
     ];
     for (args, expected) in cases {
         let output = run(shadowlab().args(&args));

@@ -7,6 +7,7 @@ mod maps;
 mod maps_plot;
 mod objects;
 mod pace;
+mod slices_plot;
 mod sweeps;
 mod table;
 
@@ -85,6 +86,9 @@ pub(crate) struct BenchRow {
 
 pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
     let methods = parse_methods(&args.methods)?;
+    if args.plot.is_some() && !matches!(args.sweep, Some(Sweep::Maps | Sweep::Slices)) {
+        anyhow::bail!("--plot draws `--sweep maps` and `--sweep slices` only");
+    }
     // Each size of the city is a scene of its own (`objects.rs`).
     if args.sweep == Some(Sweep::Objects) {
         return objects::sweep_objects(args, &methods);
@@ -142,7 +146,23 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
         set_speed_ups(&mut rows[first..], baseline.name());
     }
     set_fill_saved(&mut rows, baseline.name());
-    print_rows(&rows, baseline.name(), args)
+    print_rows(&rows, baseline.name(), args)?;
+    if let Some(out) = args
+        .plot
+        .as_ref()
+        .filter(|_| args.sweep == Some(Sweep::Slices))
+    {
+        let title = format!(
+            "{}: discrete clamping's slices (Lloyd's Figure 9), {}x{}, {} frames",
+            facts.name,
+            session.width,
+            session.height,
+            args.frames.max(1)
+        );
+        slices_plot::plot(&rows, baseline.name(), &title, out)?;
+        eprintln!("wrote {}", out.display());
+    }
+    Ok(())
 }
 
 /// Each row's speed-up: the baseline method's GPU frame time over the row's, among `rows` (one
@@ -162,6 +182,12 @@ fn set_speed_ups(rows: &mut [BenchRow], baseline: &str) {
 /// The table, the passes with `--passes`, the CSV with `--csv`.
 fn print_rows(rows: &[BenchRow], baseline: &str, args: &BenchArgs) -> anyhow::Result<()> {
     print!("{}", format_table(rows, baseline));
+    if let Some(pixels) = render_core::volumes::measured_pixels_per_vertex() {
+        println!(
+            "\nclamped volumes' V > R rule: a vertex is worth {pixels:.1} pixels, measured at \
+             start-up (`--volume-vertex-pixels` fixes it)"
+        );
+    }
     if args.passes {
         print!("\nGPU ms per pass (median)\n{}", format_passes(rows));
     }

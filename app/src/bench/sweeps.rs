@@ -32,6 +32,9 @@ impl From<&BenchArgs> for SweepValues {
 /// The shadow volumes' slice counts of `--sweep slices` (Lloyd's Figure 9).
 pub(crate) const SLICES: [u32; 6] = [1, 2, 4, 8, 16, 32];
 
+/// The label of `--sweep slices`' first setting: standard volumes, unclamped.
+pub(crate) const STANDARD_VOLUMES: &str = "standard";
+
 /// The settings of `sweep` over `values`, each with its label (`res 2048`, `sun 30°`...).
 /// Many lights' and the object counts' sweeps have rows of their own: they give the view's
 /// settings alone.
@@ -85,9 +88,11 @@ pub(crate) fn settings(
                 (format!("clamp {}", clamp.name()), s)
             })
             .collect(),
-        Sweep::Slices => SLICES
-            .into_iter()
-            .map(|slices| {
+        Sweep::Slices => {
+            // Standard volumes first: the rows after are measured against them.
+            let mut standard = with_setup(ShadowSetup::Volumes);
+            standard.volumes.clamp = VolumeClamp::None;
+            let sliced = SLICES.into_iter().map(|slices| {
                 let mut s = with_setup(ShadowSetup::Volumes);
                 if !matches!(s.volumes.clamp, VolumeClamp::Discrete) {
                     s.volumes.clamp = VolumeClamp::Conservative;
@@ -95,8 +100,11 @@ pub(crate) fn settings(
                 s.volumes.slices = slices;
                 let plural = if slices == 1 { "" } else { "s" };
                 (format!("{slices} slice{plural}"), s)
-            })
-            .collect(),
+            });
+            std::iter::once((STANDARD_VOLUMES.to_owned(), standard))
+                .chain(sliced)
+                .collect()
+        }
         Sweep::Virtual => {
             let mut single = with_setup(ShadowSetup::Single);
             single.shadow.resolution = 8192;
@@ -245,9 +253,12 @@ mod tests {
             ..base
         };
         assert_eq!(names(&point), [ShadowSetup::Volumes, ShadowSetup::Virtual]);
-        assert_eq!(slices.len(), SLICES.len());
-        assert_eq!(slices[5].1.volumes.slices, 32);
-        assert_eq!(slices[5].1.volumes.clamp, VolumeClamp::Conservative);
+        assert_eq!(slices.len(), 1 + SLICES.len());
+        assert_eq!(slices[0].0, STANDARD_VOLUMES);
+        assert_eq!(slices[0].1.volumes.clamp, VolumeClamp::None);
+        assert_eq!(slices[6].0, "32 slices");
+        assert_eq!(slices[6].1.volumes.slices, 32);
+        assert_eq!(slices[6].1.volumes.clamp, VolumeClamp::Conservative);
     }
 
     #[test]

@@ -86,9 +86,11 @@ pub struct BenchArgs {
     /// Also write the table as CSV.
     #[arg(long, value_name = "FILE")]
     pub csv: Option<PathBuf>,
-    /// `--sweep maps`: also draw it as a PNG, Rákos's figures: per map size, the maps' GPU
-    /// time and the CPU time of recording them against the number of maps, a line per path
-    /// and culling.
+    /// Also draw the sweep as a PNG. `--sweep maps`: Rákos's figures, per map size the maps'
+    /// GPU time and the CPU time of recording them against the number of maps, a line per
+    /// path and culling. `--sweep slices`: Lloyd's Figure 9, the GPU time standard volumes
+    /// take and per method the stencil pass, the cull and clamp, and the time saved against
+    /// the slices.
     #[arg(long, value_name = "FILE.png")]
     pub plot: Option<PathBuf>,
     /// Also print each method's GPU time per pass, with the culling's steps inside it
@@ -201,8 +203,9 @@ pub enum Sweep {
     Virtual,
     /// Shadow volumes with each clamping (none, continuous, discrete, conservative).
     Clamp,
-    /// Shadow volumes with conservative discrete clamping over 1, 2, 4, 8, 16 and 32 slices
-    /// (Lloyd's Figure 9); `--volume-clamp discrete` for the image-precision test.
+    /// Standard shadow volumes, then conservative discrete clamping over 1, 2, 4, 8, 16 and
+    /// 32 slices against them (Lloyd's Figure 9); `--volume-clamp discrete` for the
+    /// image-precision test.
     Slices,
     /// Many lights (Rákos's figures): every path (traditional, multiview, atlas) for each of
     /// `--light-counts` and `--map-sizes`, a row each with its passes, draws and CPU time.

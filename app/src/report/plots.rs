@@ -6,12 +6,7 @@ use std::path::Path;
 use plotters::prelude::*;
 
 use crate::plot_png::{Area, COLOURS, DrawResult, FONT, legend, write_png};
-
-/// One line along the path: a value per measured frame (none where it was not measured).
-pub struct Series {
-    pub label: String,
-    pub values: Vec<Option<f64>>,
-}
+pub use crate::plot_png::{Series, across};
 
 /// One row of a family as a point: its cost and its error.
 #[derive(Clone, Debug)]
@@ -21,7 +16,7 @@ pub struct Point {
     pub y: f64,
 }
 
-const SIZE: (u32, u32) = (960, 480);
+use crate::plot_png::SIZE;
 
 /// `series` against the frame index, a line each, into the PNG `out`.
 pub fn along_path(
@@ -37,89 +32,6 @@ pub fn along_path(
         (title, "frame along the path", y_label),
         out,
     )
-}
-
-/// `series` across the values `ticks` names (a sweep's settings, the frames of a path), a
-/// line each, into the PNG `out`.
-pub fn across(
-    series: &[Series],
-    ticks: &[String],
-    (title, x_label, y_label): (&str, &str, &str),
-    out: &Path,
-) -> anyhow::Result<()> {
-    if ticks.is_empty() || series.iter().all(|s| s.values.iter().all(Option::is_none)) {
-        anyhow::bail!("{title}: nothing was measured");
-    }
-    write_png(SIZE, out, |root| {
-        draw_lines(root, series, ticks, (title, x_label, y_label))
-    })
-}
-
-fn draw_lines(
-    root: &Area<'_>,
-    series: &[Series],
-    ticks: &[String],
-    (title, x_label, y_label): (&str, &str, &str),
-) -> DrawResult {
-    let top = series
-        .iter()
-        .flat_map(|s| s.values.iter().flatten())
-        .fold(0.0f64, |a, &b| a.max(b))
-        .max(1e-3)
-        * 1.1;
-    let count = ticks.len() as i32;
-    let mut chart = ChartBuilder::on(root)
-        .caption(title, (FONT, 20))
-        .margin(12)
-        .x_label_area_size(36)
-        .y_label_area_size(60)
-        .build_cartesian_2d((0..count - 1).into_segmented(), 0f64..top)?;
-    // Every tick named while they fit; past 16, every k-th.
-    let every = ticks.len().div_ceil(16).max(1);
-    let tick_name = |value: &SegmentValue<i32>| match value {
-        SegmentValue::CenterOf(k) if (*k as usize).is_multiple_of(every) => {
-            ticks.get(*k as usize).cloned().unwrap_or_default()
-        }
-        _ => String::new(),
-    };
-    chart
-        .configure_mesh()
-        .x_desc(x_label)
-        .y_desc(y_label)
-        .label_style((FONT, 14))
-        .x_labels(ticks.len() + 1)
-        .x_label_formatter(&tick_name)
-        .light_line_style(WHITE)
-        .draw()?;
-    for (i, s) in series.iter().enumerate() {
-        let colour = COLOURS[i % COLOURS.len()];
-        // Past the palette, lines repeat its colours thicker.
-        let stroke = colour.stroke_width(1 + (i / COLOURS.len()) as u32 * 2);
-        let line: Vec<(SegmentValue<i32>, f64)> = s
-            .values
-            .iter()
-            .enumerate()
-            .filter_map(|(k, v)| v.map(|v| (SegmentValue::CenterOf(k as i32), v)))
-            .collect();
-        chart
-            .draw_series(LineSeries::new(line.clone(), stroke))?
-            .label(s.label.as_str())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], stroke));
-        chart.draw_series(line.into_iter().map(|p| Circle::new(p, 3, colour.filled())))?;
-    }
-    // The legend on the side away from the highest point.
-    let highest = series
-        .iter()
-        .flat_map(|s| s.values.iter().enumerate())
-        .filter_map(|(k, v)| v.map(|v| (k, v)))
-        .max_by(|a, b| a.1.total_cmp(&b.1))
-        .map_or(0, |(k, _)| k);
-    let position = if highest * 2 >= ticks.len() {
-        SeriesLabelPosition::UpperLeft
-    } else {
-        SeriesLabelPosition::UpperRight
-    };
-    legend(&mut chart, position, 13)
 }
 
 /// The points no other point beats in both cost and error (lower is better in both), by

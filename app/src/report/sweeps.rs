@@ -113,8 +113,8 @@ impl ReportSweep {
                  practical blend and by Engel's geometric series"
             }
             Self::Slices => {
-                "Slicing planes (Lloyd et al.'s Figure 9): CC shadow volumes, conservative \
-                 clamping over 1 to 32 slices"
+                "Slicing planes (Lloyd et al.'s Figure 9): standard shadow volumes, then CC \
+                 shadow volumes with conservative clamping over 1 to 32 slices"
             }
             Self::Maps => {
                 "Number of maps (Rákos's Figure 19.3): the scene's first 1 to 32 lights, each \
