@@ -104,19 +104,17 @@ fn draw_lines(
     ticks: &[String],
     (title, x_label, y_label): (&str, &str, &str),
 ) -> DrawResult {
-    let top = series
-        .iter()
-        .flat_map(|s| s.values.iter().flatten())
-        .fold(0.0f64, |a, &b| a.max(b))
-        .max(1e-3)
-        * 1.1;
+    let values = || series.iter().flat_map(|s| s.values.iter().flatten());
+    let top = values().fold(0.0f64, |a, &b| a.max(b)).max(1e-3) * 1.1;
+    // Zero in view; below it where a value is (time saved can be negative).
+    let bottom = values().fold(0.0f64, |a, &b| a.min(b)) * 1.1;
     let count = ticks.len() as i32;
     let mut chart = ChartBuilder::on(root)
         .caption(title, (FONT, 20))
         .margin(12)
         .x_label_area_size(36)
         .y_label_area_size(60)
-        .build_cartesian_2d((0..count - 1).into_segmented(), 0f64..top)?;
+        .build_cartesian_2d((0..count - 1).into_segmented(), bottom..top)?;
     // Every tick named while they fit; past 16, every k-th.
     let every = ticks.len().div_ceil(16).max(1);
     let tick_name = |value: &SegmentValue<i32>| match value {

@@ -149,10 +149,19 @@ mod tests {
         assert_eq!(lines[6].values, [Some(11.0), Some(12.0)]);
         // Without standard volumes' time there is nothing to save against.
         assert!(series(&rows[2..], "none").is_err());
+        // Clamping may cost more than it saves: a negative saving is drawn too.
+        let mut dearer = rows.clone();
+        dearer[5].shadow_pass_ms = Some(26.0);
+        assert_eq!(
+            series(&dearer, "none").unwrap().0[6].values,
+            [Some(11.0), Some(-6.0)]
+        );
         let out = std::env::temp_dir().join(format!("slices-plot-{}.png", std::process::id()));
-        plot(&rows, "none", "test", &out).unwrap();
-        let image = image::open(&out).unwrap();
-        assert_eq!((image.width(), image.height()), crate::plot_png::SIZE);
+        for drawn in [&rows[..], &dearer[..]] {
+            plot(drawn, "none", "test", &out).unwrap();
+            let image = image::open(&out).unwrap();
+            assert_eq!((image.width(), image.height()), crate::plot_png::SIZE);
+        }
         let _ = std::fs::remove_file(out);
     }
 }
