@@ -38,8 +38,8 @@ const ROBOT_PAINT: [[f32; 4]; 4] = [
 /// body, arms, and head with its antenna, each a closed solid and a mesh of its own. Each part
 /// is an instance, so each is a shadow caster of its own: Lloyd et al. clamp each caster's
 /// volume to the depths its receivers occupy, and say that "a coarser object subdivision ...
-/// leads to less fill savings" (their 5; their 3.3 clamps sub-objects of one parent). A leg's
-/// shadow then reaches only where a leg's does.
+/// leads to less fill savings" (their 5; in their 3.3 casters are sub-objects of one parent
+/// object). A leg's volume then reaches only the depths where the leg's own shadow falls.
 fn robot_parts() -> [Mesh; PARTS] {
     let part = |name: &str, add: &dyn Fn(&mut MeshBuilder)| {
         let mut b = MeshBuilder::default();
