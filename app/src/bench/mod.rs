@@ -147,17 +147,15 @@ pub fn bench(args: &BenchArgs) -> anyhow::Result<()> {
     }
     set_fill_saved(&mut rows, baseline.name());
     print_rows(&rows, baseline.name(), args)?;
-    if let Some(out) = args
-        .plot
-        .as_ref()
-        .filter(|_| args.sweep == Some(Sweep::Slices))
-    {
+    // `--plot` is checked above to come with maps (returned already) or slices.
+    if let Some(out) = &args.plot {
         let title = format!(
-            "{}: discrete clamping's slices (Lloyd's Figure 9), {}x{}, {} frames",
+            "{}: discrete clamping's slices (Lloyd's Figure 9), {}x{}, {} frame{}",
             facts.name,
             session.width,
             session.height,
-            args.frames.max(1)
+            args.frames.max(1),
+            if args.frames > 1 { "s" } else { "" }
         );
         slices_plot::plot(&rows, baseline.name(), &title, out)?;
         eprintln!("wrote {}", out.display());

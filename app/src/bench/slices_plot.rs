@@ -9,8 +9,8 @@ use std::path::Path;
 
 use render_core::frame::pass_label;
 
-use super::BenchRow;
 use super::sweeps::STANDARD_VOLUMES;
+use super::{BenchRow, median};
 use crate::plot_png::{Series, across};
 
 /// The lines of the figure from the sweep's `rows` (standard volumes' first), `baseline`
@@ -53,10 +53,11 @@ fn series(rows: &[BenchRow], baseline: &str) -> anyhow::Result<(Vec<Series>, Vec
             label: format!("{method}: {label}"),
             values: ticks.iter().map(|t| at(t).and_then(|r| value(r))).collect(),
         };
+        // The stencil pass as the report's slices plot takes it.
         lines.push(line("stencil pass", &|r| {
-            pass_ms(r, &[pass_label::SHADOW_VOLUMES], 0)
+            median(r.volume_pass_frames.clone())
         }));
-        lines.push(line("cull + clamp", &|r| pass_ms(r, &CLAMPING, 1)));
+        lines.push(line("cull + clamp", &clamping_ms));
         lines.push(line("saved", &|r| r.shadow_pass_ms.map(|ms| standard - ms)));
     }
     Ok((lines, ticks))
@@ -69,13 +70,12 @@ const CLAMPING: [&str; 3] = [
     pass_label::volumes::BIG_CASTERS,
 ];
 
-/// The median GPU ms of `row`'s passes (or steps, at `depth`) named `labels`, summed; none
-/// where none was timed.
-fn pass_ms(row: &BenchRow, labels: &[&str], depth: u32) -> Option<f64> {
+/// The median GPU ms of `row`'s [`CLAMPING`] steps, summed; none where none was timed.
+fn clamping_ms(row: &BenchRow) -> Option<f64> {
     let timed: Vec<f64> = row
         .passes
         .iter()
-        .filter(|(label, d, _)| *d == depth && labels.contains(&label.as_str()))
+        .filter(|(label, depth, _)| *depth == 1 && CLAMPING.contains(&label.as_str()))
         .map(|(_, _, ms)| *ms)
         .collect();
     (!timed.is_empty()).then(|| timed.iter().sum())
@@ -112,8 +112,8 @@ mod tests {
             (pass_label::VOLUME_SILHOUETTES.to_owned(), 0, 5.0),
             (pass_label::volumes::RECEIVER_GRID.to_owned(), 1, 0.5),
             (pass_label::volumes::CULL_AND_CLAMP.to_owned(), 1, 1.0),
-            (pass_label::SHADOW_VOLUMES.to_owned(), 0, stencil),
         ];
+        r.volume_pass_frames = vec![stencil, stencil + 2.0, stencil - 2.0];
         r
     }
 

@@ -103,20 +103,17 @@ pub(super) fn robots_scene(name: String, seed: u64) -> Scene {
         let jitter = rng.range_f32(0.0, length / PER_ROW as f32);
         for k in 0..PER_ROW {
             let paint = ROBOT_PAINT[rng.below(ROBOT_PAINT.len())];
-            let motion = Motion {
-                instance: 0,
+            // The parts walk together: each instance's motion is the robot's path.
+            let motion_of = |instance: usize| Motion {
+                instance: instance as u32,
                 start,
                 direction,
                 length_m: length,
                 offset_m: (jitter + length * k as f32 / PER_ROW as f32) % length,
                 speed_m_per_s: WALK_M_PER_S,
             };
-            // The parts walk together: one motion each, the same path.
             for (part, mesh) in meshes.iter().enumerate().skip(first_part) {
-                motions.push(Motion {
-                    instance: instances.len() as u32,
-                    ..motion
-                });
+                let motion = motion_of(instances.len());
                 instances.push(
                     Instance::new(
                         format!("robot_{row}_{k}_{}", mesh.name),
@@ -127,6 +124,7 @@ pub(super) fn robots_scene(name: String, seed: u64) -> Scene {
                     .with_color(paint)
                     .with_mobility(Mobility::Dynamic),
                 );
+                motions.push(motion);
             }
         }
     }
