@@ -181,4 +181,13 @@ fn constants_named_on_both_sides_agree() {
     ] {
         assert_eq!(u32_constant(&camera, name), Some(value), "{name}");
     }
+    let volumes = shaders
+        .iter()
+        .find(|(name, _)| name == "volumes/draw.wgsl")
+        .map(|(name, source)| validate(name, source))
+        .expect("the volumes' draw shader is composed");
+    assert_eq!(
+        u32_constant(&volumes, "CAP_RECORDS"),
+        Some(crate::volumes::CAP_RECORDS)
+    );
 }

@@ -71,6 +71,7 @@ const FILES: &[(&str, &str)] = &[
     ("frame/camera.wgsl", include_str!("frame/camera.wgsl")),
     ("volumes/common.wgsl", include_str!("volumes/common.wgsl")),
     ("volumes/find.wgsl", include_str!("volumes/find.wgsl")),
+    ("volumes/records.wgsl", include_str!("volumes/records.wgsl")),
     (
         "volumes/point_light.wgsl",
         include_str!("volumes/point_light.wgsl"),

@@ -69,6 +69,12 @@ fn away_from_light(p: vec3<f32>) -> vec3<f32> {
     return -volume.to_light.xyz;
 }
 
+// Whether a volume that reaches `distance` from its caster is drawn to infinity: a point
+// light's that reach past the scene (volumes/draw.wgsl `extruded`).
+fn at_infinity(distance: f32) -> bool {
+    return from_point() && distance >= volume.to_light.w;
+}
+
 // Discrete clamping's most slices, and the most intervals a caster's volume is drawn in.
 // Keep in sync with volumes/pipelines.rs.
 const MAX_SLICES: u32 = 32u;
@@ -76,6 +82,35 @@ const MAX_INTERVALS: u32 = 4u;
 // A record's caster word: the caster, and its interval from this bit on.
 const INTERVAL_SHIFT: u32 = 28u;
 const CASTER_BITS: u32 = 0x0fffffffu;
+// The indirect draws of the volume faces (volumes/find.wgsl `draws`, volumes/pipelines.rs
+// `DRAWS`): z-fail, then z-pass, each quads, caps at the casters, moved caps.
+const QUADS: u32 = 0u;
+const CAPS_AT_CASTERS: u32 = 1u;
+const MOVED_CAPS: u32 = 2u;
+const Z_PASS_DRAWS: u32 = 3u;
+// The vertices of one record of draw `k` (volumes/draw.wgsl): a quad's two triangles, or a
+// cap's one. The draws are not instanced: a GPU shades tiny instances a warp each, and
+// llvmpipe runs its vertex pipeline once per instance.
+fn record_vertices(k: u32) -> u32 {
+    return select(3u, 6u, k % Z_PASS_DRAWS == QUADS);
+}
+// Where cap records lie in their buffer, of CAP_RECORDS a triangle item (volumes/scene.rs):
+// first those of the caps at the casters (an interval starting at its caster, as at most one
+// of a triangle's does: its near or past-far cap), then those of the caps moved along the
+// light (where an interval starting further on starts, and where each ends: two for each
+// record of the at most two intervals per triangle item that `within_room` leaves room
+// for). Each part holds z-fail records from its start and z-pass records from its end.
+const CAP_RECORDS: u32 = 5u;
+fn cap_slot(k: u32, n: u32) -> u32 {
+    let triangles = volume.counts.y;
+    var start = 0u;
+    var end = triangles;
+    if (k % Z_PASS_DRAWS == MOVED_CAPS) {
+        start = triangles;
+        end = triangles * CAP_RECORDS;
+    }
+    return select(start + n, end - 1u - n, k >= Z_PASS_DRAWS);
+}
 
 // One caster: its mesh's edges and triangles, where its vertices start, whether its mesh is
 // closed, and its mesh's box (xyz). Keep in sync with volumes/scene.rs (CasterGpu).
@@ -111,6 +146,9 @@ const PAST_FAR: u32 = 0x40000000u;
 const COUNT_BITS: u32 = 0x3fffffffu;
 // A record's high bit: extruded the other way round (negative multiplicity).
 const REVERSED: u32 = 0x80000000u;
+// A moved cap record's next bit: the cap where its interval starts (else where it ends).
+const AT_START: u32 = 0x40000000u;
+const TRIANGLE_BITS: u32 = 0x3fffffffu;
 // Float32 per scene vertex: position, then normal (scene_gpu/gpu_data.rs Vertex).
 const VERTEX_FLOATS: u32 = 6u;
 

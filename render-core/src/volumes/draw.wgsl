@@ -1,5 +1,6 @@
-// Stencil shadow volumes of the sun, second step (volumes/mod.rs): four indirect draws build
-// each record of volumes/find.wgsl into triangles from the scene's vertices, wound outwards.
+// Stencil shadow volumes, second step (volumes/mod.rs): eight pipelines over six indirect
+// draws build each record of volumes/records.wgsl into triangles from the scene's vertices,
+// wound outwards.
 // Z-fail volumes: back faces behind the visible surface count +1, front faces -1; z-pass
 // volumes: front faces in front of it +1, back faces -1 (two-sided either way), so the
 // stencil holds how many volumes hold the visible point.
@@ -27,7 +28,7 @@ fn interval_of(caster_word: u32) -> vec2<f32> {
 // past the scene go to infinity (w = 0: a flat cap between far points would sag back into
 // the scene; depth clamping keeps them), the sun's to past the scene.
 fn extruded(p: vec3<f32>, distance: f32) -> VolumeOut {
-    if (from_point() && distance >= volume.to_light.w) {
+    if (at_infinity(distance)) {
         return at_clip(frame.clip_from_world * vec4<f32>(away_from_light(p), 0.0));
     }
     return on_screen(p + away_from_light(p) * distance);
@@ -43,71 +44,67 @@ fn on_screen(p: vec3<f32>) -> VolumeOut {
 }
 
 // A silhouette quad across one interval, wound outwards: the edge as its lit triangle winds
-// it, (b, a, a', b'), from the interval's start to its end.
+// it, (b, a, a', b'), from the interval's start to its end, as two triangles. Each vertex
+// moves only its own corner.
 fn quad(v: u32, record: vec2<u32>) -> VolumeOut {
     let c = casters[record.x & CASTER_BITS];
     let span = interval_of(record.x);
     let e = edges[record.y & ~REVERSED];
-    var a = world_vertex(c, e.a);
-    var b = world_vertex(c, e.b);
-    if ((record.y & REVERSED) != 0u) {
-        let t = a;
-        a = b;
-        b = t;
-    }
-    let corners = array<VolumeOut, 4>(
-        extruded(b, span.x),
-        extruded(a, span.x),
-        extruded(a, span.y),
-        extruded(b, span.y),
-    );
     let order = array<u32, 6>(0u, 1u, 2u, 0u, 2u, 3u);
-    return in_strips(corners[order[v]], record.x);
+    let corner = order[v];
+    let on_b = (corner == 0u || corner == 3u) != ((record.y & REVERSED) != 0u);
+    let p = world_vertex(c, select(e.a, e.b, on_b));
+    return in_strips(extruded(p, select(span.y, span.x, corner < 2u)), record.x);
+}
+
+// Vertex `i` of a draw is vertex `i % record_vertices(k)` of record `i / record_vertices(k)`
+// (common.wgsl).
+@vertex
+fn vs_quad(@builtin(vertex_index) i: u32) -> VolumeOut {
+    return quad(i % 6u, quad_records[i / 6u]);
 }
 
 @vertex
-fn vs_quad(@builtin(vertex_index) v: u32, @builtin(instance_index) r: u32) -> VolumeOut {
-    return quad(v, quad_records[r]);
+fn vs_quad_pass(@builtin(vertex_index) i: u32) -> VolumeOut {
+    return quad(i % 6u, quad_records[from_end(i / 6u, arrayLength(&quad_records))]);
 }
 
-@vertex
-fn vs_quad_pass(@builtin(vertex_index) v: u32, @builtin(instance_index) r: u32) -> VolumeOut {
-    return quad(v, quad_records[from_end(r, arrayLength(&quad_records))]);
+// Corner `k` of a cap record's triangle as it casts: wound the other way where its back
+// faces the light (REVERSED), so that every cap is wound outwards.
+fn cap_corner(record: vec2<u32>, k: u32) -> vec3<f32> {
+    let c = casters[record.x & CASTER_BITS];
+    let swapped = array<u32, 3>(0u, 2u, 1u);
+    let corner = select(k, swapped[k], (record.y & REVERSED) != 0u);
+    return world_vertex(c, indices[(c.first_triangle + (record.y & TRIANGLE_BITS)) * 3u + corner]);
 }
 
-// Which caps a pipeline draws (volumes/pipelines.rs `Faces`).
-const NEAR_CAPS: u32 = 0u;
-const PAST_FAR_CAPS: u32 = 1u;
-const MOVED_CAPS: u32 = 2u;
+// The cap record of draw `k`'s vertex `i` (common.wgsl `cap_slot`).
+fn cap_record(k: u32, i: u32) -> vec2<u32> {
+    return cap_records[cap_slot(k, i / 3u)];
+}
 
-// A casting triangle's caps across one interval, drawn by three pipelines
-// (volumes/pipelines.rs). Vertices 0 to 2: where the interval starts at the caster, the near
-// cap, the triangle itself as it faces the sun (clipped at the near plane like the camera's
-// passes, unless the caster reaches past the far plane, then depth clamped; both pushed
-// back); where it starts further on, the triangle moved there. Vertices 3 to 5: the triangle
-// moved to where the interval ends, wound the other way. Each pipeline collapses the
-// vertices it does not draw.
-fn cap(v: u32, record: vec2<u32>, faces: u32) -> VolumeOut {
-    let span = interval_of(record.x);
-    var drawn = MOVED_CAPS;
-    if (v < 3u && span.x == 0.0) {
-        drawn = select(NEAR_CAPS, PAST_FAR_CAPS, (kept[record.x & CASTER_BITS] & PAST_FAR) != 0u);
-    }
-    if (drawn != faces) {
+// A cap where its interval starts at the caster (volumes/records.wgsl `find_caps`): the
+// casting triangle itself, clipped at the near plane like the camera's passes (near caps), or
+// depth clamped where the caster reaches past the far plane (past-far caps), pushed back
+// either way (volumes/pipelines.rs `Faces`). A pipeline draws the one it is for and
+// collapses the other.
+fn cap_at_caster(i: u32, record: vec2<u32>, past_far: bool) -> VolumeOut {
+    if (((kept[record.x & CASTER_BITS] & PAST_FAR) != 0u) != past_far) {
         return nothing();
     }
-    let c = casters[record.x & CASTER_BITS];
-    var p = triangle(c, record.y & ~REVERSED);
-    if ((record.y & REVERSED) != 0u) {
-        let t = p[1];
-        p[1] = p[2];
-        p[2] = t;
-    }
-    if (v < 3u) {
-        return in_strips(extruded(p[v], span.x), record.x);
+    let span = interval_of(record.x);
+    return in_strips(extruded(cap_corner(record, i % 3u), span.x), record.x);
+}
+
+// A cap moved along the light: the triangle where its interval starts further on, as it
+// faces the light, or where it ends, wound the other way.
+fn moved_cap(i: u32, record: vec2<u32>) -> VolumeOut {
+    let span = interval_of(record.x);
+    if ((record.y & AT_START) != 0u) {
+        return in_strips(extruded(cap_corner(record, i % 3u), span.x), record.x);
     }
     let far = array<u32, 3>(0u, 2u, 1u);
-    return in_strips(extruded(p[far[v - 3u]], span.y), record.x);
+    return in_strips(extruded(cap_corner(record, far[i % 3u]), span.y), record.x);
 }
 
 fn nothing() -> VolumeOut {
@@ -115,48 +112,34 @@ fn nothing() -> VolumeOut {
 }
 
 @vertex
-fn vs_near_cap(@builtin(vertex_index) v: u32, @builtin(instance_index) r: u32) -> VolumeOut {
-    return cap(v, cap_records[r], NEAR_CAPS);
+fn vs_near_cap(@builtin(vertex_index) i: u32) -> VolumeOut {
+    return cap_at_caster(i, cap_record(CAPS_AT_CASTERS, i), false);
 }
 
 @vertex
-fn vs_past_far_cap(@builtin(vertex_index) v: u32, @builtin(instance_index) r: u32) -> VolumeOut {
-    return cap(v, cap_records[r], PAST_FAR_CAPS);
+fn vs_past_far_cap(@builtin(vertex_index) i: u32) -> VolumeOut {
+    return cap_at_caster(i, cap_record(CAPS_AT_CASTERS, i), true);
 }
 
 @vertex
-fn vs_moved_cap(@builtin(vertex_index) v: u32, @builtin(instance_index) r: u32) -> VolumeOut {
-    return cap(v, cap_records[r], MOVED_CAPS);
+fn vs_moved_cap(@builtin(vertex_index) i: u32) -> VolumeOut {
+    return moved_cap(i, cap_record(MOVED_CAPS, i));
 }
 
-fn cap_from_end(r: u32) -> vec2<u32> {
-    return cap_records[from_end(r, arrayLength(&cap_records))];
-}
-
-// Z-pass: a closed caster's near cap is its own lit surface, which a camera ray outside the
-// volume can cross only where it ends, so only the far cap is drawn. An open mesh's triangle
-// can be seen through from its back, so it keeps both.
-fn near_cap_pass(v: u32, r: u32, faces: u32) -> VolumeOut {
-    let record = cap_from_end(r);
-    if (casters[record.x & CASTER_BITS].closed != 0u) {
-        return nothing();
-    }
-    return cap(v, record, faces);
+// Z-pass: only open meshes have caps at their casters (volumes/records.wgsl `find_caps`).
+@vertex
+fn vs_near_cap_pass(@builtin(vertex_index) i: u32) -> VolumeOut {
+    return cap_at_caster(i, cap_record(Z_PASS_DRAWS + CAPS_AT_CASTERS, i), false);
 }
 
 @vertex
-fn vs_near_cap_pass(@builtin(vertex_index) v: u32, @builtin(instance_index) r: u32) -> VolumeOut {
-    return near_cap_pass(v, r, NEAR_CAPS);
+fn vs_past_far_cap_pass(@builtin(vertex_index) i: u32) -> VolumeOut {
+    return cap_at_caster(i, cap_record(Z_PASS_DRAWS + CAPS_AT_CASTERS, i), true);
 }
 
 @vertex
-fn vs_past_far_cap_pass(@builtin(vertex_index) v: u32, @builtin(instance_index) r: u32) -> VolumeOut {
-    return near_cap_pass(v, r, PAST_FAR_CAPS);
-}
-
-@vertex
-fn vs_moved_cap_pass(@builtin(vertex_index) v: u32, @builtin(instance_index) r: u32) -> VolumeOut {
-    return cap(v, cap_from_end(r), MOVED_CAPS);
+fn vs_moved_cap_pass(@builtin(vertex_index) i: u32) -> VolumeOut {
+    return moved_cap(i, cap_record(Z_PASS_DRAWS + MOVED_CAPS, i));
 }
 
 // The fill pass (when measuring or showing the fill heat map): the same faces with the depth

@@ -4,7 +4,7 @@
 //! visible surface for z-fail, in front of it for z-pass) and per pixel (`fs_fill` in `draw.wgsl`). The totals travel with the culling counters;
 //! the per-pixel counts make the fill heat map (`fill_heat.wgsl`).
 
-use super::pipelines::{VolumePass, VolumePipelines, read_only_pass};
+use super::pipelines::{DrawModules, StripPipelines, VolumePass, read_only_pass};
 use crate::gpu::{
     bind_group_layout, buffer_entry, depth_texture, draw_fullscreen, fullscreen_pipeline,
     pipeline_layout, storage, uniform, view_entry,
@@ -18,6 +18,8 @@ pub(super) struct FillDraw<'a> {
     pub scene: &'a wgpu::BindGroup,
     pub records: &'a wgpu::BindGroup,
     pub draws: &'a wgpu::Buffer,
+    /// Whether the volumes are cut to their strips (`StripPipelines::draw`).
+    pub cut: bool,
     /// Where the totals go: bytes 8 to 16 of the counters read back.
     pub counters: &'a wgpu::Buffer,
 }
@@ -29,7 +31,7 @@ struct Counts {
 
 pub(super) struct Fill {
     layout: wgpu::BindGroupLayout,
-    pipelines: VolumePipelines,
+    pipelines: StripPipelines,
     heat_layout: wgpu::BindGroupLayout,
     heat: wgpu::RenderPipeline,
     size_uniform: wgpu::Buffer,
@@ -37,12 +39,12 @@ pub(super) struct Fill {
 }
 
 impl Fill {
-    /// `layouts`: groups 0 to 2 of the volume draws; `module` holds their vertex entries,
+    /// `layouts`: groups 0 to 2 of the volume draws; `modules` hold their vertex entries,
     /// `fs_fill` and `fs_fill_pass`.
     pub fn new(
         device: &wgpu::Device,
         layouts: [&wgpu::BindGroupLayout; 3],
-        module: &wgpu::ShaderModule,
+        modules: &DrawModules,
         (format, depth_clamped): (wgpu::TextureFormat, bool),
     ) -> Self {
         let layout = bind_group_layout(
@@ -56,10 +58,10 @@ impl Fill {
             "VolumeFill::pipeline_layout",
             &[layouts[0], layouts[1], layouts[2], &layout],
         );
-        let pipelines = VolumePipelines::new(
+        let pipelines = StripPipelines::new(
             device,
-            (&pipeline_layout, module),
-            (format, depth_clamped, false),
+            (&pipeline_layout, modules),
+            (format, depth_clamped),
             VolumePass::Fill,
         );
         let heat_layout = bind_group_layout(
@@ -137,7 +139,7 @@ impl Fill {
             pass.set_bind_group(1, draw.scene, &[]);
             pass.set_bind_group(2, draw.records, &[]);
             pass.set_bind_group(3, &group, &[]);
-            self.pipelines.draw(&mut pass, draw.draws);
+            self.pipelines.draw(&mut pass, draw.draws, draw.cut);
         }
         encoder.copy_buffer_to_buffer(counts, 0, draw.counters, 8, 8);
     }

@@ -1,30 +1,25 @@
 // Stencil shadow volumes, first step (volumes/mod.rs): per caster, the edges whose
 // quad is extruded (the silhouette, from the edge adjacency of volumes/edges.rs) and the
-// triangles that cap the volume, appended as records that the draw passes
-// (volumes/draw.wgsl) turn into triangles.
+// triangles that cap the volume, appended as records (volumes/records.wgsl) that the draw
+// passes (volumes/draw.wgsl) turn into triangles.
 #import volumes/common.wgsl
 #import volumes/point_light.wgsl
 #import volumes/footprint.wgsl
 #import volumes/shadowing.wgsl
 #import volumes/grid.wgsl
 #import volumes/big_casters.wgsl
+#import volumes/records.wgsl
 #import culling/codes.wgsl
-
-// vertex_count, instance_count, first_vertex, first_instance; quads then caps.
-struct DrawArgs {
-    vertex_count: u32,
-    instance_count: atomic<u32>,
-    first_vertex: u32,
-    first_instance: u32,
-}
 
 @group(2) @binding(0) var<storage, read_write> quads: array<vec2<u32>>;
 @group(2) @binding(1) var<storage, read_write> caps: array<vec2<u32>>;
-// z-fail quads and caps, z-pass quads and caps (volumes/pipelines.rs DRAWS).
-@group(2) @binding(2) var<storage, read_write> draws: array<DrawArgs, 4>;
+// z-fail quads, caps at the casters and moved caps, then z-pass (volumes/pipelines.rs
+// DRAWS).
+@group(2) @binding(2) var<storage, read_write> draws: array<DrawArgs, 6>;
 // Per caster, how many intervals of its volume are drawn (0: none), with Z_PASS set where
 // the stencil counts it z-pass; and the intervals, MAX_INTERVALS per caster (common.wgsl).
-// Z-fail records fill `quads` and `caps` from the start, z-pass records from the end.
+// Z-fail records fill `quads` and each part of `caps` from the start, z-pass records from
+// the end (common.wgsl `cap_slot`).
 @group(2) @binding(3) var<storage, read_write> kept: array<u32>;
 @group(2) @binding(4) var<storage, read_write> intervals: array<vec2<f32>>;
 // Per interval, the strips of the picture its volume is drawn across (`strips_word`).
@@ -511,87 +506,3 @@ fn counts_z_pass(lo: vec3<f32>, hi: vec3<f32>, reach: f32) -> bool {
     return any(near_hi.xy < lo.xy) || any(near_lo.xy > hi.xy) || near_hi.z < lo.z
         || near_lo.z > hi.z + reach;
 }
-
-fn z_pass(caster: u32) -> bool {
-    return (kept[caster] & Z_PASS) != 0u;
-}
-
-fn append_quad(caster: u32, interval: u32, edge: u32, reversed: bool) {
-    let record = vec2<u32>(caster | (interval << INTERVAL_SHIFT), edge | select(0u, REVERSED, reversed));
-    if (z_pass(caster)) {
-        quads[arrayLength(&quads) - 1u - atomicAdd(&draws[2].instance_count, 1u)] = record;
-    } else {
-        quads[atomicAdd(&draws[0].instance_count, 1u)] = record;
-    }
-}
-
-// One edge of one caster: its quad per interval, as many times as its multiplicity.
-@compute @workgroup_size(64)
-fn find_silhouettes(@builtin(global_invocation_id) id: vec3<u32>) {
-    let item = id.x + id.y * 65535u * 64u;
-    if (item >= volume.counts.x) {
-        return;
-    }
-    let ci = caster_of(item, false);
-    let count = kept[ci] & COUNT_BITS;
-    if (count == 0u) {
-        return;
-    }
-    let c = casters[ci];
-    let edge = c.first_edge + item - c.edge_start;
-    let e = edges[edge];
-    var m = face_sign(c, e.face);
-    if (e.opposite != NO_FACE) {
-        m -= face_sign(c, e.opposite);
-    }
-    for (var r = 0u; r < count; r++) {
-        for (var k = 0; k < abs(m); k++) {
-            append_quad(ci, r, edge, m < 0);
-        }
-    }
-}
-
-// One triangle of one caster: its caps per interval when it casts.
-@compute @workgroup_size(64)
-fn find_caps(@builtin(global_invocation_id) id: vec3<u32>) {
-    let item = id.x + id.y * 65535u * 64u;
-    if (item >= volume.counts.y) {
-        return;
-    }
-    let ci = caster_of(item, true);
-    let count = kept[ci] & COUNT_BITS;
-    if (count == 0u) {
-        return;
-    }
-    let c = casters[ci];
-    let t = item - c.triangle_start;
-    let s = face_sign(c, t);
-    if (s == 0) {
-        return;
-    }
-    for (var r = 0u; r < count; r++) {
-        let record = vec2<u32>(ci | (r << INTERVAL_SHIFT), t | select(0u, REVERSED, s < 0));
-        if (z_pass(ci)) {
-            caps[arrayLength(&caps) - 1u - atomicAdd(&draws[3].instance_count, 1u)] = record;
-        } else {
-            caps[atomicAdd(&draws[1].instance_count, 1u)] = record;
-        }
-    }
-}
-
-// Before the passes above: no records.
-@compute @workgroup_size(1)
-fn reset_draws() {
-    for (var k = 0u; k < 4u; k++) {
-        // Two triangles: a quad's, or a cap record's start and end (draw.wgsl).
-        draws[k].vertex_count = 6u;
-        atomicStore(&draws[k].instance_count, 0u);
-        draws[k].first_vertex = 0u;
-        draws[k].first_instance = 0u;
-    }
-    for (var k = 0u; k < COUNTERS; k++) {
-        atomicStore(&counters[k], 0u);
-    }
-    atomicStore(&big[0], 0u);
-}
-

@@ -4,13 +4,15 @@
 //! ```text
 //! silhouettes (compute)  per caster and edge of its mesh (edges.rs), the quad's
 //!                        multiplicity from its triangles' facing; per triangle, whether it
-//!                        caps the volume; records appended for two indirect draws
+//!                        caps the volume; records appended for six indirect draws
+//!                        (records.wgsl)
 //! volume depth           the camera's visible surface again, into a depth-stencil target
 //!                        (the camera's vertex stage, so the depths are the prepass's)
 //! shadow volumes         quads and caps extruded past the scene, two-sided stencil, depth
 //!                        clamped where the adapter can (nothing clipped at the far plane);
 //!                        z-pass where the camera's near rectangle cannot lie in a caster's
-//!                        volume (DOOM 3's test), else z-fail with caps
+//!                        volume (DOOM 3's test; caps only where the volume ends
+//!                        short of infinity, and an open mesh's), else z-fail with caps
 //! light term             lit where the stencil at the point's pixel is 0 (light.wgsl)
 //! ```
 //!
@@ -48,8 +50,11 @@ use find_passes::{FindInput, FindPasses};
 #[cfg(test)]
 pub(crate) use pipelines::shader_sources;
 use pipelines::{
-    VolumeFrameGpu, VolumePass, VolumePipelines, depth_pipeline, depth_stencil_pass, shader_source,
+    DrawModules, StripPipelines, VolumeFrameGpu, VolumePass, depth_pipeline, depth_stencil_pass,
+    shader_source,
 };
+#[cfg(test)]
+pub(crate) use scene::CAP_RECORDS;
 use scene::{SceneLayouts, SceneVolumes};
 
 /// The light term's file (group 1 of the shading pass).
@@ -78,9 +83,9 @@ pub struct VolumeTechnique {
     /// The receiver grid, the cull and the silhouettes in compute.
     find: FindPasses,
     depth: wgpu::RenderPipeline,
-    volumes: VolumePipelines,
+    volumes: StripPipelines,
     /// The `volumes` overlay's, and the frame group it draws with (the last frame's).
-    overlay: VolumePipelines,
+    overlay: StripPipelines,
     frame_group: Option<wgpu::BindGroup>,
     uniforms: wgpu::Buffer,
     scene: Option<SceneVolumes>,
@@ -95,8 +100,10 @@ pub struct VolumeTechnique {
     light_frame: box_clamp::LightFrame,
     /// The CPU time of the last frame's clamping (exact or by boxes), milliseconds.
     clamp_cpu_ms: f64,
-    /// Whether the draws clip intervals to their strips (`CLIP_DISTANCES`).
+    /// Whether the draws clip intervals to their strips (`CLIP_DISTANCES`), and whether
+    /// this frame's do: cut into more than one strip.
     clip_distances: bool,
+    cut: bool,
 
     /// The counters of the frames in flight, and the newest that came back with its frame.
     readback: AsyncReadback,
@@ -158,29 +165,28 @@ impl VolumeTechnique {
             &[frame_layout, &scene_layout, &find_layout],
         );
         let depth = depth_pipeline(device, frame_layout, format);
-        let draw_module =
-            shader_module(device, "Volumes::draw", pipelines::draw_shader_source(cut));
+        let draw_modules = DrawModules::new(device, cut);
         let draw_pipeline_layout = pipeline_layout(
             device,
             "Volumes::draw_pipeline_layout",
             &[frame_layout, &scene_layout, &draw_layout],
         );
-        let volumes = VolumePipelines::new(
+        let volumes = StripPipelines::new(
             device,
-            (&draw_pipeline_layout, &draw_module),
-            (format, depth_clamped, cut),
+            (&draw_pipeline_layout, &draw_modules),
+            (format, depth_clamped),
             VolumePass::Stencil,
         );
-        let overlay = VolumePipelines::new(
+        let overlay = StripPipelines::new(
             device,
-            (&draw_pipeline_layout, &draw_module),
-            (format, depth_clamped, cut),
+            (&draw_pipeline_layout, &draw_modules),
+            (format, depth_clamped),
             VolumePass::Overlay,
         );
         let fill = Fill::new(
             device,
             [frame_layout, &scene_layout, &draw_layout],
-            &draw_module,
+            &draw_modules,
             (format, depth_clamped),
         );
         Self {
@@ -213,6 +219,7 @@ impl VolumeTechnique {
             light_frame: [[0.0; 4]; 3],
             clamp_cpu_ms: 0.0,
             clip_distances: cut,
+            cut: false,
             readback: AsyncReadback::new(
                 device,
                 "Volumes::counters_readback",
@@ -332,6 +339,7 @@ impl ShadowTechnique for VolumeTechnique {
         self.method = self.effective_method(input.method);
         let scene = self.scene.as_ref().expect("ensured above");
         self.slices = input.volumes.clamp.slices(&input.volumes);
+        self.cut = self.slices > 1 && input.volumes.strips;
         // What a vertex costs in pixels matters only to clamping; it is measured the first
         // time a frame clamps without a user's figure (once per process, `calibrate.rs`).
         let pixels_per_vertex = match (input.volumes.clamp, input.volumes.vertex_pixels) {
@@ -427,7 +435,7 @@ impl ShadowTechnique for VolumeTechnique {
             pass.set_bind_group(0, draw.frame_group, &[]);
             pass.set_bind_group(1, &scene.scene_group, &[]);
             pass.set_bind_group(2, &scene.draw_group, &[]);
-            self.volumes.draw(&mut pass, &scene.draws);
+            self.volumes.draw(&mut pass, &scene.draws, self.cut);
         }
         draw.timer.end_pass(encoder, query);
         self.frame_group = Some(draw.frame_group.clone());
@@ -442,6 +450,7 @@ impl ShadowTechnique for VolumeTechnique {
                     scene: &scene.scene_group,
                     records: &scene.draw_group,
                     draws: &scene.draws,
+                    cut: self.cut,
                     counters: &scene.counters,
                 },
             );
@@ -557,7 +566,7 @@ impl ShadowTechnique for VolumeTechnique {
         pass.set_bind_group(0, frame_group, &[]);
         pass.set_bind_group(1, &scene.scene_group, &[]);
         pass.set_bind_group(2, &scene.draw_group, &[]);
-        self.overlay.draw(&mut pass, &scene.draws);
+        self.overlay.draw(&mut pass, &scene.draws, self.cut);
     }
 
     fn inset(&self, _view: u32) -> Option<InsetSources<'_>> {

@@ -208,9 +208,9 @@ enum Faces {
 }
 
 /// One draw of the volume faces: its vertex entry, how it counts, its faces and which of
-/// the indirect arguments it draws (16 bytes each, `volumes/find.wgsl` `draws`: z-fail quads
-/// and caps, z-pass quads and caps). All but near caps are depth clamped where the adapter
-/// can, so nothing is clipped at the far plane.
+/// the indirect arguments it draws (16 bytes each, `volumes/find.wgsl` `draws`: z-fail
+/// quads, caps at the casters and moved caps, then z-pass). All but near caps are depth
+/// clamped where the adapter can, so nothing is clipped at the far plane.
 struct VolumeDraw {
     entry: &'static str,
     counting: Counting,
@@ -222,16 +222,16 @@ const DRAWS: [VolumeDraw; 8] = [
     VolumeDraw::new("vs_quad", Counting::ZFail, Faces::Quads, 0),
     VolumeDraw::new("vs_near_cap", Counting::ZFail, Faces::NearCaps, 1),
     VolumeDraw::new("vs_past_far_cap", Counting::ZFail, Faces::PastFarCaps, 1),
-    VolumeDraw::new("vs_moved_cap", Counting::ZFail, Faces::MovedCaps, 1),
-    VolumeDraw::new("vs_quad_pass", Counting::ZPass, Faces::Quads, 2),
-    VolumeDraw::new("vs_near_cap_pass", Counting::ZPass, Faces::NearCaps, 3),
+    VolumeDraw::new("vs_moved_cap", Counting::ZFail, Faces::MovedCaps, 2),
+    VolumeDraw::new("vs_quad_pass", Counting::ZPass, Faces::Quads, 3),
+    VolumeDraw::new("vs_near_cap_pass", Counting::ZPass, Faces::NearCaps, 4),
     VolumeDraw::new(
         "vs_past_far_cap_pass",
         Counting::ZPass,
         Faces::PastFarCaps,
-        3,
+        4,
     ),
-    VolumeDraw::new("vs_moved_cap_pass", Counting::ZPass, Faces::MovedCaps, 3),
+    VolumeDraw::new("vs_moved_cap_pass", Counting::ZPass, Faces::MovedCaps, 5),
 ];
 
 impl VolumeDraw {
@@ -253,8 +253,8 @@ const CAP_BIAS: wgpu::DepthBiasState = wgpu::DepthBiasState {
     clamp: 0.0,
 };
 
-/// The pipelines of one kind, one per draw of the volume faces.
-pub(super) struct VolumePipelines([wgpu::RenderPipeline; DRAWS.len()]);
+/// The pipelines of one kind from one module, one per draw of the volume faces.
+struct VolumePipelines([wgpu::RenderPipeline; DRAWS.len()]);
 
 impl VolumePipelines {
     /// `depth_clamped`: the adapter clamps depth (`DEPTH_CLIP_CONTROL`); `cut`: `module` cuts
@@ -281,6 +281,56 @@ impl VolumePipelines {
         for (draw, pipeline) in DRAWS.iter().zip(&self.0) {
             pass.set_pipeline(pipeline);
             pass.draw_indirect(draws, draw.args * 16);
+        }
+    }
+}
+
+/// The draw shader's two modules: volumes across the whole picture, and, where the adapter
+/// has `CLIP_DISTANCES`, cut to the strips of discrete clamping (`draw_shader_source`).
+pub(super) struct DrawModules {
+    whole: wgpu::ShaderModule,
+    cut: Option<wgpu::ShaderModule>,
+}
+
+impl DrawModules {
+    pub fn new(device: &wgpu::Device, clip_distances: bool) -> Self {
+        let module = |cut| shader_module(device, "Volumes::draw", draw_shader_source(cut));
+        Self {
+            whole: module(false),
+            cut: clip_distances.then(|| module(true)),
+        }
+    }
+}
+
+/// The pipelines of one kind from each draw module. Only frames cut into more than one
+/// strip draw with the cut ones: the clip distances and the fragment stage that tests them
+/// cost every triangle and fragment of every volume, where one strip cuts nothing.
+pub(super) struct StripPipelines {
+    whole: VolumePipelines,
+    cut: Option<VolumePipelines>,
+}
+
+impl StripPipelines {
+    pub fn new(
+        device: &wgpu::Device,
+        (layout, modules): (&wgpu::PipelineLayout, &DrawModules),
+        (format, depth_clamped): (wgpu::TextureFormat, bool),
+        kind: VolumePass,
+    ) -> Self {
+        let pipelines = |module, cut| {
+            VolumePipelines::new(device, (layout, module), (format, depth_clamped, cut), kind)
+        };
+        Self {
+            whole: pipelines(&modules.whole, false),
+            cut: modules.cut.as_ref().map(|module| pipelines(module, true)),
+        }
+    }
+
+    /// Draws every record of `draws`, cut to their strips where `cut` and the adapter can.
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, draws: &wgpu::Buffer, cut: bool) {
+        match &self.cut {
+            Some(pipelines) if cut => pipelines.draw(pass, draws),
+            _ => self.whole.draw(pass, draws),
         }
     }
 }

@@ -167,9 +167,9 @@ impl SceneVolumes {
             wgpu::BufferUsages::STORAGE,
         );
         // Per interval, a quad at most twice per edge (an open mesh's edge between a lit and
-        // an unlit triangle) and a cap record per triangle: room for one interval of every
-        // caster and as many again, which casters with more intervals share (`within_room`
-        // in find.wgsl).
+        // an unlit triangle) and up to two cap records per triangle (`cap_slot` in
+        // common.wgsl): room for one interval of every caster and as many again, which
+        // casters with more intervals share (`within_room` in find.wgsl).
         let record_buffer = |label: &str, records: u32| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -179,7 +179,7 @@ impl SceneVolumes {
             })
         };
         let quads = record_buffer("Volumes::quads", edge_items.saturating_mul(2 * 2));
-        let caps = record_buffer("Volumes::caps", triangle_items.saturating_mul(2));
+        let caps = record_buffer("Volumes::caps", triangle_items.saturating_mul(CAP_RECORDS));
         let storage_buffer = |label: &str, size: u64, usage: wgpu::BufferUsages| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -188,7 +188,7 @@ impl SceneVolumes {
                 mapped_at_creation: false,
             })
         };
-        let draws = storage_buffer("Volumes::draws", 64, wgpu::BufferUsages::INDIRECT);
+        let draws = storage_buffer("Volumes::draws", 6 * 16, wgpu::BufferUsages::INDIRECT);
         let kept = storage_buffer(
             "Volumes::kept",
             u64::from(casters.len() as u32) * 4,
@@ -290,6 +290,9 @@ impl SceneVolumes {
 pub(super) fn grid_bytes(slices: u32) -> u64 {
     u64::from(RECEIVER_CELLS) * 4 * (1 + 3 * u64::from(slices))
 }
+
+/// Cap records per triangle item (`CAP_RECORDS` in `common.wgsl`).
+pub(crate) const CAP_RECORDS: u32 = 5;
 
 /// The interval count's bits in a caster's `kept` word (`COUNT_BITS` in `common.wgsl`).
 const COUNT_BITS: u32 = 0x3fff_ffff;
