@@ -285,8 +285,14 @@ pub fn shot(args: &ShotArgs) -> anyhow::Result<()> {
     );
     if let Some(passes) = report.volume_passes {
         println!(
-            "shadow volumes: {} counted z-pass, {} z-fail; {} casters gathered by workgroups, {} kept whole past the cull's budget",
-            passes.z_pass, passes.z_fail, passes.big_casters, passes.whole_past_budget
+            "shadow volumes: {} counted z-pass, {} z-fail; {} casters gathered by workgroups, {} kept whole past the cull's budget; {} triangles drawn ({} of quads, {} of caps)",
+            passes.z_pass,
+            passes.z_fail,
+            passes.big_casters,
+            passes.whole_past_budget,
+            passes.quad_triangles + passes.cap_triangles,
+            passes.quad_triangles,
+            passes.cap_triangles
         );
     }
     if let Some(fill) = report.volume_fill {

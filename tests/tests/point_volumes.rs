@@ -106,6 +106,33 @@ fn a_point_light_in_the_view_casts_the_boxs_exact_shadow() {
 }
 
 #[test]
+fn z_pass_draws_no_cap_of_a_closed_caster_or_at_infinity() {
+    // The light lights the box's +x and top faces (four triangles inside a silhouette of six
+    // edges: it lies between the box's z faces) and the ground box's top (two triangles,
+    // four edges); both are closed, and standard volumes reach infinity.
+    let triangles = |pass| {
+        let settings = point_volumes(Method::None, VolumeClamp::None, pass);
+        let (report, _) = render(&scene(), &overlooking_the_box(), &settings, SIZE.0, SIZE.1);
+        let passes = report.volume_passes.expect("counted");
+        (
+            passes.quad_triangles,
+            passes.cap_triangles,
+            report.counts.triangles_shadow,
+        )
+    };
+    assert_eq!(
+        triangles(VolumePassChoice::ZPass),
+        (20, 0, 20),
+        "ten quads and no caps: a closed caster's own caps and caps at infinity count nowhere"
+    );
+    assert_eq!(
+        triangles(VolumePassChoice::ZFail),
+        (20, 12, 32),
+        "ten quads, each lit triangle where the volume starts and at infinity"
+    );
+}
+
+#[test]
 fn the_camera_in_a_point_lights_shadow_counts_the_box_z_fail() {
     // The ray from the light to the eye crosses the box: the eye is in its shadow.
     let camera = Camera::look_at(

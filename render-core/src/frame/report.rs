@@ -113,6 +113,10 @@ impl FrameReport {
         self.shadow_failure = shadows.failure;
         self.volume_fill = shadows.volume_fill;
         self.volume_passes = shadows.volume_passes;
+        if let Some(passes) = shadows.volume_passes {
+            self.counts.triangles_shadow =
+                u64::from(passes.quad_triangles) + u64::from(passes.cap_triangles);
+        }
         self.layered = shadows.layered;
         self.virtual_pages = shadows.virtual_pages;
     }

@@ -290,6 +290,10 @@ pub struct VolumePasses {
     /// their receivers ran past every budget (more big casters than the frame takes, or a
     /// lane past its own). Clamping's savings are lost there, not its correctness.
     pub whole_past_budget: u32,
+    /// Triangles the stencil pass drew: the silhouettes' quads, two each, and the caps, one
+    /// each (where an interval starts at its caster or further on, and where it ends).
+    pub quad_triangles: u32,
+    pub cap_triangles: u32,
 }
 
 /// One view of the light's view inset: its map, mask and outcomes.

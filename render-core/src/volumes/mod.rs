@@ -223,7 +223,7 @@ impl VolumeTechnique {
             readback: AsyncReadback::new(
                 device,
                 "Volumes::counters_readback",
-                scene::COUNTERS_BYTES,
+                scene::READBACK_BYTES,
                 3,
             ),
             latest: None,
@@ -455,6 +455,13 @@ impl ShadowTechnique for VolumeTechnique {
                 },
             );
         }
+        encoder.copy_buffer_to_buffer(
+            &scene.draws,
+            0,
+            &scene.counters,
+            scene::DRAWS_OFFSET,
+            scene::DRAWS_BYTES,
+        );
         self.readback
             .copy(encoder, &scene.counters, input.frame_index);
         ShadowPasses {

@@ -17,17 +17,28 @@ use crate::scene::Scene;
 use crate::scene_gpu::SceneGpu;
 
 /// The bytes of the volume passes' counters (`COUNTERS` words in `volumes/find.wgsl`).
-pub(super) const COUNTERS_BYTES: u64 = 4 * 10;
+const COUNTERS_BYTES: u64 = 4 * 10;
+/// The bytes of the indirect draws' arguments (`draws` in `volumes/find.wgsl`: six of
+/// four words), copied after the counters to be read back with them.
+pub(super) const DRAWS_BYTES: u64 = 6 * 16;
+/// Where the draws' arguments go in the counters buffer, and the bytes read back.
+pub(super) const DRAWS_OFFSET: u64 = COUNTERS_BYTES;
+pub(super) const READBACK_BYTES: u64 = COUNTERS_BYTES + DRAWS_BYTES;
 
-/// One frame's counters as read back (`counters` in `volumes/find.wgsl`): how the volumes
-/// were counted and culled, and their fill.
+/// One frame's counters as read back (`counters` in `volumes/find.wgsl`, then the draws'
+/// arguments): how the volumes were counted and culled, what they drew, and their fill.
 pub(super) fn read_counters(words: &[u32]) -> (VolumePasses, VolumeFill) {
+    // Draw k's vertex count (`volumes/common.wgsl`: z-fail quads, caps at the casters,
+    // moved caps, then z-pass).
+    let vertices = |k: usize| words[(DRAWS_OFFSET / 4) as usize + 4 * k];
     let passes = VolumePasses {
         z_pass: words[0],
         z_fail: words[1].saturating_sub(words[0]),
         intervals: words[4],
         big_casters: words[8],
         whole_past_budget: words[9],
+        quad_triangles: (vertices(0) + vertices(3)) / 3,
+        cap_triangles: (vertices(1) + vertices(2) + vertices(4) + vertices(5)) / 3,
     };
     let fill = VolumeFill {
         fragments: u64::from(words[2]),
@@ -188,7 +199,11 @@ impl SceneVolumes {
                 mapped_at_creation: false,
             })
         };
-        let draws = storage_buffer("Volumes::draws", 6 * 16, wgpu::BufferUsages::INDIRECT);
+        let draws = storage_buffer(
+            "Volumes::draws",
+            DRAWS_BYTES,
+            wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_SRC,
+        );
         let kept = storage_buffer(
             "Volumes::kept",
             u64::from(casters.len() as u32) * 4,
@@ -227,7 +242,7 @@ impl SceneVolumes {
         });
         let counters = storage_buffer(
             "Volumes::counters",
-            COUNTERS_BYTES,
+            READBACK_BYTES,
             wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
         );
         let scene_group = device.create_bind_group(&wgpu::BindGroupDescriptor {

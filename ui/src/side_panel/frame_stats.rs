@@ -62,6 +62,11 @@ fn counts(ui: &mut egui::Ui, report: &FrameReport) {
                 "Cull: by workgroups / whole",
                 of_two(passes.big_casters, passes.whole_past_budget),
             );
+            grid::row(
+                ui,
+                "Volume triangles: quads / caps",
+                of_two(passes.quad_triangles, passes.cap_triangles),
+            );
         }
         if let Some(fill) = report.volume_fill {
             grid::row(
