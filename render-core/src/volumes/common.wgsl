@@ -91,8 +91,10 @@ const Z_PASS_DRAWS: u32 = 3u;
 // The vertices of one record of draw `k` (volumes/draw.wgsl): a quad's two triangles, or a
 // cap's one. The draws are not instanced: a GPU shades tiny instances a warp each, and
 // llvmpipe runs its vertex pipeline once per instance.
+const QUAD_VERTICES: u32 = 6u;
+const CAP_VERTICES: u32 = 3u;
 fn record_vertices(k: u32) -> u32 {
-    return select(3u, 6u, k % Z_PASS_DRAWS == QUADS);
+    return select(CAP_VERTICES, QUAD_VERTICES, k % Z_PASS_DRAWS == QUADS);
 }
 // Where cap records lie in their buffer, of CAP_RECORDS a triangle item (volumes/scene.rs):
 // first those of the caps at the casters (an interval starting at its caster, as at most one
@@ -168,13 +170,17 @@ fn world_vertex(c: Caster, index: u32) -> vec3<f32> {
     return world_position(c.instance, local_vertex(c.base_vertex + index));
 }
 
+// Corner `k` of the caster's triangle `t` (of its mesh) in world space.
+fn triangle_corner(c: Caster, t: u32, k: u32) -> vec3<f32> {
+    return world_vertex(c, indices[(c.first_triangle + t) * 3u + k]);
+}
+
 // The caster's triangle `t` (of its mesh) in world space.
 fn triangle(c: Caster, t: u32) -> array<vec3<f32>, 3> {
-    let first = (c.first_triangle + t) * 3u;
     return array<vec3<f32>, 3>(
-        world_vertex(c, indices[first]),
-        world_vertex(c, indices[first + 1u]),
-        world_vertex(c, indices[first + 2u]),
+        triangle_corner(c, t, 0u),
+        triangle_corner(c, t, 1u),
+        triangle_corner(c, t, 2u),
     );
 }
 

@@ -61,26 +61,26 @@ fn quad(v: u32, record: vec2<u32>) -> VolumeOut {
 // (common.wgsl).
 @vertex
 fn vs_quad(@builtin(vertex_index) i: u32) -> VolumeOut {
-    return quad(i % 6u, quad_records[i / 6u]);
+    return quad(i % QUAD_VERTICES, quad_records[i / QUAD_VERTICES]);
 }
 
 @vertex
 fn vs_quad_pass(@builtin(vertex_index) i: u32) -> VolumeOut {
-    return quad(i % 6u, quad_records[from_end(i / 6u, arrayLength(&quad_records))]);
+    let r = from_end(i / QUAD_VERTICES, arrayLength(&quad_records));
+    return quad(i % QUAD_VERTICES, quad_records[r]);
 }
 
 // Corner `k` of a cap record's triangle as it casts: wound the other way where its back
 // faces the light (REVERSED), so that every cap is wound outwards.
 fn cap_corner(record: vec2<u32>, k: u32) -> vec3<f32> {
-    let c = casters[record.x & CASTER_BITS];
     let swapped = array<u32, 3>(0u, 2u, 1u);
     let corner = select(k, swapped[k], (record.y & REVERSED) != 0u);
-    return world_vertex(c, indices[(c.first_triangle + (record.y & TRIANGLE_BITS)) * 3u + corner]);
+    return triangle_corner(casters[record.x & CASTER_BITS], record.y & TRIANGLE_BITS, corner);
 }
 
 // The cap record of draw `k`'s vertex `i` (common.wgsl `cap_slot`).
 fn cap_record(k: u32, i: u32) -> vec2<u32> {
-    return cap_records[cap_slot(k, i / 3u)];
+    return cap_records[cap_slot(k, i / CAP_VERTICES)];
 }
 
 // A cap where its interval starts at the caster (volumes/records.wgsl `find_caps`): the
@@ -93,7 +93,7 @@ fn cap_at_caster(i: u32, record: vec2<u32>, past_far: bool) -> VolumeOut {
         return nothing();
     }
     let span = interval_of(record.x);
-    return in_strips(extruded(cap_corner(record, i % 3u), span.x), record.x);
+    return in_strips(extruded(cap_corner(record, i % CAP_VERTICES), span.x), record.x);
 }
 
 // A cap moved along the light: the triangle where its interval starts further on, as it
@@ -101,10 +101,10 @@ fn cap_at_caster(i: u32, record: vec2<u32>, past_far: bool) -> VolumeOut {
 fn moved_cap(i: u32, record: vec2<u32>) -> VolumeOut {
     let span = interval_of(record.x);
     if ((record.y & AT_START) != 0u) {
-        return in_strips(extruded(cap_corner(record, i % 3u), span.x), record.x);
+        return in_strips(extruded(cap_corner(record, i % CAP_VERTICES), span.x), record.x);
     }
     let far = array<u32, 3>(0u, 2u, 1u);
-    return in_strips(extruded(cap_corner(record, far[i % 3u]), span.y), record.x);
+    return in_strips(extruded(cap_corner(record, far[i % CAP_VERTICES]), span.y), record.x);
 }
 
 fn nothing() -> VolumeOut {

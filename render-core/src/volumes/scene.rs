@@ -178,7 +178,7 @@ impl SceneVolumes {
             wgpu::BufferUsages::STORAGE,
         );
         // Per interval, a quad at most twice per edge (an open mesh's edge between a lit and
-        // an unlit triangle) and up to two cap records per triangle (`cap_slot` in
+        // an unlit triangle) and CAP_RECORDS cap records per triangle (`cap_slot` in
         // common.wgsl): room for one interval of every caster and as many again, which
         // casters with more intervals share (`within_room` in find.wgsl).
         let record_buffer = |label: &str, records: u32| {
