@@ -98,16 +98,37 @@ pub fn across(
     })
 }
 
+/// The plot's values from `bottom` to `top`: zero in view, and below it where a value is
+/// (time saved can be negative); a tenth to spare, and above that the legend's rows
+/// ([`LEGEND_ROW_PX`] each in a plot of [`PLOT_PX`]), so the legend covers no line.
+fn value_range(series: &[Series]) -> (f64, f64) {
+    let values = || series.iter().flat_map(|s| s.values.iter().flatten());
+    let bottom = values().fold(0.0f64, |a, &b| a.min(b)) * 1.1;
+    let highest = values().fold(0.0f64, |a, &b| a.max(b)).max(1e-3) * 1.1;
+    let legend = legend_share(series.len());
+    (
+        bottom,
+        highest + (highest - bottom) * legend / (1.0 - legend),
+    )
+}
+
+/// The share of the plot's height the legend takes over `lines` lines (at most half).
+fn legend_share(lines: usize) -> f64 {
+    (f64::from(LEGEND_ROW_PX) * (lines as f64 + 1.0) / f64::from(PLOT_PX)).min(0.5)
+}
+
+/// A legend row's height and the plot's (the picture less its caption and axis labels),
+/// pixels.
+const LEGEND_ROW_PX: u32 = 18;
+const PLOT_PX: u32 = SIZE.1 - 100;
+
 fn draw_lines(
     root: &Area<'_>,
     series: &[Series],
     ticks: &[String],
     (title, x_label, y_label): (&str, &str, &str),
 ) -> DrawResult {
-    let values = || series.iter().flat_map(|s| s.values.iter().flatten());
-    let top = values().fold(0.0f64, |a, &b| a.max(b)).max(1e-3) * 1.1;
-    // Zero in view; below it where a value is (time saved can be negative).
-    let bottom = values().fold(0.0f64, |a, &b| a.min(b)) * 1.1;
+    let (bottom, top) = value_range(series);
     let count = ticks.len() as i32;
     let mut chart = ChartBuilder::on(root)
         .caption(title, (FONT, 20))
@@ -161,4 +182,26 @@ fn draw_lines(
         SeriesLabelPosition::UpperRight
     };
     legend(&mut chart, position, 13)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_legend_sits_above_every_line() {
+        let series: Vec<Series> = (0..7)
+            .map(|i| Series {
+                label: format!("line {i}"),
+                values: vec![Some(367.0), Some(-105.0 + f64::from(i)), None],
+            })
+            .collect();
+        let (bottom, top) = value_range(&series);
+        assert!(bottom <= -105.0 * 1.1 + 1e-9, "{bottom}");
+        // The legend's lower edge, in values: seven rows and a margin below the top.
+        let legend_bottom = top - (top - bottom) * legend_share(7);
+        assert!(legend_bottom >= 367.0 * 1.1 - 1e-9, "{legend_bottom} {top}");
+        let (_, alone) = value_range(&series[..1]);
+        assert!(alone < top, "one line needs less room than seven");
+    }
 }
