@@ -133,6 +133,29 @@ fn z_pass_draws_no_cap_of_a_closed_caster_or_at_infinity() {
 }
 
 #[test]
+fn a_fan_over_the_silhouette_closes_a_box_lit_on_three_faces() {
+    // Above the box's +x, +y, +z corner, the light lights three of its faces (six triangles
+    // inside a silhouette of six edges) and the ground box's top (two triangles, four edges).
+    let mut settings = point_volumes(Method::None, VolumeClamp::None, VolumePassChoice::ZFail);
+    settings.point_light = Some(PointShadow::omni(Vec3::new(4.0, 7.0, 3.0), 2.0e6));
+    let (error, _, _, report) = against_truth(&scene(), &overlooking_the_box(), &settings, SIZE);
+    let passes = report.volume_passes.expect("counted");
+    assert_eq!(
+        (passes.quad_triangles, passes.cap_triangles),
+        (20, 14),
+        "ten quads, the eight lit triangles where the volumes start, and \
+         at infinity fans of four and two triangles (the lit triangles would be six and two)"
+    );
+    let wrong = error.missing_shadow_px + error.extra_shadow_px;
+    assert!(wrong * 10_000 <= error.visible_px * 2, "{error:?}");
+    assert_eq!(
+        error.off_edge_px,
+        Some(0),
+        "every wrong pixel is on an edge"
+    );
+}
+
+#[test]
 fn the_camera_in_a_point_lights_shadow_counts_the_box_z_fail() {
     // The ray from the light to the eye crosses the box: the eye is in its shadow.
     let camera = Camera::look_at(

@@ -83,11 +83,12 @@ const MAX_INTERVALS: u32 = 4u;
 const INTERVAL_SHIFT: u32 = 28u;
 const CASTER_BITS: u32 = 0x0fffffffu;
 // The indirect draws of the volume faces (volumes/find.wgsl `draws`, volumes/pipelines.rs
-// `DRAWS`): z-fail, then z-pass, each quads, caps at the casters, moved caps.
+// `DRAWS`): z-fail, then z-pass, each quads, caps at the casters, moved caps, fan caps.
 const QUADS: u32 = 0u;
 const CAPS_AT_CASTERS: u32 = 1u;
 const MOVED_CAPS: u32 = 2u;
-const Z_PASS_DRAWS: u32 = 3u;
+const FAN_CAPS: u32 = 3u;
+const Z_PASS_DRAWS: u32 = 4u;
 // The vertices of one record of draw `k` (volumes/draw.wgsl): a quad's two triangles, or a
 // cap's one. The draws are not instanced: a GPU shades tiny instances a warp each, and
 // llvmpipe runs its vertex pipeline once per instance.
@@ -112,6 +113,17 @@ fn cap_slot(k: u32, n: u32) -> u32 {
         end = triangles * CAP_RECORDS;
     }
     return select(start + n, end - 1u - n, k >= Z_PASS_DRAWS);
+}
+
+// Whether caster `c`'s moved caps are fans over its silhouette (volumes/records.wgsl
+// `append_fans`) instead of its lit triangles: a closed convex mesh's silhouette is one loop
+// around its lit triangles, so a fan from one of its corners closes the volume with two
+// triangles fewer than it has edges (an 8-sided strut: 8 triangles for its 10 edges, against
+// up to 14 lit triangles). The fan's triangles lie inside the mesh's hull moved along the
+// light, behind its lit surface: every point between the fan and the lit triangles it stands
+// for is inside the caster or in its shadow, and no receiver lies there.
+fn fan_capped(c: Caster) -> bool {
+    return c.closed != 0u && c.convex != 0u;
 }
 
 // One caster: its mesh's edges and triangles, where its vertices start, whether its mesh is

@@ -17,6 +17,9 @@
 @group(2) @binding(3) var<storage, read> kept: array<u32>;
 // Per interval, the strips of the picture it is drawn across (volumes/strips.wgsl).
 @group(2) @binding(4) var<storage, read> strips: array<u32>;
+// Fan caps (volumes/records.wgsl `append_fans`) and per caster its fan's corner, inverted.
+@group(2) @binding(5) var<storage, read> fan_records: array<vec2<u32>>;
+@group(2) @binding(6) var<storage, read> anchors: array<u32>;
 
 // A record's interval: the record's caster word holds the caster and the interval's index.
 fn interval_of(caster_word: u32) -> vec2<f32> {
@@ -105,6 +108,35 @@ fn moved_cap(i: u32, record: vec2<u32>) -> VolumeOut {
     }
     let far = array<u32, 3>(0u, 2u, 1u);
     return in_strips(extruded(cap_corner(record, far[i % CAP_VERTICES]), span.y), record.x);
+}
+
+// A fan cap's triangle (volumes/records.wgsl `append_fans`): from the caster's fan corner to
+// its silhouette edge, as the edge's lit triangle winds it where the interval starts, the
+// other way where it ends. The two edges at the corner draw nothing.
+fn fan_cap(i: u32, record: vec2<u32>) -> VolumeOut {
+    let c = casters[record.x & CASTER_BITS];
+    let e = edges[record.y & TRIANGLE_BITS];
+    let apex = world_vertex(c, ~anchors[record.x & CASTER_BITS]);
+    let a = world_vertex(c, e.a);
+    let b = world_vertex(c, e.b);
+    if (all(a == apex) || all(b == apex)) {
+        return nothing();
+    }
+    let at_start = (record.y & AT_START) != 0u;
+    let swapped = ((record.y & REVERSED) != 0u) == at_start;
+    let corners = array<vec3<f32>, 3>(apex, select(a, b, swapped), select(b, a, swapped));
+    let span = interval_of(record.x);
+    return in_strips(extruded(corners[i % CAP_VERTICES], select(span.y, span.x, at_start)), record.x);
+}
+
+@vertex
+fn vs_fan_cap(@builtin(vertex_index) i: u32) -> VolumeOut {
+    return fan_cap(i, fan_records[i / CAP_VERTICES]);
+}
+
+@vertex
+fn vs_fan_cap_pass(@builtin(vertex_index) i: u32) -> VolumeOut {
+    return fan_cap(i, fan_records[from_end(i / CAP_VERTICES, arrayLength(&fan_records))]);
 }
 
 fn nothing() -> VolumeOut {

@@ -15,7 +15,12 @@
 @group(2) @binding(1) var<storage, read_write> caps: array<vec2<u32>>;
 // z-fail quads, caps at the casters and moved caps, then z-pass (volumes/pipelines.rs
 // DRAWS).
-@group(2) @binding(2) var<storage, read_write> draws: array<DrawArgs, 6>;
+@group(2) @binding(2) var<storage, read_write> draws: array<DrawArgs, 8>;
+// Fan caps (volumes/records.wgsl `append_fans`), z-fail from the start, z-pass from the end;
+// and per caster its fan's corner, a vertex index inverted (0: none yet), cleared each frame
+// before the silhouettes (volumes/find_passes.rs).
+@group(2) @binding(15) var<storage, read_write> fans: array<vec2<u32>>;
+@group(2) @binding(16) var<storage, read_write> anchors: array<atomic<u32>>;
 // Per caster, how many intervals of its volume are drawn (0: none), with Z_PASS set where
 // the stencil counts it z-pass; and the intervals, MAX_INTERVALS per caster (common.wgsl).
 // Z-fail records fill `quads` and each part of `caps` from the start, z-pass records from
@@ -30,9 +35,10 @@
 // 0: casters counted z-pass, 1: casters kept, 2, 3: fill (volumes/fill.rs), 4: intervals
 // drawn, 5, 6: edges and triangles of the intervals past each caster's first
 // (`within_room`), 7: receiver points listed (volumes/grid.wgsl), 8: casters handed to
-// workgroups, 9: casters kept whole past the budget (volumes/big_casters.wgsl).
+// workgroups, 9: casters kept whole past the budget (volumes/big_casters.wgsl), 10: fan
+// caps (`keep_caster`).
 // Keep COUNTERS in sync with volumes/scene.rs.
-const COUNTERS: u32 = 10u;
+const COUNTERS: u32 = 11u;
 @group(2) @binding(6) var<storage, read_write> counters: array<atomic<u32>, COUNTERS>;
 // Per instance, the outcome code (the `casters` overlay).
 @group(2) @binding(7) var<storage, read_write> outcomes: array<u32>;
@@ -281,6 +287,20 @@ fn keep_caster(ci: u32, count: u32, z_pass: bool) {
             atomicAdd(&counters[0], 1u);
         }
     }
+    if (fan_capped(c)) {
+        atomicAdd(&counters[10], fan_caps(ci, count));
+    }
+}
+
+// The fan caps of caster `ci`'s `count` intervals (volumes/records.wgsl `append_fans`), each
+// two triangles fewer than its records: the two edges at its corner draw nothing.
+fn fan_caps(ci: u32, count: u32) -> u32 {
+    var caps = 0u;
+    for (var r = 0u; r < count; r++) {
+        let span = intervals[ci * MAX_INTERVALS + r];
+        caps += select(0u, 1u, span.x != 0.0) + select(0u, 1u, needs_end_cap(ci, span.y));
+    }
+    return caps;
 }
 
 // The record buffers hold one interval of every caster and as many again: a caster's

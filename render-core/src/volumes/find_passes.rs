@@ -117,6 +117,10 @@ impl FindPasses {
         ];
         for (label, dispatches) in steps {
             scope.step(label, encoder, |encoder| {
+                if label == pass_label::volumes::EDGES {
+                    // No fan corner yet (`append_fans` in `volumes/records.wgsl`).
+                    encoder.clear_buffer(&scene.anchors, 0, None);
+                }
                 if dispatches
                     .iter()
                     .any(|(_, g)| matches!(g, Groups::Indirect(_)))

@@ -146,7 +146,7 @@ impl VolumeTechnique {
             device,
             "Volumes::draw_layout",
             wgpu::ShaderStages::VERTEX,
-            &[storage(true); 5],
+            &[storage(true); 7],
         );
         let light_layout = bind_group_layout(
             device,

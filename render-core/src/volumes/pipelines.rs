@@ -201,16 +201,17 @@ enum Faces {
     /// The same of casters that reach past the far plane: clamped, or the far plane would
     /// clip them and not the rest of their volume, and pushed back alike.
     PastFarCaps,
-    /// The caps moved along the light, where intervals start further on and where they end:
-    /// no surface lies under them, so no bias (it would push a cap just above a receiver
-    /// seen at a grazing angle behind it).
+    /// The caps moved along the light, where intervals start further on and where they end
+    /// (the lit triangles, or fans over the silhouette, `fan_capped` in
+    /// `volumes/common.wgsl`): no surface lies under them, so no bias (it would push a cap
+    /// just above a receiver seen at a grazing angle behind it).
     MovedCaps,
 }
 
 /// One draw of the volume faces: its vertex entry, how it counts, its faces and which of
 /// the indirect arguments it draws (16 bytes each, `volumes/find.wgsl` `draws`: z-fail
-/// quads, caps at the casters and moved caps, then z-pass). All but near caps are depth
-/// clamped where the adapter can, so nothing is clipped at the far plane.
+/// quads, caps at the casters, moved caps and fan caps, then z-pass). All but near caps are
+/// depth clamped where the adapter can, so nothing is clipped at the far plane.
 struct VolumeDraw {
     entry: &'static str,
     counting: Counting,
@@ -218,20 +219,22 @@ struct VolumeDraw {
     args: u64,
 }
 
-const DRAWS: [VolumeDraw; 8] = [
+const DRAWS: [VolumeDraw; 10] = [
     VolumeDraw::new("vs_quad", Counting::ZFail, Faces::Quads, 0),
     VolumeDraw::new("vs_near_cap", Counting::ZFail, Faces::NearCaps, 1),
     VolumeDraw::new("vs_past_far_cap", Counting::ZFail, Faces::PastFarCaps, 1),
     VolumeDraw::new("vs_moved_cap", Counting::ZFail, Faces::MovedCaps, 2),
-    VolumeDraw::new("vs_quad_pass", Counting::ZPass, Faces::Quads, 3),
-    VolumeDraw::new("vs_near_cap_pass", Counting::ZPass, Faces::NearCaps, 4),
+    VolumeDraw::new("vs_fan_cap", Counting::ZFail, Faces::MovedCaps, 3),
+    VolumeDraw::new("vs_quad_pass", Counting::ZPass, Faces::Quads, 4),
+    VolumeDraw::new("vs_near_cap_pass", Counting::ZPass, Faces::NearCaps, 5),
     VolumeDraw::new(
         "vs_past_far_cap_pass",
         Counting::ZPass,
         Faces::PastFarCaps,
-        4,
+        5,
     ),
-    VolumeDraw::new("vs_moved_cap_pass", Counting::ZPass, Faces::MovedCaps, 5),
+    VolumeDraw::new("vs_moved_cap_pass", Counting::ZPass, Faces::MovedCaps, 6),
+    VolumeDraw::new("vs_fan_cap_pass", Counting::ZPass, Faces::MovedCaps, 7),
 ];
 
 impl VolumeDraw {

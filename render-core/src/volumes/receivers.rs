@@ -23,6 +23,8 @@ pub(super) fn find_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
         surface(position),
         storage(false),
         storage(false),
+        storage(false),
+        storage(false),
     ]);
     bind_group_layout(
         device,
@@ -76,6 +78,8 @@ impl ReceiverPoints {
                 view_entry(12, &targets.normals_view),
                 buffer_entry(13, &scene.big),
                 buffer_entry(14, &scene.strips),
+                buffer_entry(15, &scene.fans),
+                buffer_entry(16, &scene.anchors),
             ],
         })
     }

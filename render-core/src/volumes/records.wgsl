@@ -30,7 +30,38 @@ fn append_quad(caster: u32, interval: u32, edge: u32, reversed: bool) {
     quads[select(n, arrayLength(&quads) - 1u - n, k >= Z_PASS_DRAWS)] = record;
 }
 
-// One edge of one caster: its quad per interval, as many times as its multiplicity.
+// The fan caps of a caster's silhouette edge `edge` over interval `interval`, where moved
+// caps close it (`fan_capped`): a triangle from the caster's fan corner (`anchors`) to the
+// edge, where the interval starts further on and where it ends. The corner is one of the
+// silhouette's: the least vertex index of its edges, which every silhouette edge offers
+// here and `vs_fan_cap` (volumes/draw.wgsl) reads once all have.
+fn append_fans(caster: u32, interval: u32, edge: u32, reversed: bool) {
+    let e = edges[edge];
+    atomicMax(&anchors[caster], ~min(e.a, e.b));
+    let span = intervals[caster * MAX_INTERVALS + interval];
+    let record = vec2<u32>(caster | (interval << INTERVAL_SHIFT), edge | select(0u, REVERSED, reversed));
+    if (span.x != 0.0) {
+        append_fan(caster, vec2<u32>(record.x, record.y | AT_START));
+    }
+    if (needs_end_cap(caster, span.y)) {
+        append_fan(caster, record);
+    }
+}
+
+fn append_fan(caster: u32, record: vec2<u32>) {
+    let k = draw_of(FAN_CAPS, caster);
+    let n = new_record(k);
+    fans[select(n, arrayLength(&fans) - 1u - n, k >= Z_PASS_DRAWS)] = record;
+}
+
+// Whether a volume that ends `end` from its caster needs a cap there: z-pass needs none at
+// infinity, where a point light's cap lies at the far plane's depth, in front of no surface.
+fn needs_end_cap(caster: u32, end: f32) -> bool {
+    return !z_pass(caster) || !at_infinity(end);
+}
+
+// One edge of one caster: its quad per interval, as many times as its multiplicity, and its
+// fan caps (`append_fans`).
 @compute @workgroup_size(64)
 fn find_silhouettes(@builtin(global_invocation_id) id: vec3<u32>) {
     let item = id.x + id.y * 65535u * 64u;
@@ -53,6 +84,9 @@ fn find_silhouettes(@builtin(global_invocation_id) id: vec3<u32>) {
         for (var k = 0; k < abs(m); k++) {
             append_quad(ci, r, edge, m < 0);
         }
+        if (m != 0 && fan_capped(c)) {
+            append_fans(ci, r, edge, m < 0);
+        }
     }
 }
 
@@ -66,8 +100,8 @@ fn append_cap(kind: u32, caster: u32, record: vec2<u32>) {
 // reaches past the far plane), which z-pass needs only of a mesh that is not closed: a
 // closed caster's own lit surface can end a camera ray outside its volume only where the
 // volume ends (volumes/draw.wgsl). Where it starts further on, the triangle moved there;
-// where it ends, the triangle moved there, which z-pass needs only short of infinity: a
-// point light's cap at infinity lies at the far plane's depth, in front of no surface.
+// where it ends, the triangle moved there (`needs_end_cap`); a fan-capped caster's
+// silhouette edges close it there instead (`append_fans`).
 @compute @workgroup_size(64)
 fn find_caps(@builtin(global_invocation_id) id: vec3<u32>) {
     let item = id.x + id.y * 65535u * 64u;
@@ -88,12 +122,15 @@ fn find_caps(@builtin(global_invocation_id) id: vec3<u32>) {
     for (var r = 0u; r < count; r++) {
         let record = vec2<u32>(ci | (r << INTERVAL_SHIFT), t | select(0u, REVERSED, s < 0));
         let span = intervals[ci * MAX_INTERVALS + r];
+        let moved = !fan_capped(c);
         if (span.x != 0.0) {
-            append_cap(MOVED_CAPS, ci, vec2<u32>(record.x, record.y | AT_START));
+            if (moved) {
+                append_cap(MOVED_CAPS, ci, vec2<u32>(record.x, record.y | AT_START));
+            }
         } else if (!z_pass(ci) || c.closed == 0u) {
             append_cap(CAPS_AT_CASTERS, ci, record);
         }
-        if (!z_pass(ci) || !at_infinity(span.y)) {
+        if (moved && needs_end_cap(ci, span.y)) {
             append_cap(MOVED_CAPS, ci, record);
         }
     }

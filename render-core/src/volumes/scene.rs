@@ -17,10 +17,10 @@ use crate::scene::Scene;
 use crate::scene_gpu::SceneGpu;
 
 /// The bytes of the volume passes' counters (`COUNTERS` words in `volumes/find.wgsl`).
-const COUNTERS_BYTES: u64 = 4 * 10;
-/// The bytes of the indirect draws' arguments (`draws` in `volumes/find.wgsl`: six of
+const COUNTERS_BYTES: u64 = 4 * 11;
+/// The bytes of the indirect draws' arguments (`draws` in `volumes/find.wgsl`: eight of
 /// four words), copied after the counters to be read back with them.
-pub(super) const DRAWS_BYTES: u64 = 6 * 16;
+pub(super) const DRAWS_BYTES: u64 = 8 * 16;
 /// Where the draws' arguments go in the counters buffer, and the bytes read back.
 pub(super) const DRAWS_OFFSET: u64 = COUNTERS_BYTES;
 pub(super) const READBACK_BYTES: u64 = COUNTERS_BYTES + DRAWS_BYTES;
@@ -29,16 +29,18 @@ pub(super) const READBACK_BYTES: u64 = COUNTERS_BYTES + DRAWS_BYTES;
 /// arguments): how the volumes were counted and culled, what they drew, and their fill.
 pub(super) fn read_counters(words: &[u32]) -> (VolumePasses, VolumeFill) {
     // Draw k's vertex count (`volumes/common.wgsl`: z-fail quads, caps at the casters,
-    // moved caps, then z-pass).
+    // moved caps and fan caps, then z-pass), and the fan caps, whose two triangles at the
+    // fan's corner draw nothing (`fan_caps` in `volumes/find.wgsl`).
     let vertices = |k: usize| words[(DRAWS_OFFSET / 4) as usize + 4 * k];
+    let caps: u32 = [1, 2, 3, 5, 6, 7].into_iter().map(vertices).sum();
     let passes = VolumePasses {
         z_pass: words[0],
         z_fail: words[1].saturating_sub(words[0]),
         intervals: words[4],
         big_casters: words[8],
         whole_past_budget: words[9],
-        quad_triangles: (vertices(0) + vertices(3)) / 3,
-        cap_triangles: (vertices(1) + vertices(2) + vertices(4) + vertices(5)) / 3,
+        quad_triangles: (vertices(0) + vertices(4)) / 3,
+        cap_triangles: (caps / 3).saturating_sub(2 * words[10]),
     };
     let fill = VolumeFill {
         fragments: u64::from(words[2]),
@@ -78,6 +80,10 @@ pub(super) struct SceneVolumes {
     pub draw_group: wgpu::BindGroup,
     pub quads: wgpu::Buffer,
     pub caps: wgpu::Buffer,
+    /// Fan caps' records, and per caster its fan's corner (`volumes/records.wgsl`
+    /// `append_fans`).
+    pub fans: wgpu::Buffer,
+    pub anchors: wgpu::Buffer,
     pub draws: wgpu::Buffer,
     pub kept: wgpu::Buffer,
     pub intervals: wgpu::Buffer,
@@ -190,6 +196,8 @@ impl SceneVolumes {
             })
         };
         let quads = record_buffer("Volumes::quads", edge_items.saturating_mul(2 * 2));
+        // A fan-capped caster's edge once per interval where it starts and where it ends.
+        let fans = record_buffer("Volumes::fans", edge_items.saturating_mul(2 * 2));
         let caps = record_buffer("Volumes::caps", triangle_items.saturating_mul(CAP_RECORDS));
         let storage_buffer = |label: &str, size: u64, usage: wgpu::BufferUsages| {
             device.create_buffer(&wgpu::BufferDescriptor {
@@ -203,6 +211,11 @@ impl SceneVolumes {
             "Volumes::draws",
             DRAWS_BYTES,
             wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_SRC,
+        );
+        let anchors = storage_buffer(
+            "Volumes::fan_anchors",
+            u64::from(casters.len() as u32) * 4,
+            wgpu::BufferUsages::COPY_DST,
         );
         let kept = storage_buffer(
             "Volumes::kept",
@@ -266,6 +279,8 @@ impl SceneVolumes {
                 buffer_entry(2, &intervals),
                 buffer_entry(3, &kept),
                 buffer_entry(4, &strips),
+                buffer_entry(5, &fans),
+                buffer_entry(6, &anchors),
             ],
         });
         Self {
@@ -280,6 +295,8 @@ impl SceneVolumes {
             draw_group,
             quads,
             caps,
+            fans,
+            anchors,
             draws,
             kept,
             intervals,
