@@ -371,15 +371,16 @@ fn picture_box_pixels(bounds: vec4<f32>) -> f32 {
     return extent.x * extent.y;
 }
 
-// Lloyd's V for caster `ci`: the vertices a new interval adds, 2C + 2S, with C a cap's (the
-// lit half of its triangles) and S the silhouette's quads (about twice the square root of the
-// triangles, a closed mesh's silhouette loop).
+// Lloyd's V for caster `ci`: the vertices a new interval adds, 2C + 2S, with S the
+// silhouette's quads (about twice the square root of the triangles, a closed mesh's
+// silhouette loop) and C a cap's: the lit half of its triangles, or a fan's triangle per
+// silhouette edge (`fan_capped`).
 fn new_interval_vertices(ci: u32) -> f32 {
     let end = select(volume.counts.y, casters[ci + 1u].triangle_start, ci + 1u < volume.counts.z);
     let triangles = f32(end - casters[ci].triangle_start);
-    let cap = 1.5 * triangles;
-    let silhouette = 4.0 * 2.0 * sqrt(triangles);
-    return 2.0 * cap + 2.0 * silhouette;
+    let edges = 2.0 * sqrt(triangles);
+    let cap = select(1.5 * triangles, 3.0 * edges, fan_capped(casters[ci]));
+    return 2.0 * cap + 2.0 * 4.0 * edges;
 }
 
 // Sorts the `n` occupied depth intervals in `found` by their start and merges those that
