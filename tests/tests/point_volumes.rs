@@ -58,6 +58,17 @@ fn exact_points(camera: &Camera) -> (Vec<SurfacePoint>, usize) {
     (exact.points.clone(), shadowed)
 }
 
+/// At most two in ten thousand visible pixels off the exact shadow, every one on an edge.
+fn assert_exact_but_edges(error: &ShadowError) {
+    let wrong = error.missing_shadow_px + error.extra_shadow_px;
+    assert!(wrong * 10_000 <= error.visible_px * 2, "{error:?}");
+    assert_eq!(
+        error.off_edge_px,
+        Some(0),
+        "every wrong pixel is on an edge"
+    );
+}
+
 #[allow(clippy::float_cmp, reason = "hard shadows are exactly 0 or 1")]
 fn differing(a: &[f32], b: &[f32]) -> usize {
     a.iter().zip(b).filter(|(a, b)| a != b).count()
@@ -85,13 +96,7 @@ fn a_point_light_in_the_view_casts_the_boxs_exact_shadow() {
         [0.0, 1.0, 1.0],
         "behind the box, under the light, far out"
     );
-    let wrong = error.missing_shadow_px + error.extra_shadow_px;
-    assert!(wrong * 10_000 <= error.visible_px * 2, "{error:?}");
-    assert_eq!(
-        error.off_edge_px,
-        Some(0),
-        "every wrong pixel is on an edge"
-    );
+    assert_exact_but_edges(&error);
     let (_, standard_light, _) = frame(&camera, &standard(), &points);
     for clamp in [VolumeClamp::Continuous, VolumeClamp::Conservative] {
         let settings = point_volumes(Method::Bvol, clamp, VolumePassChoice::Auto);
@@ -146,13 +151,7 @@ fn a_fan_over_the_silhouette_closes_a_box_lit_on_three_faces() {
         "ten quads, the eight lit triangles where the volumes start, and \
          at infinity fans of four and two triangles (the lit triangles would be six and two)"
     );
-    let wrong = error.missing_shadow_px + error.extra_shadow_px;
-    assert!(wrong * 10_000 <= error.visible_px * 2, "{error:?}");
-    assert_eq!(
-        error.off_edge_px,
-        Some(0),
-        "every wrong pixel is on an edge"
-    );
+    assert_exact_but_edges(&error);
 }
 
 #[test]
