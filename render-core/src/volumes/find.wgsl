@@ -13,8 +13,8 @@
 
 @group(2) @binding(0) var<storage, read_write> quads: array<vec2<u32>>;
 @group(2) @binding(1) var<storage, read_write> caps: array<vec2<u32>>;
-// z-fail quads, caps at the casters and moved caps, then z-pass (volumes/pipelines.rs
-// DRAWS).
+// z-fail quads, caps at the casters, moved caps and fan caps, then z-pass
+// (volumes/pipelines.rs DRAWS).
 @group(2) @binding(2) var<storage, read_write> draws: array<DrawArgs, 8>;
 // Fan caps (volumes/records.wgsl `append_fans`), z-fail from the start, z-pass from the end;
 // and per caster its fan's corner, a vertex index inverted (0: none yet), cleared each frame
