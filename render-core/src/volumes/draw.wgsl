@@ -112,21 +112,23 @@ fn moved_cap(i: u32, record: vec2<u32>) -> VolumeOut {
 
 // A fan cap's triangle (volumes/records.wgsl `append_fans`): from the caster's fan corner to
 // its silhouette edge, as the edge's lit triangle winds it where the interval starts, the
-// other way where it ends. The two edges at the corner draw nothing.
+// other way where it ends. The two edges at the corner draw nothing (compared in the mesh's
+// space: each vertex moves only its own corner into the world).
 fn fan_cap(i: u32, record: vec2<u32>) -> VolumeOut {
     let c = casters[record.x & CASTER_BITS];
     let e = edges[record.y & TRIANGLE_BITS];
-    let apex = world_vertex(c, ~anchors[record.x & CASTER_BITS]);
-    let a = world_vertex(c, e.a);
-    let b = world_vertex(c, e.b);
-    if (all(a == apex) || all(b == apex)) {
+    let apex = ~anchors[record.x & CASTER_BITS];
+    let corner = local_vertex(c.base_vertex + apex);
+    if (all(local_vertex(c.base_vertex + e.a) == corner)
+        || all(local_vertex(c.base_vertex + e.b) == corner)) {
         return nothing();
     }
     let at_start = (record.y & AT_START) != 0u;
     let swapped = ((record.y & REVERSED) != 0u) == at_start;
-    let corners = array<vec3<f32>, 3>(apex, select(a, b, swapped), select(b, a, swapped));
+    let corners = array<u32, 3>(apex, select(e.a, e.b, swapped), select(e.b, e.a, swapped));
     let span = interval_of(record.x);
-    return in_strips(extruded(corners[i % CAP_VERTICES], select(span.y, span.x, at_start)), record.x);
+    let p = world_vertex(c, corners[i % CAP_VERTICES]);
+    return in_strips(extruded(p, select(span.y, span.x, at_start)), record.x);
 }
 
 @vertex
