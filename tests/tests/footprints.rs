@@ -275,3 +275,165 @@ fn frag_leaves_a_visible_receiver_the_light_does_not_see_to_the_depth_test() {
     let (_, frag) = settled(&scene, &camera, Method::Frag);
     assert_eq!(frag, oracle, "FRAG draws the oracle's casters");
 }
+
+/// Figure 3 with the sun turned `azimuth_deg` about the vertical, and everything but the
+/// receiver turned with it (so A, B and C keep their parts), the receiver's box staying
+/// square to the world: the light's axes are then turned against the box. D hangs where its
+/// shadow falls `gap_m` (across the light) beyond the receiver's outline, past the middle
+/// of the edge that the light, travelling from the middle of the receiver, leaves it by.
+/// There the box's light-space rectangle reaches far past its outline once the box is
+/// turned against the light.
+fn figure_3_turned(azimuth_deg: f32, gap_m: f32) -> (Scene, Camera) {
+    let turn = glam::Quat::from_rotation_y(azimuth_deg.to_radians());
+    let sun = turn * Vec3::new(1.0, 1.0, 0.0).normalize();
+    let receiver = box_mesh("receiver", Vec3::new(20.0, 0.25, 20.0));
+    let wall = box_mesh("wall", Vec3::new(25.0, 4.0, 0.5));
+    let unit = box_mesh("caster", Vec3::splat(0.5));
+    let small = box_mesh("small caster", Vec3::splat(0.25));
+    let turned = |x, y, z| Mat4::from_rotation_translation(turn, turn * Vec3::new(x, y, z));
+
+    // The light's view: across it, `right` and `up` (the renderer's basis).
+    let (right, up) = render_core::geom::basis_for_direction(-sun.as_dvec3());
+    let (right, up) = (right.as_vec3(), up.as_vec3());
+    let across = |p: Vec3| glam::Vec2::new(right.dot(p), up.dot(p));
+    // Where the light's horizontal travel leaves the receiver's top (the square of side 40).
+    let travel = turn * Vec3::NEG_X;
+    let to_edge = |d: f32| {
+        if d.abs() < 1e-6 {
+            f32::INFINITY
+        } else {
+            20.0 / d.abs()
+        }
+    };
+    let exit = travel * to_edge(travel.x).min(to_edge(travel.z));
+    let along_edge = if (exit.x.abs() - 20.0).abs() < 1e-3 {
+        Vec3::Z
+    } else {
+        Vec3::X
+    };
+    let edge = across(along_edge);
+    let mut normal = glam::Vec2::new(edge.y, -edge.x).normalize();
+    if normal.dot(across(exit)) < 0.0 {
+        normal = -normal;
+    }
+    // The receiver's reach along the normal, and D's (a unit cube) back towards it.
+    let receiver_reach = (0..8)
+        .map(|k| {
+            let corner = Vec3::new(
+                if k & 1 == 0 { -20.0 } else { 20.0 },
+                if k & 2 == 0 { -0.5 } else { 0.0 },
+                if k & 4 == 0 { -20.0 } else { 20.0 },
+            );
+            normal.dot(across(corner))
+        })
+        .fold(f32::MIN, f32::max);
+    let normal_3d = right * normal.x + up * normal.y;
+    let d_reach = 0.5 * normal_3d.abs().element_sum();
+    let centre =
+        across(exit) + normal * (receiver_reach - normal.dot(across(exit)) + gap_m + d_reach);
+    // D's centre: that point across the light, 3 m above the ground.
+    let on_plane = right * centre.x + up * centre.y;
+    let d_at = on_plane + sun * ((3.0 - on_plane.y) / sun.y);
+
+    let mut instances = vec![
+        Instance::new(
+            "receiver",
+            0,
+            &receiver,
+            Mat4::from_translation(Vec3::new(0.0, -0.25, 0.0)),
+        ),
+        Instance::new("A", 2, &unit, turned(0.0, 2.0, -10.0)),
+        Instance::new("B", 2, &unit, turned(0.0, 2.0, 12.0)),
+        Instance::new("C", 3, &small, turned(-0.7, 1.3, 12.0)),
+        Instance::new("D", 2, &unit, Mat4::from_translation(d_at)),
+        Instance::new("wall", 1, &wall, turned(0.0, 4.0, 4.5)),
+    ];
+    for inst in &mut instances[1..] {
+        inst.receives_shadow = false;
+    }
+    instances[5].casts_shadow = false;
+    let scene = Scene::new(
+        "test:figure-3-turned",
+        vec![receiver, wall, unit, small],
+        instances,
+        Sun::from_direction(sun),
+    );
+    let camera = Camera::look_at(
+        turn * Vec3::new(0.0, 6.0, -40.0),
+        Vec3::ZERO,
+        60f32.to_radians(),
+        0.1,
+        300.0,
+    );
+    (scene, camera)
+}
+
+/// The casters each method draws after its number of frames, one after the other on
+/// `renderer` (every frame without culling error), and the texel size across the light.
+fn drawn_in_turn(
+    renderer: &mut render_core::frame::FrameRenderer,
+    scene: &Scene,
+    camera: &Camera,
+    methods: &[(Method, usize)],
+) -> (Vec<Vec<u32>>, f32) {
+    let ctx = shadowlab_tests::gpu();
+    let scene_gpu = render_core::frame::SceneGpu::new(ctx, scene);
+    let mut texel_m = 0.0;
+    let drawn = methods
+        .iter()
+        .map(|&(method, frames)| {
+            let settings = render_core::frame::FrameSettings {
+                sun: scene.sun,
+                method,
+                measure: true,
+                ..render_core::frame::FrameSettings::default()
+            };
+            let input = render_core::frame::FrameInput {
+                camera,
+                width: 256,
+                height: 192,
+                settings: &settings,
+            };
+            for frame in 0..frames {
+                let report = renderer
+                    .render_and_wait(ctx, scene, &scene_gpu, &input)
+                    .expect("frame");
+                let e = report.error.expect("measured");
+                assert_eq!(
+                    (e.missing_shadow_px, e.extra_shadow_px),
+                    (0, 0),
+                    "{} frame {frame}: no error",
+                    method.name()
+                );
+                texel_m = report.light.texel_size_m[0].max(report.light.texel_size_m[1]);
+            }
+            (0..)
+                .zip(renderer.caster_outcomes())
+                .filter(|(_, o)| *o == CasterOutcome::Rendered)
+                .map(|(i, _)| i)
+                .collect()
+        })
+        .collect();
+    (drawn, texel_m)
+}
+
+#[test]
+fn bvol_marks_the_receivers_outline_not_its_light_space_rectangle() {
+    // One renderer for every scene: building one takes seconds on a CPU adapter.
+    let mut renderer = render_core::frame::FrameRenderer::new(shadowlab_tests::gpu());
+    for azimuth_deg in [0.0, 30.0, 45.0, 60.0] {
+        let (probe, camera) = figure_3_turned(azimuth_deg, 0.0);
+        let (_, texel_m) = drawn_in_turn(&mut renderer, &probe, &camera, &[(Method::None, 1)]);
+        assert!(texel_m > 0.005 && texel_m < 0.1, "texel {texel_m} m");
+        for gap_texels in [8.0, 32.0] {
+            let (scene, camera) = figure_3_turned(azimuth_deg, gap_texels * texel_m);
+            let case = format!("sun turned {azimuth_deg}°, D's shadow {gap_texels} texels out");
+            // Every caster is in the light's frustum; without error (checked every frame)
+            // BVOL culls D.
+            let methods = [(Method::None, 1), (Method::Bvol, 3)];
+            let (drawn, _) = drawn_in_turn(&mut renderer, &scene, &camera, &methods);
+            assert_eq!(drawn[0], [0, A, B, C, D], "none, {case}");
+            assert_eq!(drawn[1], [0, A, B], "bvol, {case}");
+        }
+    }
+}

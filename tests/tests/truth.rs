@@ -380,3 +380,76 @@ fn a_silhouette_edge_across_a_pixel_centre_is_an_edge() {
     assert!(wrong * 10_000 <= error.visible_px, "{error:?}");
     assert_eq!(error.off_edge_px, Some(0), "{error:?}");
 }
+
+/// The edge rule excuses only what sampling explains: a map with no bias of any kind under a
+/// low sun is speckled with acne across the lit ground, far from any shadow's outline or
+/// depth jump, and every speckle there counts as off the edges.
+#[test]
+fn acne_on_a_uniformly_lit_face_counts_off_the_edges() {
+    let sun = Sun::from_azimuth_elevation_deg(20.0, 25.0);
+    let scene = box_on_plane(20.0, BOX, 0.0, sun);
+    let camera = camera_at(Vec3::ZERO);
+    let mut truth = TruthCache::default();
+    let exact = truth
+        .exact(&scene, &camera, (320, 240), sun.direction_to_sun)
+        .clone();
+    let rays = truth.rays(&scene);
+    let mut settings = FrameSettings {
+        sun,
+        ..FrameSettings::default()
+    };
+    settings.shadow.depth_bias_m = 0.0;
+    settings.shadow.depth_bias_texels = 0.0;
+    settings.shadow.slope_bias = 0.0;
+    settings.shadow.normal_offset_texels = 0.0;
+    settings.shadow.pcf = PcfKernel::Off;
+    let renderer = rendered(&scene, &camera, &settings);
+    let light = renderer.light_at(gpu(), &exact.points).expect("read back");
+    // The speckles: exactly lit ground points the map shadows, away from the box's shadow,
+    // with ground all around (an outline of the box, a depth jump, is an edge).
+    let (min, max) = box_bounds(&scene);
+    let width = 320;
+    let mut ground_at = vec![false; exact.pixels.len()];
+    for (i, &pixel) in exact.point_pixels.iter().enumerate() {
+        ground_at[pixel as usize] = exact.points[i].position[1].abs() < 1e-3;
+    }
+    let ground_around = |pixel: u32| {
+        let (x, y) = (i64::from(pixel % width), i64::from(pixel / width));
+        (-1..=1).all(|dy| {
+            (-1..=1).all(|dx| {
+                let (nx, ny) = (x + dx, y + dy);
+                (0..i64::from(width)).contains(&nx)
+                    && usize::try_from(ny * i64::from(width) + nx)
+                        .is_ok_and(|n| ground_at.get(n).copied().unwrap_or(false))
+            })
+        })
+    };
+    let acne: Vec<usize> = (0..exact.points.len())
+        .filter(|&i| {
+            let p = Vec3::from_slice(&exact.points[i].position[..3]);
+            light[i] < 0.5
+                && ground_around(exact.point_pixels[i])
+                && expected_shadow(p, sun.direction_to_sun, min, max, 0.5) == Some(false)
+        })
+        .collect();
+    assert!(
+        acne.len() > 500,
+        "acne with no bias: {} speckles",
+        acne.len()
+    );
+    let on_edge = acne.iter().filter(|&&i| exact.on_edge[i]).count();
+    assert_eq!(
+        on_edge,
+        0,
+        "of {} speckles on uniformly lit ground",
+        acne.len()
+    );
+    let error = renderer
+        .exact_error(gpu(), (&exact, rays))
+        .expect("read back");
+    assert!(
+        error.off_edge_px.expect("counted") >= acne.len() as u32,
+        "{error:?}: the {} speckles are off the edges",
+        acne.len()
+    );
+}

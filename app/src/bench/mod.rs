@@ -50,6 +50,9 @@ pub(crate) struct BenchRow {
     /// Against the exact shadow: the median over frames of missing + extra pixels, and of
     /// their share of the counted pixels in percent.
     pub(crate) exact_error: (Option<f64>, Option<f64>),
+    /// The median over frames of the differing pixels off the exact picture's edges: the same
+    /// statistic as `exact_error`'s total, so the part never exceeds the whole.
+    pub(crate) exact_off_edge_px: Option<f64>,
     /// Worst frame's differing pixels off the exact picture's edges.
     pub(crate) exact_off_edge_px_max: Option<u32>,
     /// Worst frame's flicker (pixels whose shadow changed) after a 1 cm move and a 0.1 degree
@@ -406,6 +409,9 @@ pub(crate) fn summarise(setting: &str, method: &str, reports: &[(f64, FrameRepor
                 })
             }),
         ),
+        exact_off_edge_px: collect(&|(_, r)| {
+            r.exact_error.and_then(|e| e.off_edge_px).map(f64::from)
+        }),
         exact_off_edge_px_max: reports
             .iter()
             .filter_map(|(_, r)| r.exact_error.and_then(|e| e.off_edge_px))

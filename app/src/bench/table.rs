@@ -49,7 +49,7 @@ pub(crate) const COLUMNS: [&str; 28] = [
     "tightness",
     "shadow triangles",
     "error px (max)",
-    "exact err px (off edges)",
+    "exact err px median (off edges)",
     "exact err %",
     "flicker move/turn",
     "under p50",
@@ -84,8 +84,8 @@ pub(crate) fn row_cells(r: &BenchRow) -> [String; 28] {
         opt(r.tightness, 2),
         format!("{:.0}", r.shadow_triangles),
         r.error_px_max.to_string(),
-        match (r.exact_error.0, r.exact_off_edge_px_max) {
-            (Some(px), Some(off)) => format!("{px:.0} ({off})"),
+        match (r.exact_error.0, r.exact_off_edge_px) {
+            (Some(px), Some(off)) => format!("{px:.0} ({off:.0})"),
             (px, _) => opt(px, 0),
         },
         opt(r.exact_error.1, 2),
@@ -179,13 +179,13 @@ fn csv_text(text: &str) -> std::borrow::Cow<'_, str> {
 
 pub(crate) fn format_csv(rows: &[BenchRow]) -> String {
     let mut out = String::from(
-        "setting,method,frames,frame_ms,gpu_frame_ms,shadow_pass_ms,casters_drawn,casters_oracle,tightness,shadow_triangles,error_px_max,casters_total,speed_up,culling_ms,undersampling_p50,undersampling_p95,exact_error_px,exact_error_percent,exact_error_off_edge_px_max,flicker_moved_px,flicker_turned_px,fill_mfragments,fill_mfragments_max,fill_saved_mean,fill_saved_peak,volume_pass_saved_mean,volume_pass_saved_peak,cpu_culling_ms,pages_marked,pages_resident,pages_rendered,pages_refused,texels_rendered,texels_sampled,pages_refreshed,cull_pages_spanned,cull_flag_reads,moved_pages_occluded,caster_pages_occluded,cache_hit_rate\n",
+        "setting,method,frames,frame_ms,gpu_frame_ms,shadow_pass_ms,casters_drawn,casters_oracle,tightness,shadow_triangles,error_px_max,casters_total,speed_up,culling_ms,undersampling_p50,undersampling_p95,exact_error_px,exact_error_percent,exact_error_off_edge_px_max,flicker_moved_px,flicker_turned_px,fill_mfragments,fill_mfragments_max,fill_saved_mean,fill_saved_peak,volume_pass_saved_mean,volume_pass_saved_peak,cpu_culling_ms,pages_marked,pages_resident,pages_rendered,pages_refused,texels_rendered,texels_sampled,pages_refreshed,cull_pages_spanned,cull_flag_reads,moved_pages_occluded,caster_pages_occluded,cache_hit_rate,exact_error_off_edge_px\n",
     );
     let opt = |v: Option<f64>| v.map_or_else(String::new, |v| format!("{v:.4}"));
     for r in rows {
         let _ = writeln!(
             out,
-            "{},{},{},{:.4},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{:.4},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             csv_text(&r.setting),
             csv_text(&r.method),
             r.frames,
@@ -220,6 +220,7 @@ pub(crate) fn format_csv(rows: &[BenchRow]) -> String {
                 |p| p.map(|v| format!("{v:.0}")).join(",")
             ),
             opt(r.cache_hit_rate),
+            opt(r.exact_off_edge_px),
         );
     }
     out

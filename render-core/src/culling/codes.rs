@@ -92,6 +92,11 @@ pub(crate) const SELECTION_EXCLUDED: u32 = 2;
 const MASK_MARKED_BOX: f32 = 2.0;
 const MASK_MARKED_GEOMETRY: f32 = 3.0;
 
+/// Vertices of one receiver box's outline in a mask (`culling/masks.wgsl` `vs_box`): the
+/// convex hull of its 8 corners widened by a square has at most 12 corners, a fan of 10
+/// triangles.
+pub(crate) const BOX_OUTLINE_VERTICES: u32 = 30;
+
 /// The outcome code of `kind` culling an object.
 pub(crate) fn culled_code(kind: StageKind) -> u32 {
     OUTCOME_CULLED + kind.slot()
@@ -173,6 +178,7 @@ pub(crate) fn wgsl() -> String {
         ("STATE_EXTENT_SHIFT", STATE_EXTENT_SHIFT),
         ("SELECTION_ORACLE", SELECTION_ORACLE),
         ("SELECTION_EXCLUDED", SELECTION_EXCLUDED),
+        ("BOX_OUTLINE_VERTICES", BOX_OUTLINE_VERTICES),
     ] {
         constant(name, format!("{value}u"));
     }

@@ -146,7 +146,7 @@ pub(super) fn unit_ground_quad(name: &str) -> Mesh {
 }
 
 /// A closed box between `min` and `max`.
-pub(super) fn closed_box(name: &str, min: Vec3, max: Vec3) -> Mesh {
+pub(crate) fn closed_box(name: &str, min: Vec3, max: Vec3) -> Mesh {
     let mut builder = MeshBuilder::default();
     builder.cuboid(min, max, true);
     builder.build(name)

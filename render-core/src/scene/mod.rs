@@ -13,6 +13,8 @@ mod motion;
 mod robots;
 mod units;
 
+#[cfg(test)]
+pub(crate) use builtin::closed_box;
 pub use builtin::{BUILTIN_SCENES, BuiltinScene, CITY_BLOCKS, load_builtin, sized_city};
 pub use bvh::Bvh;
 pub use camera_path::{CameraPath, PathError, PathKey};

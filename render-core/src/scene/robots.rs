@@ -260,7 +260,9 @@ mod tests {
     fn blocked_by_another(rays: &SceneRays, own: u32, point: Vec3, to: Vec3) -> bool {
         let mut other = false;
         let parts = own..own + PARTS as u32;
-        rays.blockers(point, to, (0.0, 1.0), |i| other |= !parts.contains(&i));
+        rays.blockers(point.as_dvec3(), to, (0.0, 1.0), |i| {
+            other |= !parts.contains(&i);
+        });
         other
     }
 

@@ -14,10 +14,12 @@
 
 mod at_points;
 mod rays;
+#[cfg(test)]
+mod tests;
 
 use std::collections::VecDeque;
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 use serde::Serialize;
 
 #[cfg(test)]
@@ -69,17 +71,26 @@ pub struct ExactShadow {
     pub points: Vec<SurfacePoint>,
     /// Each counted point's pixel index.
     pub point_pixels: Vec<u32>,
-    /// Whether each counted point's pixel lies on an edge of the exact picture: one of its
-    /// eight neighbours shows another surface or another truth (a shadow's boundary, or an
-    /// object's outline, passes within a pixel of its centre). There, where the boundary
-    /// falls inside the pixel decides its colour, and a rasteriser and a ray through the
-    /// centre may disagree by a rounding: such error is sampling, not a wrong shadow.
+    /// Where each counted point's ray towards the light starts ([`SurfaceHit::leaving`]).
+    pub leaving: Vec<DVec3>,
+    /// Whether each counted point's pixel lies on an edge of the exact picture, where
+    /// sampling decides what a pixel shows (see [`ExactShadow::cast`] for the rule).
     pub on_edge: Vec<bool>,
 }
 
 impl ExactShadow {
     /// Casts a ray through every pixel centre of `key`'s view and one towards the light (the
     /// sun, or up to a point light) from each surface it finds, on every core.
+    ///
+    /// **The edge rule.** A counted pixel is on an edge when one of its eight neighbours has
+    /// another truth (sky, another kind of surface, the other side of a shadow's boundary: the
+    /// exact shadow changes within a pixel of its centre) or shows a surface its own does
+    /// not continue (the visible surface jumps in depth: [`surfaces_jump`]). There, where the
+    /// boundary falls inside the pixel decides its colour, and a rasteriser and a ray through
+    /// the centre may disagree by a rounding: such error is sampling, not a wrong shadow.
+    /// Nothing else excuses error: not where one object meets another or where a mesh was
+    /// cut into chunks for culling (the rule never asks which object a pixel shows), and not
+    /// a speckled error inside a uniformly lit or shadowed face.
     pub fn cast(rays: &SceneRays, key: ViewKey) -> Self {
         let (width, height) = (key.width.max(1), key.height.max(1));
         let view = PixelRays::of(&key);
@@ -92,15 +103,17 @@ impl ExactShadow {
             pixels: Vec::with_capacity((width * height) as usize),
             points: Vec::new(),
             point_pixels: Vec::new(),
+            leaving: Vec::new(),
             on_edge: Vec::new(),
         };
         let mut surfaces = Vec::with_capacity((width * height) as usize);
-        for (i, (truth, point, instance)) in (0..).zip(rows.into_iter().flatten()) {
-            out.pixels.push(truth);
-            surfaces.push(instance);
-            if let Some(p) = point {
+        for (i, sample) in (0..).zip(rows.into_iter().flatten()) {
+            out.pixels.push(sample.truth);
+            surfaces.push(sample.hit.as_ref().map(surface_of));
+            if let (Some(p), Some(hit)) = (sample.point, sample.hit) {
                 out.points.push(p);
                 out.point_pixels.push(i);
+                out.leaving.push(hit.leaving);
             }
         }
         out.on_edge = out
@@ -108,8 +121,14 @@ impl ExactShadow {
             .iter()
             .map(|&i| {
                 let (x, y) = (i % width, i / width);
-                let own = (out.pixels[i as usize], surfaces[i as usize]);
-                neighbours(x, y, width, height).any(|n| (out.pixels[n], surfaces[n]) != own)
+                let own = i as usize;
+                neighbours(x, y, width, height).any(|n| {
+                    out.pixels[n] != out.pixels[own]
+                        || match (surfaces[own], surfaces[n]) {
+                            (Some(a), Some(b)) => surfaces_jump(view.eye, view.forward, a, b),
+                            _ => true,
+                        }
+                })
             })
             .collect();
         out
@@ -118,7 +137,8 @@ impl ExactShadow {
     /// Memory it holds.
     pub fn bytes(&self) -> usize {
         self.pixels.len() * std::mem::size_of::<PixelTruth>()
-            + self.points.len() * (std::mem::size_of::<SurfacePoint>() + 5)
+            + self.points.len()
+                * (std::mem::size_of::<SurfacePoint>() + std::mem::size_of::<DVec3>() + 5)
     }
 
     /// Whether counted point `i` is shadowed in truth.
@@ -170,12 +190,12 @@ impl ExactShadow {
             let inside = contour
                 || (0..SUBPIXELS * SUBPIXELS).any(|k| {
                     let at = |j: u32| j as f32 / (SUBPIXELS - 1) as f32;
-                    let (truth, _, _) = view.truth_at(
+                    let sample = view.truth_at(
                         rays,
                         &self.key,
                         (x + at(k % SUBPIXELS), y + at(k / SUBPIXELS)),
                     );
-                    truth != own
+                    sample.truth != own
                 });
             off_edges += u32::from(!inside);
         }
@@ -187,9 +207,39 @@ impl ExactShadow {
 /// How near a pixel centre an occluding contour counts as crossing it, pixels: rasterisers
 /// snap vertices to 1/256 of a pixel, so an edge nearer than this may fall either side.
 const CONTOUR_PX: f32 = 1.0 / 128.0;
-/// The jump in view depth, as a fraction, across [`CONTOUR_PX`] that marks an occluding
-/// contour (a smooth surface changes less unless it is seen almost edge-on).
-const CONTOUR_DEPTH_JUMP: f32 = 0.01;
+/// Inverse view depths within this fraction of each other are the same surface's, whatever
+/// the planes say (the points' own rounding).
+const SAME_DEPTH: f32 = 1e-4;
+
+/// Whether two visible surface points, `(position, normal)` each, seen from `eye` looking
+/// along `forward`, lie on surfaces that do not continue each other (an occluding contour
+/// passes between them). Which object each belongs to does not matter.
+///
+/// In a picture, the inverse view depth `w` of a plane is linear, so along the line from one
+/// point's ray to the other's each surface's `w` runs straight. Where the two surfaces meet
+/// (a crease, or a flat face cut in two), their lines cross between the rays and the gap
+/// between them at either ray is at most the sum of the two lines' steps from one ray to the
+/// other; where one surface passes in front of another, the gap is the jump in depth,
+/// whatever the steps. So the test is resolution-aware: a crease seen almost edge-on from a
+/// coarse picture is still a crease.
+fn surfaces_jump(eye: Vec3, forward: Vec3, a: (Vec3, Vec3), b: (Vec3, Vec3)) -> bool {
+    let (to_a, to_b) = (a.0 - eye, b.0 - eye);
+    // `w` of the plane of `(p, n)`, whose own ray is `to_p`, along the ray `to_q`.
+    let plane_w = |(_, n): (Vec3, Vec3), to_p: Vec3, to_q: Vec3| {
+        n.dot(to_q) / (n.dot(to_p) * forward.dot(to_q))
+    };
+    let (a_at_a, b_at_b) = (1.0 / forward.dot(to_a), 1.0 / forward.dot(to_b));
+    let (a_at_b, b_at_a) = (plane_w(a, to_a, to_b), plane_w(b, to_b, to_a));
+    let steps = (a_at_b - a_at_a).abs() + (b_at_b - b_at_a).abs();
+    let allowed = steps + SAME_DEPTH * a_at_a.max(b_at_b);
+    let gaps = [(a_at_b - b_at_b).abs(), (b_at_a - a_at_a).abs()];
+    !gaps.iter().all(|gap| gap.is_finite() && *gap <= allowed) || !allowed.is_finite()
+}
+
+/// The surface a camera ray met, for the edge rule: its point and normal.
+fn surface_of(hit: &SurfaceHit) -> (Vec3, Vec3) {
+    (hit.position, hit.normal)
+}
 
 /// The camera rays of a view: through any point of its picture, in pixels from the top left.
 struct PixelRays {
@@ -230,62 +280,78 @@ impl PixelRays {
     }
 
     /// Whether what the picture shows changes within [`CONTOUR_PX`] of picture point `at`:
-    /// another instance, the sky, or a jump in depth of more than [`CONTOUR_DEPTH_JUMP`]. An
-    /// occluding contour (a silhouette edge as the eye sees it) then crosses the point, and
-    /// which side of it a pixel centre shows is the rasteriser's rounding of the edge, which
-    /// two passes may round apart: a shadow volume's side, which starts on its caster's
-    /// silhouette, counted at a centre where the caster's own face was not drawn.
+    /// the sky against a surface, or surfaces that do not continue each other
+    /// ([`surfaces_jump`]). An occluding contour (a silhouette edge as the eye sees it) then
+    /// crosses the point, and which side of it a pixel centre shows is the rasteriser's
+    /// rounding of the edge, which two passes may round apart: a shadow volume's side, which
+    /// starts on its caster's silhouette, counted at a centre where the caster's own face was
+    /// not drawn.
     fn contour_at(&self, rays: &SceneRays, (x, y): (f32, f32)) -> bool {
-        let depth_at = |at| {
-            self.first_hit(rays, at)
-                .map(|hit| (hit.instance, (hit.position - self.eye).dot(self.forward)))
-        };
-        let centre = depth_at((x, y));
+        let surface_at = |at| self.first_hit(rays, at).map(|hit| surface_of(&hit));
+        let centre = surface_at((x, y));
         [(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0)]
             .iter()
-            .any(
-                |&(dx, dy)| match (centre, depth_at((x + dx * CONTOUR_PX, y + dy * CONTOUR_PX))) {
-                    (Some((a, da)), Some((b, db))) => {
-                        a != b || (da - db).abs() > CONTOUR_DEPTH_JUMP * da.max(db)
-                    }
+            .any(|&(dx, dy)| {
+                match (
+                    centre,
+                    surface_at((x + dx * CONTOUR_PX, y + dy * CONTOUR_PX)),
+                ) {
+                    (Some(a), Some(b)) => surfaces_jump(self.eye, self.forward, a, b),
                     (None, None) => false,
                     _ => true,
-                },
-            )
+                }
+            })
     }
 
     /// The truth at picture point `(x, y)` (a pixel's centre is at half-integers), the
-    /// surface point where it is counted, and the instance it shows (`u32::MAX`: sky).
-    fn truth_at(
-        &self,
-        rays: &SceneRays,
-        key: &ViewKey,
-        (x, y): (f32, f32),
-    ) -> (PixelTruth, Option<SurfacePoint>, u32) {
+    /// surface point where it is counted, and the surface the ray met.
+    fn truth_at(&self, rays: &SceneRays, key: &ViewKey, (x, y): (f32, f32)) -> Sample {
         let Some(hit) = self.first_hit(rays, (x, y)) else {
-            return (PixelTruth::Sky, None, u32::MAX);
+            return Sample::of(PixelTruth::Sky, None);
         };
         if !hit.receives_shadow {
-            return (PixelTruth::NotReceiver, None, hit.instance);
+            return Sample::of(PixelTruth::NotReceiver, Some(hit));
         }
         let (towards, distance) = key.light.towards(hit.position);
         if hit.normal.dot(towards) <= 0.0 {
-            return (PixelTruth::FacesAway, None, hit.instance);
+            return Sample::of(PixelTruth::FacesAway, Some(hit));
         }
         if !key.light.reaches(hit.position) {
-            return (PixelTruth::OutsideCone, None, hit.instance);
+            return Sample::of(PixelTruth::OutsideCone, Some(hit));
         }
-        let origin = offset_from_surface(hit.position, hit.normal);
-        let truth = if rays.blocked(origin, towards, (0.0, distance)) {
+        let truth = if rays.blocked(hit.leaving, towards, (0.0, distance)) {
             PixelTruth::Shadowed
         } else {
             PixelTruth::Lit
         };
-        let point = SurfacePoint {
-            position: hit.position.extend(1.0).to_array(),
-            normal: hit.normal.extend(0.0).to_array(),
-        };
-        (truth, Some(point), hit.instance)
+        Sample {
+            truth,
+            point: Some(SurfacePoint {
+                position: hit.position.extend(1.0).to_array(),
+                normal: hit.normal.extend(0.0).to_array(),
+            }),
+            hit: Some(hit),
+        }
+    }
+}
+
+/// What the truth says at one picture point.
+struct Sample {
+    truth: PixelTruth,
+    /// Where a counted point's light is read.
+    point: Option<SurfacePoint>,
+    /// The surface the camera ray met first.
+    hit: Option<SurfaceHit>,
+}
+
+impl Sample {
+    /// A point that is not counted.
+    fn of(truth: PixelTruth, hit: Option<SurfaceHit>) -> Self {
+        Self {
+            truth,
+            point: None,
+            hit,
+        }
     }
 }
 

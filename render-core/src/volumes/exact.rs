@@ -15,7 +15,7 @@ use crate::geom::Camera;
 use crate::gpu::GpuContext;
 use crate::scene::{Scene, ShadowLight};
 use crate::technique::TechniqueInput;
-use crate::truth::{ExactShadow, SceneRays, ViewKey, offset_from_surface, rows_in_parallel};
+use crate::truth::{ExactShadow, SceneRays, ViewKey, rows_in_parallel};
 
 /// The trees of the scene the intervals are cast through, built on first use.
 #[derive(Default)]
@@ -122,13 +122,10 @@ fn shadowing_casters(
         let start = c as usize * CHUNK;
         let mut found = Vec::new();
         for &i in &shadowed[start..(start + CHUNK).min(shadowed.len())] {
-            let point = &exact.points[i];
-            let p = Vec3::from_slice(&point.position[..3]);
-            let n = Vec3::from_slice(&point.normal[..3]);
+            let p = Vec3::from_slice(&exact.points[i].position[..3]);
             let depth = (view.depth_of)(p);
             let (towards, distance) = view.light.towards(p);
-            let origin = offset_from_surface(p, n);
-            rays.blockers(origin, towards, (0.0, distance), |instance| {
+            rays.blockers(exact.leaving[i], towards, (0.0, distance), |instance| {
                 if let Some(Some(caster)) = caster_of.get(instance as usize) {
                     found.push((*caster, depth));
                 }

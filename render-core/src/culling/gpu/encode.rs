@@ -5,7 +5,7 @@
 use super::footprints::Phase;
 use super::resources::{SceneResources, SizedResources};
 use super::{CullError, CullFrame, CullPass, FragmentMaskSource, GpuCulling, WORKGROUP};
-use crate::culling::codes::method_bits as bits;
+use crate::culling::codes::{BOX_OUTLINE_VERTICES, method_bits as bits};
 use crate::gpu::pass_label::{self, culling as steps};
 use crate::gpu::{
     GpuContext, Scope, buffer_entry, color_attachment, depth_attachment, depth_pass, view_entry,
@@ -357,7 +357,7 @@ impl GpuCulling {
         groups.bind(&mut pass);
         if method & bits::BVOL != 0 {
             pass.set_pipeline(&self.pipelines.boxes);
-            pass.draw(0..6, 0..scene.instance_count);
+            pass.draw(0..BOX_OUTLINE_VERTICES, 0..scene.instance_count);
         }
         if method & bits::INCREMENTAL != 0 {
             pass.set_pipeline(&self.pipelines.moved_boxes);
