@@ -88,6 +88,7 @@ pub fn check(args: &CheckArgs) -> anyhow::Result<()> {
         if let Some(offset) = case.scene_moved_by {
             session.move_scene(offset);
         }
+        println!("{}", case_flags(case));
         for technique in &techniques {
             total += 1;
             let settings = FrameSettings {
@@ -268,6 +269,24 @@ fn cases(scene: &Scene, view: &Camera) -> Vec<Case> {
             scene_moved_by: Some(far),
         },
     ]
+}
+
+/// The case's view as `shot` flags, so a failure can be looked at: `  (--eye ... --sun ...)`.
+fn case_flags(case: &Case) -> String {
+    let v = |v: Vec3| format!("{},{},{}", v.x, v.y, v.z);
+    let c = &case.camera;
+    format!(
+        "{}: --eye {} --target {} --fov {} --near {} --far {} --sun {}{}",
+        case.name,
+        v(c.eye),
+        v(c.eye + c.forward),
+        c.fov_y_rad.to_degrees(),
+        c.near_m,
+        c.far_m,
+        v(case.sun.direction_to_sun),
+        case.scene_moved_by
+            .map_or_else(String::new, |o| format!(" (the scene moved by {})", v(o))),
+    )
 }
 
 fn volume(b: &render_core::geom::Aabb) -> f32 {

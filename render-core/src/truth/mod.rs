@@ -34,6 +34,13 @@ use crate::scene::{Scene, ShadowLight};
 /// Below this fraction of light a point is shadowed.
 pub const SHADOWED_BELOW: f32 = 0.5;
 
+/// A surface whose normal's cosine with the direction to the light is at most this grazes
+/// the light and is not counted (0.057°: it receives a thousandth of the light). Its shadow
+/// does not show, and no technique can resolve it: under a sun at the zenith, a wall faces
+/// the light by the rounding of the sun's direction (4e-8), and a shadow volume's side runs
+/// along it a fraction of a micrometre away, a coin toss for any rasteriser.
+pub const GRAZING: f32 = 1e-3;
+
 /// What the truth says of one pixel.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]
@@ -42,7 +49,8 @@ pub enum PixelTruth {
     Sky,
     /// An object that does not receive shadows.
     NotReceiver,
-    /// The surface faces away from the light (or grazes it): not counted.
+    /// The surface faces away from the light, or grazes it (it faces the light by no more
+    /// than [`GRAZING`]): not counted.
     FacesAway,
     /// A spot light's cone does not reach the surface: dark whatever the shadow; not counted.
     OutsideCone,
@@ -313,7 +321,7 @@ impl PixelRays {
             return Sample::of(PixelTruth::NotReceiver, Some(hit));
         }
         let (towards, distance) = key.light.towards(hit.position);
-        if hit.normal.dot(towards) <= 0.0 {
+        if hit.normal.dot(towards) <= GRAZING {
             return Sample::of(PixelTruth::FacesAway, Some(hit));
         }
         if !key.light.reaches(hit.position) {

@@ -186,7 +186,11 @@ fn finish_sun_caster(
         atomicAdd(&counters[9], 1u);
     }
     if (n == TOO_MANY_CELLS || (!culling() && !clamping())) {
+        // The whole volume, across every strip of the picture: a partial gather may have left
+        // its pieces' slices behind (the shadow of a roof with the camera under it, lost
+        // where the gather ran past its budget).
         (*found)[0] = vec2<f32>(s.lo.z, 1e30);
+        piece_slices[0] = ALL_SLICES;
         n = 1u;
     }
     let keep = !culling() || n > 0u;

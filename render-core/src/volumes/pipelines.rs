@@ -193,14 +193,13 @@ pub(super) enum Counting {
 enum Faces {
     /// The silhouette quads.
     Quads,
-    /// The casters' own triangles where an interval starts at them: clipped at the near
-    /// plane as the camera's passes clip them (a clamped triangle that crosses the near plane
-    /// interpolates other depths there), and pushed back by [`CAP_BIAS`] so a lit surface
-    /// they lie on counts them behind itself, outside the volume, whatever the rounding.
-    NearCaps,
+    /// The casters' own triangles where an interval starts at them, as the camera sees them
+    /// (`Side`): clipped at the near plane as the camera's passes clip them (a clamped
+    /// triangle that crosses the near plane interpolates other depths there).
+    NearCaps(Side),
     /// The same of casters that reach past the far plane: clamped, or the far plane would
-    /// clip them and not the rest of their volume, and pushed back alike.
-    PastFarCaps,
+    /// clip them and not the rest of their volume.
+    PastFarCaps(Side),
     /// The caps moved along the light, where intervals start further on and where they end
     /// (the lit triangles, or fans over the silhouette, `fan_capped` in
     /// `volumes/common.wgsl`): no surface lies under them, so no bias (it would push a cap
@@ -208,10 +207,52 @@ enum Faces {
     MovedCaps,
 }
 
+/// Which side of a cap at its caster the camera sees: a draw culls the other.
+#[derive(Clone, Copy, PartialEq)]
+enum Side {
+    /// Its outside, where its caster's triangle may be the visible surface: pushed back by
+    /// [`CAP_BIAS`] so a lit surface it lies on counts it behind itself, outside the volume,
+    /// whatever the rounding.
+    Outside,
+    /// Its inside (the camera inside the caster, or the back of an open caster's triangle):
+    /// the camera culls that triangle there, so no surface lies on the cap and no bias. The
+    /// bias, twice the depth slope, would push a cap seen edge-on from inside a wall behind
+    /// the floor in front of the wall, a band of false shadow along its foot.
+    Inside,
+}
+
+impl Faces {
+    /// Pushed back by [`CAP_BIAS`].
+    fn biased(self) -> bool {
+        matches!(
+            self,
+            Self::NearCaps(Side::Outside) | Self::PastFarCaps(Side::Outside)
+        )
+    }
+
+    /// The faces a draw of them culls: a cap's other side.
+    fn culled(self) -> Option<wgpu::Face> {
+        match self {
+            Self::NearCaps(Side::Outside) | Self::PastFarCaps(Side::Outside) => {
+                Some(wgpu::Face::Back)
+            }
+            Self::NearCaps(Side::Inside) | Self::PastFarCaps(Side::Inside) => {
+                Some(wgpu::Face::Front)
+            }
+            Self::Quads | Self::MovedCaps => None,
+        }
+    }
+
+    fn near_caps(self) -> bool {
+        matches!(self, Self::NearCaps(_))
+    }
+}
+
 /// One draw of the volume faces: its vertex entry, how it counts, its faces and which of
 /// the indirect arguments it draws (16 bytes each, `volumes/find.wgsl` `draws`: z-fail
 /// quads, caps at the casters, moved caps and fan caps, then z-pass). All but near caps are
-/// depth clamped where the adapter can, so nothing is clipped at the far plane.
+/// depth clamped where the adapter can, so nothing is clipped at the far plane. Caps at the
+/// casters are drawn twice, each side by its own draw.
 struct VolumeDraw {
     entry: &'static str,
     counting: Counting,
@@ -219,18 +260,57 @@ struct VolumeDraw {
     args: u64,
 }
 
-const DRAWS: [VolumeDraw; 10] = [
+const DRAWS: [VolumeDraw; 14] = [
     VolumeDraw::new("vs_quad", Counting::ZFail, Faces::Quads, 0),
-    VolumeDraw::new("vs_near_cap", Counting::ZFail, Faces::NearCaps, 1),
-    VolumeDraw::new("vs_past_far_cap", Counting::ZFail, Faces::PastFarCaps, 1),
+    VolumeDraw::new(
+        "vs_near_cap",
+        Counting::ZFail,
+        Faces::NearCaps(Side::Outside),
+        1,
+    ),
+    VolumeDraw::new(
+        "vs_near_cap",
+        Counting::ZFail,
+        Faces::NearCaps(Side::Inside),
+        1,
+    ),
+    VolumeDraw::new(
+        "vs_past_far_cap",
+        Counting::ZFail,
+        Faces::PastFarCaps(Side::Outside),
+        1,
+    ),
+    VolumeDraw::new(
+        "vs_past_far_cap",
+        Counting::ZFail,
+        Faces::PastFarCaps(Side::Inside),
+        1,
+    ),
     VolumeDraw::new("vs_moved_cap", Counting::ZFail, Faces::MovedCaps, 2),
     VolumeDraw::new("vs_fan_cap", Counting::ZFail, Faces::MovedCaps, 3),
     VolumeDraw::new("vs_quad_pass", Counting::ZPass, Faces::Quads, 4),
-    VolumeDraw::new("vs_near_cap_pass", Counting::ZPass, Faces::NearCaps, 5),
+    VolumeDraw::new(
+        "vs_near_cap_pass",
+        Counting::ZPass,
+        Faces::NearCaps(Side::Outside),
+        5,
+    ),
+    VolumeDraw::new(
+        "vs_near_cap_pass",
+        Counting::ZPass,
+        Faces::NearCaps(Side::Inside),
+        5,
+    ),
     VolumeDraw::new(
         "vs_past_far_cap_pass",
         Counting::ZPass,
-        Faces::PastFarCaps,
+        Faces::PastFarCaps(Side::Outside),
+        5,
+    ),
+    VolumeDraw::new(
+        "vs_past_far_cap_pass",
+        Counting::ZPass,
+        Faces::PastFarCaps(Side::Inside),
         5,
     ),
     VolumeDraw::new("vs_moved_cap_pass", Counting::ZPass, Faces::MovedCaps, 6),
@@ -273,7 +353,7 @@ impl VolumePipelines {
             volume_pipeline(
                 device,
                 (layout, module, draw.entry),
-                (format, depth_clamped && draw.faces != Faces::NearCaps, cut),
+                (format, depth_clamped && !draw.faces.near_caps(), cut),
                 (kind, draw.counting, draw.faces),
             )
         }))
@@ -407,7 +487,7 @@ fn volume_pipeline(
             buffers: &[],
         },
         primitive: wgpu::PrimitiveState {
-            cull_mode: None,
+            cull_mode: faces.culled(),
             unclipped_depth,
             ..Default::default()
         },
@@ -416,7 +496,7 @@ fn volume_pipeline(
             depth_write_enabled: Some(false),
             depth_compare: Some(depth_compare),
             stencil,
-            bias: if matches!(faces, Faces::NearCaps | Faces::PastFarCaps) {
+            bias: if faces.biased() {
                 CAP_BIAS
             } else {
                 wgpu::DepthBiasState::default()
