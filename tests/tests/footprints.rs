@@ -23,24 +23,35 @@ const D: u32 = 4;
 /// The scene with D's shadow `gap_m` metres (across the light) beyond the receiver's box.
 fn figure_3(gap_m: f32) -> (Scene, Camera) {
     // The light travels along (-1, -1, 0): shadows fall towards -x, 45 degrees down.
-    let sun = Sun::from_direction(Vec3::new(1.0, 1.0, 0.0));
-    let receiver = box_mesh("receiver", Vec3::new(20.0, 0.25, 20.0));
-    let wall = box_mesh("wall", Vec3::new(25.0, 4.0, 0.5));
-    let unit = box_mesh("caster", Vec3::splat(0.5));
-    let small = box_mesh("small caster", Vec3::splat(0.25));
-    let at = |x, y, z| Mat4::from_translation(Vec3::new(x, y, z));
     // Across the light, x - y measures the receiver box's far edge at x - y = -20 (its top
     // corner at x = -20, y = 0); D (x - y from its own -1 to +1 around the centre) sits above
     // the receiver so the scene's bounds do not depend on the gap.
     let d_x = 3.0 - 20.0 - 1.0 - gap_m * std::f32::consts::SQRT_2;
+    figure_3_of(glam::Quat::IDENTITY, Vec3::new(d_x, 3.0, -10.0))
+}
+
+/// Figure 3 under the sun (1, 1, 0) turned by `turn` about the vertical, with everything
+/// but the receiver and D turned alike: the receiver (a box 40 m square) stays square to the
+/// world, D stands at `d_at`.
+fn figure_3_of(turn: glam::Quat, d_at: Vec3) -> (Scene, Camera) {
+    let receiver = box_mesh("receiver", Vec3::new(20.0, 0.25, 20.0));
+    let wall = box_mesh("wall", Vec3::new(25.0, 4.0, 0.5));
+    let unit = box_mesh("caster", Vec3::splat(0.5));
+    let small = box_mesh("small caster", Vec3::splat(0.25));
+    let turned = |x, y, z| Mat4::from_rotation_translation(turn, turn * Vec3::new(x, y, z));
     let mut instances = vec![
-        Instance::new("receiver", 0, &receiver, at(0.0, -0.25, 0.0)),
-        Instance::new("A", 2, &unit, at(0.0, 2.0, -10.0)),
-        Instance::new("B", 2, &unit, at(0.0, 2.0, 12.0)),
+        Instance::new(
+            "receiver",
+            0,
+            &receiver,
+            Mat4::from_translation(Vec3::new(0.0, -0.25, 0.0)),
+        ),
+        Instance::new("A", 2, &unit, turned(0.0, 2.0, -10.0)),
+        Instance::new("B", 2, &unit, turned(0.0, 2.0, 12.0)),
         // In B's shadow: 1 m further along the light, well inside B's silhouette.
-        Instance::new("C", 3, &small, at(-0.7, 1.3, 12.0)),
-        Instance::new("D", 2, &unit, at(d_x, 3.0, -10.0)),
-        Instance::new("wall", 1, &wall, at(0.0, 4.0, 4.5)),
+        Instance::new("C", 3, &small, turned(-0.7, 1.3, 12.0)),
+        Instance::new("D", 2, &unit, Mat4::from_translation(d_at)),
+        Instance::new("wall", 1, &wall, turned(0.0, 4.0, 4.5)),
     ];
     // Only the receiver receives; the wall only hides the receiver's far part from the camera.
     for inst in &mut instances[1..] {
@@ -51,10 +62,10 @@ fn figure_3(gap_m: f32) -> (Scene, Camera) {
         "test:figure-3",
         vec![receiver, wall, unit, small],
         instances,
-        sun,
+        Sun::from_direction(turn * Vec3::new(1.0, 1.0, 0.0)),
     );
     let camera = Camera::look_at(
-        Vec3::new(0.0, 6.0, -40.0),
+        turn * Vec3::new(0.0, 6.0, -40.0),
         Vec3::ZERO,
         60f32.to_radians(),
         0.1,
@@ -286,11 +297,6 @@ fn frag_leaves_a_visible_receiver_the_light_does_not_see_to_the_depth_test() {
 fn figure_3_turned(azimuth_deg: f32, gap_m: f32) -> (Scene, Camera) {
     let turn = glam::Quat::from_rotation_y(azimuth_deg.to_radians());
     let sun = turn * Vec3::new(1.0, 1.0, 0.0).normalize();
-    let receiver = box_mesh("receiver", Vec3::new(20.0, 0.25, 20.0));
-    let wall = box_mesh("wall", Vec3::new(25.0, 4.0, 0.5));
-    let unit = box_mesh("caster", Vec3::splat(0.5));
-    let small = box_mesh("small caster", Vec3::splat(0.25));
-    let turned = |x, y, z| Mat4::from_rotation_translation(turn, turn * Vec3::new(x, y, z));
 
     // The light's view: across it, `right` and `up` (the renderer's basis).
     let (right, up) = render_core::geom::basis_for_direction(-sun.as_dvec3());
@@ -335,37 +341,7 @@ fn figure_3_turned(azimuth_deg: f32, gap_m: f32) -> (Scene, Camera) {
     let on_plane = right * centre.x + up * centre.y;
     let d_at = on_plane + sun * ((3.0 - on_plane.y) / sun.y);
 
-    let mut instances = vec![
-        Instance::new(
-            "receiver",
-            0,
-            &receiver,
-            Mat4::from_translation(Vec3::new(0.0, -0.25, 0.0)),
-        ),
-        Instance::new("A", 2, &unit, turned(0.0, 2.0, -10.0)),
-        Instance::new("B", 2, &unit, turned(0.0, 2.0, 12.0)),
-        Instance::new("C", 3, &small, turned(-0.7, 1.3, 12.0)),
-        Instance::new("D", 2, &unit, Mat4::from_translation(d_at)),
-        Instance::new("wall", 1, &wall, turned(0.0, 4.0, 4.5)),
-    ];
-    for inst in &mut instances[1..] {
-        inst.receives_shadow = false;
-    }
-    instances[5].casts_shadow = false;
-    let scene = Scene::new(
-        "test:figure-3-turned",
-        vec![receiver, wall, unit, small],
-        instances,
-        Sun::from_direction(sun),
-    );
-    let camera = Camera::look_at(
-        turn * Vec3::new(0.0, 6.0, -40.0),
-        Vec3::ZERO,
-        60f32.to_radians(),
-        0.1,
-        300.0,
-    );
-    (scene, camera)
+    figure_3_of(turn, d_at)
 }
 
 /// The casters each method draws after its number of frames, one after the other on

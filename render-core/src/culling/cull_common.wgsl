@@ -49,17 +49,21 @@ struct LightBox {
     hi: vec3<f32>,
 }
 
+// Corner `k` (0 to 7) of the instance's box: bit 0 picks x, bit 1 y, bit 2 z.
+fn bounds_corner(b: InstanceBounds, k: u32) -> vec3<f32> {
+    return vec3<f32>(
+        select(b.min.x, b.max.x, (k & 1u) != 0u),
+        select(b.min.y, b.max.y, (k & 2u) != 0u),
+        select(b.min.z, b.max.z, (k & 4u) != 0u),
+    );
+}
+
 fn light_box(b: InstanceBounds, view: ShadowView) -> LightBox {
     var out: LightBox;
     out.lo = vec3<f32>(1e30);
     out.hi = vec3<f32>(-1e30);
     for (var k = 0u; k < 8u; k++) {
-        let corner = vec3<f32>(
-            select(b.min.x, b.max.x, (k & 1u) != 0u),
-            select(b.min.y, b.max.y, (k & 2u) != 0u),
-            select(b.min.z, b.max.z, (k & 4u) != 0u),
-        );
-        let clip = light_clip(view, corner);
+        let clip = light_clip(view, bounds_corner(b, k));
         if (clip.w <= 0.0) {
             // Behind a warped view's centre (LiSPSM): the box may reach anywhere in the map,
             // from the light's near plane on.
@@ -92,13 +96,7 @@ const BOX_DEPTH_MARGIN: f32 = 1e-6;
 
 // Vertex `vertex` (0 to 35) of box `b` in light clip space, a little towards the light.
 fn box_vertex(b: InstanceBounds, vertex: u32, view: ShadowView) -> vec4<f32> {
-    let corner = BOX_CORNERS[vertex % 36u];
-    let p = vec3<f32>(
-        select(b.min.x, b.max.x, (corner & 1u) != 0u),
-        select(b.min.y, b.max.y, (corner & 2u) != 0u),
-        select(b.min.z, b.max.z, (corner & 4u) != 0u),
-    );
-    var clip = light_clip(view, p);
+    var clip = light_clip(view, bounds_corner(b, BOX_CORNERS[vertex % 36u]));
     clip.z -= BOX_DEPTH_MARGIN * clip.w;
     return clip;
 }

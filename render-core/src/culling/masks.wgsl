@@ -166,12 +166,7 @@ fn vs_box(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance:
     var corners: array<vec2<f32>, 8>;
     var in_front = true;
     for (var k = 0u; k < 8u; k++) {
-        let corner = vec3<f32>(
-            select(b.min.x, b.max.x, (k & 1u) != 0u),
-            select(b.min.y, b.max.y, (k & 2u) != 0u),
-            select(b.min.z, b.max.z, (k & 4u) != 0u),
-        );
-        let clip = light_clip(pass_view, corner);
+        let clip = light_clip(pass_view, bounds_corner(b, k));
         in_front = in_front && clip.w > 0.0;
         corners[k] = clip.xy / max(clip.w, 1e-30);
     }
