@@ -404,11 +404,12 @@ fn bvol_marks_the_receivers_outline_not_its_light_space_rectangle() {
             let (scene, camera) = figure_3_turned(azimuth_deg, gap_texels * texel_m);
             let case = format!("sun turned {azimuth_deg}°, D's shadow {gap_texels} texels out");
             // Every caster is in the light's frustum; without error (checked every frame)
-            // BVOL culls D.
-            let methods = [(Method::None, 1), (Method::Bvol, 3)];
+            // BVOL culls D, and so does GEOM+BVOL, which marks boxes too.
+            let methods = [(Method::None, 1), (Method::Bvol, 3), (Method::GeomBvol, 3)];
             let (drawn, _) = drawn_in_turn(&mut renderer, &scene, &camera, &methods);
             assert_eq!(drawn[0], [0, A, B, C, D], "none, {case}");
             assert_eq!(drawn[1], [0, A, B], "bvol, {case}");
+            assert_eq!(drawn[2], [0, A, B], "geom-bvol, {case}");
         }
     }
 }
