@@ -12,6 +12,8 @@
 //! says. A view's truth is cached by its camera, size, sun and the
 //! instances' poses, and computed only when measuring.
 
+#[cfg(test)]
+mod arbiter;
 mod at_points;
 mod rays;
 #[cfg(test)]
