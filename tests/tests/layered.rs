@@ -95,7 +95,9 @@ fn frame(
         .expect("frame renders");
     let views = renderer.last_views().to_vec();
     let texture = if settings.setup == ShadowSetup::Lights {
-        renderer.lights_depth_texture()
+        renderer
+            .lights_depth_texture()
+            .expect("the frame drew the lights' maps")
     } else {
         renderer.shadow_depth_texture()
     };

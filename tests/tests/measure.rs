@@ -5,7 +5,7 @@
 use glam::{Mat4, Vec3};
 use render_core::frame::{
     FrameCapture, FrameInput, FrameRenderer, FrameReport, FrameSettings, Method, PcfKernel,
-    SceneGpu,
+    SceneGpu, ShadowSetup,
 };
 use render_core::geom::Camera;
 use render_core::scene::{Instance, Scene, Sun, load_builtin};
@@ -387,4 +387,66 @@ fn hard_views_have_zero_error_and_draw_the_oracle() {
         let name = format!("tower behind the camera, sun {elevation}°");
         assert_conservative(&name, &scene, &camera, &settings);
     }
+}
+
+#[test]
+fn a_technique_is_built_on_first_use_and_leaves_out_the_casters_excluded_before() {
+    // The box is left out before the first frame, while only the shadow maps exist; the
+    // volumes and the virtual maps, built when a frame first asks for them, leave it out too:
+    // not one pixel of the ground is in shadow, where a renderer that keeps the box shadows
+    // hundreds. The many lights' maps are never asked for, so never built.
+    let sun = Sun::from_direction(Vec3::new(0.3, 1.0, 0.2));
+    let scene = box_on_plane(20.0, Vec3::splat(2.0), 1.5, sun);
+    let camera = Camera::look_at(
+        Vec3::new(0.0, 6.0, 12.0),
+        Vec3::ZERO,
+        50f32.to_radians(),
+        0.1,
+        100.0,
+    );
+    let ctx = gpu();
+    let scene_gpu = SceneGpu::new(ctx, &scene);
+    let mut without_box = FrameRenderer::new(ctx);
+    without_box.exclude_casters(&[1]);
+    let mut with_box = FrameRenderer::new(ctx);
+    let shadowed_ground = |renderer: &mut FrameRenderer, setup| {
+        let settings = FrameSettings {
+            sun,
+            setup,
+            ..FrameSettings::default()
+        };
+        let input = FrameInput {
+            camera: &camera,
+            width: 256,
+            height: 192,
+            settings: &settings,
+        };
+        renderer
+            .render_and_wait(ctx, &scene, &scene_gpu, &input)
+            .expect("frame");
+        let capture =
+            FrameCapture::read(ctx, renderer.targets().expect("targets")).expect("readback");
+        capture
+            .shadow
+            .iter()
+            .zip(&capture.ids)
+            .filter(|&(&f, &id)| id == 1 && f < 128)
+            .count()
+    };
+    for setup in [
+        ShadowSetup::Single,
+        ShadowSetup::Volumes,
+        ShadowSetup::Virtual,
+    ] {
+        assert_eq!(shadowed_ground(&mut without_box, setup), 0, "{setup:?}");
+        let kept = shadowed_ground(&mut with_box, setup);
+        assert!(
+            kept > 500,
+            "{setup:?}: {kept} ground pixels in the box's shadow"
+        );
+    }
+    assert!(
+        without_box.lights_depth_texture().is_none(),
+        "no frame asked for many lights"
+    );
 }

@@ -178,7 +178,8 @@ impl FrameRenderer {
             return self.render_observed(ctx, scene, scene_gpu, input, &observer);
         }
         self.observing = false;
-        self.techniques.active = Family::of(input.settings.setup);
+        self.techniques
+            .activate(ctx, Family::of(input.settings.setup));
         let setup = self.begin_frame(ctx, scene, scene_gpu, input);
         let technique_input = self.technique_input(&setup, scene, scene_gpu, input.camera);
         self.techniques.arrange(&setup.settings, &self.single_views);

@@ -3,9 +3,11 @@
 
 use std::collections::VecDeque;
 
+use super::techniques::Family;
 use super::{FrameRenderer, FrameReport, FrameSettings, SceneGpu};
 use crate::culling::CasterOutcome;
 use crate::gpu::{GpuContext, GpuError, PassTiming};
+use crate::layered::LayeredTechnique;
 use crate::metrics::Measured;
 use crate::technique::combined_outcomes;
 use crate::view::VisibilityCounts;
@@ -138,24 +140,32 @@ impl FrameRenderer {
 
     /// The many-lights technique's maps (a depth array: a layer per map, or atlas pages), as
     /// the last frame with it drew them; for tests.
-    pub fn lights_depth_texture(&self) -> &wgpu::Texture {
-        self.techniques.layered().depth_texture()
+    /// `None` before any frame drew them.
+    pub fn lights_depth_texture(&self) -> Option<&wgpu::Texture> {
+        self.techniques
+            .layered()
+            .map(LayeredTechnique::depth_texture)
     }
 
     /// The virtual maps' physical atlas as the last frame with them left it; for tests.
     pub fn virtual_atlas(&self) -> Option<&wgpu::Texture> {
-        self.techniques.virtual_maps().atlas()
+        self.techniques.virtual_maps()?.atlas()
     }
 
-    /// The virtual maps' page-table flags after the last frame with them. Blocks: for tests.
+    /// The virtual maps' page-table flags after the last frame with them (empty before any
+    /// frame used them; so are the other readers of a technique). Blocks: for tests.
     pub fn virtual_page_flags(&self, ctx: &GpuContext) -> Result<Vec<u32>, GpuError> {
-        self.techniques.virtual_maps().read_page_flags(ctx)
+        self.techniques
+            .virtual_maps()
+            .map_or(Ok(Vec::new()), |v| v.read_page_flags(ctx))
     }
 
     /// The virtual maps' receiver masks as the last frame left them (two words per entry).
     /// Blocks: for tests.
     pub fn virtual_receiver_masks(&self, ctx: &GpuContext) -> Result<Vec<[u32; 2]>, GpuError> {
-        self.techniques.virtual_maps().read_receiver_masks(ctx)
+        self.techniques
+            .virtual_maps()
+            .map_or(Ok(Vec::new()), |v| v.read_receiver_masks(ctx))
     }
 
     /// The virtual maps' (caster, page) pairs of the last frame, and which of them the
@@ -164,19 +174,25 @@ impl FrameRenderer {
         &self,
         ctx: &GpuContext,
     ) -> Result<Vec<crate::virtual_maps::DrawnPair>, GpuError> {
-        self.techniques.virtual_maps().read_pairs(ctx)
+        self.techniques
+            .virtual_maps()
+            .map_or(Ok(Vec::new()), |v| v.read_pairs(ctx))
     }
 
     /// The virtual maps' hierarchy of page flags as the last frame left it (341 words per
     /// level). Blocks: for tests.
     pub fn virtual_page_hierarchy(&self, ctx: &GpuContext) -> Result<Vec<u32>, GpuError> {
-        self.techniques.virtual_maps().read_page_hierarchy(ctx)
+        self.techniques
+            .virtual_maps()
+            .map_or(Ok(Vec::new()), |v| v.read_page_hierarchy(ctx))
     }
 
     /// The triangles per-layer culling kept for each slot (a view, or a multiview group) in
     /// the last frame that culled. Blocks: for tests and reports.
     pub fn lights_kept_triangles(&self, ctx: &GpuContext) -> Result<Vec<u32>, GpuError> {
-        self.techniques.layered().read_kept(ctx)
+        self.techniques
+            .layered()
+            .map_or(Ok(Vec::new()), |l| l.read_kept(ctx))
     }
 
     /// The pipeline statistics of the many-lights technique's last frame, a map pass each.
@@ -185,7 +201,9 @@ impl FrameRenderer {
         &self,
         ctx: &GpuContext,
     ) -> Result<Vec<crate::layered::PassCounts>, GpuError> {
-        self.techniques.layered().read_pass_statistics(ctx)
+        self.techniques
+            .layered()
+            .map_or(Ok(Vec::new()), |l| l.read_pass_statistics(ctx))
     }
 
     /// The last frame's intervals of `instance`'s shadow volume (metres along the light from
@@ -196,10 +214,12 @@ impl FrameRenderer {
         ctx: &GpuContext,
         instance: u32,
     ) -> Result<Option<Vec<[f32; 2]>>, GpuError> {
-        if self.techniques.active != super::techniques::Family::Volumes {
-            return Ok(None);
+        match self.techniques.volumes() {
+            Some(volumes) if self.techniques.active_family() == Family::Volumes => {
+                volumes.read_intervals(ctx, instance)
+            }
+            _ => Ok(None),
         }
-        self.techniques.volumes().read_intervals(ctx, instance)
     }
 
     /// The oracle flag of every instance from the last measured frame (in any view's oracle).

@@ -87,17 +87,46 @@ impl Shading {
     }
 }
 
-/// Every technique and its shading; one is active.
+/// A technique built on first use, with the passes that read its light.
+struct Built<T> {
+    technique: T,
+    shading: Shading,
+}
+
+impl<T: ShadowTechnique> Built<T> {
+    fn new(ctx: &GpuContext, technique: T, layouts: &Layouts) -> Self {
+        let shading = Shading::new(
+            ctx,
+            &technique,
+            [&layouts.frame, &layouts.measure],
+            layouts.early_depth_test,
+        );
+        Self { technique, shading }
+    }
+}
+
+/// What a technique and its shading are built against.
+struct Layouts {
+    frame: wgpu::BindGroupLayout,
+    pass_view: wgpu::BindGroupLayout,
+    measure: wgpu::BindGroupLayout,
+    early_depth_test: bool,
+}
+
+/// Every technique and its shading; one is active. The shadow maps are built at once (every
+/// frame before the first asks for them, and the window opens on them); the others when a
+/// frame first asks for them, so that a frame of one technique pays for no other's pipelines
+/// (shadow volumes' compute passes alone take seconds to compile on a software adapter).
 pub(super) struct Techniques {
     pub maps: MapTechnique,
-    volumes: VolumeTechnique,
-    layered: LayeredTechnique,
     map_shading: Shading,
-    volume_shading: Shading,
-    layered_shading: Shading,
-    virtual_maps: VirtualTechnique,
-    virtual_shading: Shading,
-    pub active: Family,
+    volumes: Option<Built<VolumeTechnique>>,
+    layered: Option<Built<LayeredTechnique>>,
+    virtual_maps: Option<Built<VirtualTechnique>>,
+    layouts: Layouts,
+    active: Family,
+    /// The instances every technique leaves out, also those built later.
+    excluded: Vec<u32>,
     /// What the map technique's layout was made for (setup, cascades, LiSPSM, single views).
     layout_key: Option<(ShadowSetup, CascadeSettings, LispsmSettings, SingleViews)>,
     /// The active one cannot cast the frame's point light's shadows: logged once.
@@ -112,22 +141,59 @@ impl Techniques {
         early_depth_test: bool,
     ) -> Self {
         let maps = MapTechnique::new(ctx, frame, pass_view);
-        let volumes = VolumeTechnique::new(ctx, frame);
-        let layered = LayeredTechnique::new(ctx, [frame, pass_view]);
-        let virtual_maps = VirtualTechnique::new(ctx, frame);
         Self {
-            virtual_shading: Shading::new(ctx, &virtual_maps, [frame, measure], early_depth_test),
-            virtual_maps,
             map_shading: Shading::new(ctx, &maps, [frame, measure], early_depth_test),
-            volume_shading: Shading::new(ctx, &volumes, [frame, measure], early_depth_test),
-            layered_shading: Shading::new(ctx, &layered, [frame, measure], early_depth_test),
             maps,
-            volumes,
-            layered,
+            volumes: None,
+            layered: None,
+            virtual_maps: None,
+            layouts: Layouts {
+                frame: frame.clone(),
+                pass_view: pass_view.clone(),
+                measure: measure.clone(),
+                early_depth_test,
+            },
             active: Family::Maps,
+            excluded: Vec::new(),
             layout_key: None,
             refusals: crate::gpu::LogOnce::default(),
         }
+    }
+
+    /// Makes `family` the active technique, building it and its shading on its first use.
+    pub fn activate(&mut self, ctx: &GpuContext, family: Family) {
+        let layouts = &self.layouts;
+        let excluded = &self.excluded;
+        match family {
+            Family::Maps => {}
+            Family::Volumes => {
+                self.volumes.get_or_insert_with(|| {
+                    let mut volumes = VolumeTechnique::new(ctx, &layouts.frame);
+                    volumes.exclude(excluded);
+                    Built::new(ctx, volumes, layouts)
+                });
+            }
+            Family::Lights => {
+                self.layered.get_or_insert_with(|| {
+                    let mut layered =
+                        LayeredTechnique::new(ctx, [&layouts.frame, &layouts.pass_view]);
+                    layered.exclude(excluded);
+                    Built::new(ctx, layered, layouts)
+                });
+            }
+            Family::Virtual => {
+                self.virtual_maps.get_or_insert_with(|| {
+                    let mut virtual_maps = VirtualTechnique::new(ctx, &layouts.frame);
+                    virtual_maps.exclude(excluded);
+                    Built::new(ctx, virtual_maps, layouts)
+                });
+            }
+        }
+        self.active = family;
+    }
+
+    pub fn active_family(&self) -> Family {
+        self.active
     }
 
     /// The views `settings` ask of the techniques: the map technique's layout (the single
@@ -159,7 +225,9 @@ impl Techniques {
             .layered
             .sun
             .then(|| Cascades::new(settings.cascades));
-        self.layered.set_sun(sun);
+        if let Some(built) = &mut self.layered {
+            built.technique.set_sun(sun);
+        }
     }
 
     /// Where the active technique cannot cast `settings`' point light's shadows, turns
@@ -183,51 +251,70 @@ impl Techniques {
         refusal
     }
 
-    pub fn volumes(&self) -> &VolumeTechnique {
-        &self.volumes
+    /// The shadow volumes, once a frame has used them.
+    pub fn volumes(&self) -> Option<&VolumeTechnique> {
+        self.volumes.as_ref().map(|b| &b.technique)
     }
 
-    pub fn layered(&self) -> &LayeredTechnique {
-        &self.layered
+    /// The many lights' maps, once a frame has used them.
+    pub fn layered(&self) -> Option<&LayeredTechnique> {
+        self.layered.as_ref().map(|b| &b.technique)
     }
 
-    pub fn virtual_maps(&self) -> &VirtualTechnique {
-        &self.virtual_maps
+    /// The virtual maps, once a frame has used them.
+    pub fn virtual_maps(&self) -> Option<&VirtualTechnique> {
+        self.virtual_maps.as_ref().map(|b| &b.technique)
     }
 
-    pub fn active(&self) -> &dyn ShadowTechnique {
+    /// The active technique and its shading.
+    fn active_built(&self) -> (&dyn ShadowTechnique, &Shading) {
+        fn pair<T: ShadowTechnique>(built: Option<&Built<T>>) -> (&dyn ShadowTechnique, &Shading) {
+            let built = built.expect("a technique is built when it is activated");
+            (&built.technique, &built.shading)
+        }
         match self.active {
-            Family::Maps => &self.maps,
-            Family::Volumes => &self.volumes,
-            Family::Lights => &self.layered,
-            Family::Virtual => &self.virtual_maps,
+            Family::Maps => (&self.maps, &self.map_shading),
+            Family::Volumes => pair(self.volumes.as_ref()),
+            Family::Lights => pair(self.layered.as_ref()),
+            Family::Virtual => pair(self.virtual_maps.as_ref()),
         }
     }
 
+    pub fn active(&self) -> &dyn ShadowTechnique {
+        self.active_built().0
+    }
+
     pub fn active_mut(&mut self) -> &mut dyn ShadowTechnique {
+        fn technique<T: ShadowTechnique>(built: Option<&mut Built<T>>) -> &mut dyn ShadowTechnique {
+            &mut built
+                .expect("a technique is built when it is activated")
+                .technique
+        }
         match self.active {
             Family::Maps => &mut self.maps,
-            Family::Volumes => &mut self.volumes,
-            Family::Lights => &mut self.layered,
-            Family::Virtual => &mut self.virtual_maps,
+            Family::Volumes => technique(self.volumes.as_mut()),
+            Family::Lights => technique(self.layered.as_mut()),
+            Family::Virtual => technique(self.virtual_maps.as_mut()),
         }
     }
 
     /// The active technique's shading.
     pub fn shading(&self) -> &Shading {
-        match self.active {
-            Family::Maps => &self.map_shading,
-            Family::Volumes => &self.volume_shading,
-            Family::Lights => &self.layered_shading,
-            Family::Virtual => &self.virtual_shading,
-        }
+        self.active_built().1
     }
 
-    /// Every technique leaves these instances out.
+    /// Every technique leaves these instances out, also those built later.
     pub fn exclude(&mut self, instances: &[u32]) {
+        self.excluded = instances.to_vec();
         self.maps.exclude(instances);
-        self.volumes.exclude(instances);
-        self.layered.exclude(instances);
-        self.virtual_maps.exclude(instances);
+        if let Some(built) = &mut self.volumes {
+            built.technique.exclude(instances);
+        }
+        if let Some(built) = &mut self.layered {
+            built.technique.exclude(instances);
+        }
+        if let Some(built) = &mut self.virtual_maps {
+            built.technique.exclude(instances);
+        }
     }
 }

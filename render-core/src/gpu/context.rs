@@ -1,7 +1,8 @@
 //! The one owner of the wgpu instance, adapter, device and queue; everything else borrows it.
 
-use std::sync::Arc;
+use std::collections::HashMap;
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
 
 /// Why no GPU could be set up.
 #[derive(Debug, thiserror::Error)]
@@ -46,6 +47,8 @@ pub struct GpuContext {
     /// How many times the CPU has waited for the GPU ([`Self::wait_idle`]): the window's
     /// frame log shows that its frames never do. Shared by the context's clones.
     waits: Arc<AtomicU64>,
+    /// Compute pipelines compiled once per device ([`Self::compute_pipeline_once`]).
+    compiled: Arc<Mutex<HashMap<String, wgpu::ComputePipeline>>>,
 }
 
 impl GpuContext {
@@ -102,11 +105,32 @@ impl GpuContext {
             device,
             queue,
             waits: Arc::new(AtomicU64::new(0)),
+            compiled: Arc::default(),
         })
     }
 
     pub fn features(&self) -> wgpu::Features {
         self.device.features()
+    }
+
+    /// The compute pipeline `key` names, compiled by `create` on its first use on this device
+    /// and shared from then on by every renderer (a software adapter takes seconds to compile
+    /// some). A key stands for one module, entry point and set of bind group layout entries:
+    /// wgpu pools bind group layouts by their entries, so a pipeline compiled with one
+    /// renderer's layouts binds another's groups of the same layouts.
+    pub fn compute_pipeline_once(
+        &self,
+        key: &str,
+        create: impl FnOnce() -> wgpu::ComputePipeline,
+    ) -> wgpu::ComputePipeline {
+        let mut compiled = self
+            .compiled
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        compiled
+            .entry(key.to_owned())
+            .or_insert_with(create)
+            .clone()
     }
 
     /// How many times the CPU has waited for the GPU so far.

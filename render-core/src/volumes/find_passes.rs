@@ -11,9 +11,9 @@
 
 use super::pipelines::{BIG_DISPATCH_OFFSET, RECEIVER_CELLS, dispatch_size, group_rows};
 use super::scene::SceneVolumes;
-use crate::gpu::{Scope, compute_pipeline, pass_label};
+use crate::gpu::{GpuContext, Scope, compute_pipeline, pass_label};
 
-/// The find pipelines, created once.
+/// The find pipelines, compiled once per device.
 pub(super) struct FindPasses {
     reset: wgpu::ComputePipeline,
     receivers: wgpu::ComputePipeline,
@@ -47,12 +47,18 @@ enum Groups {
 }
 
 impl FindPasses {
+    /// `module` is `volumes/find.wgsl`; `layout` binds the frame's, the scene's and the find
+    /// passes' groups.
     pub(super) fn new(
-        device: &wgpu::Device,
+        ctx: &GpuContext,
         module: &wgpu::ShaderModule,
         layout: &wgpu::PipelineLayout,
     ) -> Self {
-        let find = |entry| compute_pipeline(device, module, Some(layout), entry);
+        let find = |entry: &str| {
+            ctx.compute_pipeline_once(&format!("Volumes::find/{entry}"), || {
+                compute_pipeline(&ctx.device, module, Some(layout), entry)
+            })
+        };
         Self {
             reset: find("reset_draws"),
             receivers: find("mark_receivers"),

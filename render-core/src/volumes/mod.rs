@@ -194,7 +194,7 @@ impl VolumeTechnique {
             format,
             depth_clamped,
             device_type: ctx.adapter.get_info().device_type,
-            find: FindPasses::new(device, &find_module, &find_pipeline_layout),
+            find: FindPasses::new(ctx, &find_module, &find_pipeline_layout),
             depth,
             volumes,
             overlay,
