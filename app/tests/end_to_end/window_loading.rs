@@ -2,11 +2,9 @@
 //! names the file and the problem, and the window keeps drawing the scene it had. Every file
 //! is built here, from a packed copy of the built-in boxes.
 
-mod common;
-
 use std::path::Path;
 
-use common::{has_display, out_dir, run, screenshot_stats, shadowlab, text};
+use crate::common::{has_display, out_dir, run, screenshot_stats, shadowlab, text};
 use serde_json::{Value, json};
 
 /// The boxes packed as `gltfpack` packs them: a `.gltf` whose first buffer is `bin_uri`.

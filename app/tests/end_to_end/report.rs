@@ -1,9 +1,7 @@
 //! `shadowlab report`: the folder a new user gets (pages, rows, plots that show something),
 //! rows that are `bench`'s, and a wrong family named.
 
-mod common;
-
-use common::{has_display, out_dir, run, run_window, shadowlab, text};
+use crate::common::{has_display, out_dir, run, run_window, shadowlab, text};
 
 /// The rows of a CSV `bench --csv` wrote, by column name.
 fn csv_rows(csv: &str) -> Vec<std::collections::HashMap<String, String>> {

@@ -1,7 +1,5 @@
 //! What the binary's tests share: the binary, a folder per test, its output as text, and for
 //! the window tests whether there is a display and the stats of the screenshot it saved.
-//! Each test file uses some of it.
-#![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

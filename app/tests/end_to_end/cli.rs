@@ -1,12 +1,10 @@
 //! The `shadowlab` binary as a user runs it: headless `shot` of the city, `bench`, `scenes`,
 //! bad input with clear messages, and the real window under a display (Xvfb in CI).
 
-mod common;
-
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use common::{
+use crate::common::{
     has_display, out_dir, run, run_window, screenshot_stats, shadowlab, text, window_lock,
 };
 

@@ -1,9 +1,7 @@
 //! `--shadow cascades` from the command line: a shot's stats list each cascade, a bench sweep
 //! prints a row per setup, and bad cascade flags get a message that names them.
 
-mod common;
-
-use common::{out_dir, run, shadowlab, text};
+use crate::common::{out_dir, run, shadowlab, text};
 
 #[test]
 fn a_cascaded_shot_reports_each_cascade_and_its_depths() {

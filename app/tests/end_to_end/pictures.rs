@@ -1,9 +1,7 @@
 //! What a reader of a report sees in a picture `shot` writes: the legend of the overlays over
 //! its bottom-left corner, in the colours the overlays use.
 
-mod common;
-
-use common::{out_dir, run, shadowlab, text};
+use crate::common::{out_dir, run, shadowlab, text};
 
 /// A shot of the small city from its street, with `extra` flags.
 fn shot(name: &str, extra: &[&str]) -> image::RgbaImage {

@@ -1,11 +1,9 @@
 //! `shadowlab check`: the hard cases on a scene, every technique, pass or fail with figures.
 //! On the house of `assets/scenes/house.gltf` (a closed house of one mesh, cut into chunks as
 //! any glTF is), whose zenith case once failed at this size; the case inside it fails only
-//! at 1280x720, which `tests/tests/check_cases.rs` renders.
+//! at 1280x720, which `tests/tests/gpu/check_cases.rs` renders.
 
-mod common;
-
-use common::{run, shadowlab, text};
+use crate::common::{run, shadowlab, text};
 
 #[test]
 fn check_runs_every_hard_case_with_every_technique_and_passes_on_the_house() {

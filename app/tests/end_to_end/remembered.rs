@@ -1,9 +1,7 @@
 //! The window remembers its scene and settings between runs, in its config folder
 //! (`SHADOWLAB_CONFIG_DIR` here): written when it closes, read when it opens.
 
-mod common;
-
-use common::{has_display, out_dir, run, screenshot_stats, shadowlab, text};
+use crate::common::{has_display, out_dir, run, screenshot_stats, shadowlab, text};
 
 #[test]
 fn the_window_reopens_with_the_last_scene_method_and_overlays() {

@@ -1,9 +1,7 @@
 //! The city's size (`builtin:city:N`) and `bench --sweep objects`: rows per size whose object
 //! counts grow with the blocks, and sizes out of range named.
 
-mod common;
-
-use common::{out_dir, run, shadowlab, text};
+use crate::common::{out_dir, run, shadowlab, text};
 
 #[test]
 fn the_objects_sweep_runs_each_size_of_the_city_and_counts_its_objects() {

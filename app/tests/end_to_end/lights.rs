@@ -2,9 +2,7 @@
 //! volumes' shadows, named in the stats; a light the scene lacks, or a word that is no light,
 //! gets a message that says what there is.
 
-mod common;
-
-use common::{out_dir, run, shadowlab, text};
+use crate::common::{out_dir, run, shadowlab, text};
 
 fn stats_of(png: &std::path::Path) -> serde_json::Value {
     serde_json::from_str(
