@@ -110,14 +110,25 @@ fn over_car(scene: &Scene) -> Vec3 {
 }
 
 fn same_picture(a: &Frame, b: &Frame) {
-    let differing = a
-        .capture
-        .shadow
-        .iter()
-        .zip(&b.capture.shadow)
-        .filter(|(x, y)| x != y)
-        .count();
-    assert_eq!(differing, 0, "pixels whose light differs");
+    // Where they differ: the pixel, its light in each and what it shows.
+    let w = a.capture.width as usize;
+    let differing: Vec<_> = (0..a.capture.shadow.len())
+        .filter(|&i| a.capture.shadow[i] != b.capture.shadow[i])
+        .map(|i| {
+            let (x, y) = (i % w, i / w);
+            let (cached, fresh) = (a.capture.shadow[i], b.capture.shadow[i]);
+            format!(
+                "({x}, {y}) {cached} vs {fresh} on object {}",
+                a.capture.ids[i]
+            )
+        })
+        .collect();
+    assert!(
+        differing.is_empty(),
+        "{} pixels whose light differs, the first: {:?}",
+        differing.len(),
+        &differing[..differing.len().min(8)]
+    );
 }
 
 /// The finest level's entry that the car's centre lies in and pixels marked: a page the
