@@ -94,7 +94,9 @@ struct Built<T> {
 }
 
 impl<T: ShadowTechnique> Built<T> {
-    fn new(ctx: &GpuContext, technique: T, layouts: &Layouts) -> Self {
+    /// `technique` leaving out `excluded`, and its shading.
+    fn new(ctx: &GpuContext, mut technique: T, layouts: &Layouts, excluded: &[u32]) -> Self {
+        technique.exclude(excluded);
         let shading = Shading::new(
             ctx,
             &technique,
@@ -162,30 +164,25 @@ impl Techniques {
 
     /// Makes `family` the active technique, building it and its shading on its first use.
     pub fn activate(&mut self, ctx: &GpuContext, family: Family) {
-        let layouts = &self.layouts;
-        let excluded = &self.excluded;
+        let (layouts, excluded) = (&self.layouts, self.excluded.as_slice());
         match family {
             Family::Maps => {}
             Family::Volumes => {
                 self.volumes.get_or_insert_with(|| {
-                    let mut volumes = VolumeTechnique::new(ctx, &layouts.frame);
-                    volumes.exclude(excluded);
-                    Built::new(ctx, volumes, layouts)
+                    let volumes = VolumeTechnique::new(ctx, &layouts.frame);
+                    Built::new(ctx, volumes, layouts, excluded)
                 });
             }
             Family::Lights => {
                 self.layered.get_or_insert_with(|| {
-                    let mut layered =
-                        LayeredTechnique::new(ctx, [&layouts.frame, &layouts.pass_view]);
-                    layered.exclude(excluded);
-                    Built::new(ctx, layered, layouts)
+                    let layered = LayeredTechnique::new(ctx, [&layouts.frame, &layouts.pass_view]);
+                    Built::new(ctx, layered, layouts, excluded)
                 });
             }
             Family::Virtual => {
                 self.virtual_maps.get_or_insert_with(|| {
-                    let mut virtual_maps = VirtualTechnique::new(ctx, &layouts.frame);
-                    virtual_maps.exclude(excluded);
-                    Built::new(ctx, virtual_maps, layouts)
+                    let virtual_maps = VirtualTechnique::new(ctx, &layouts.frame);
+                    Built::new(ctx, virtual_maps, layouts, excluded)
                 });
             }
         }
@@ -307,14 +304,13 @@ impl Techniques {
     pub fn exclude(&mut self, instances: &[u32]) {
         self.excluded = instances.to_vec();
         self.maps.exclude(instances);
-        if let Some(built) = &mut self.volumes {
-            built.technique.exclude(instances);
-        }
-        if let Some(built) = &mut self.layered {
-            built.technique.exclude(instances);
-        }
-        if let Some(built) = &mut self.virtual_maps {
-            built.technique.exclude(instances);
+        let built: [Option<&mut dyn ShadowTechnique>; 3] = [
+            self.volumes.as_mut().map(|b| &mut b.technique as _),
+            self.layered.as_mut().map(|b| &mut b.technique as _),
+            self.virtual_maps.as_mut().map(|b| &mut b.technique as _),
+        ];
+        for technique in built.into_iter().flatten() {
+            technique.exclude(instances);
         }
     }
 }
