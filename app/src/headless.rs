@@ -195,6 +195,9 @@ pub fn shot(args: &ShotArgs) -> anyhow::Result<()> {
         measure: true,
         ..args.view.settings(&session.scene)?
     };
+    if args.fault_drill == Some(crate::cli::FaultDrill::DeviceLost) {
+        session.ctx.device.destroy();
+    }
     session.settle(&camera, &settings)?;
     let (wall_ms, mut report) = session.frame(&camera, &settings)?;
     if !args.no_truth {

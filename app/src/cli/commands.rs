@@ -17,6 +17,9 @@ pub struct ShotArgs {
     /// PNG to write.
     #[arg(long, value_name = "PNG")]
     pub out: PathBuf,
+    /// Loses the GPU device before the frame, to test the message (hidden: a test's aid).
+    #[arg(long, hide = true, value_name = "FAULT")]
+    pub fault_drill: Option<super::FaultDrill>,
     /// Stats JSON to write (default: the PNG's name with .json).
     #[arg(long, value_name = "JSON")]
     pub stats: Option<PathBuf>,

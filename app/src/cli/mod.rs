@@ -83,6 +83,24 @@ pub struct OpenArgs {
     /// but for a screenshot or "Compare all"), and how late its GPU times are.
     #[arg(long, value_name = "FILE.csv")]
     pub frame_log: Option<PathBuf>,
+    /// Tests the window's recovery from a GPU fault after its first frames (hidden: a test's
+    /// aid, not a user's): it prints whether the view afterwards is the view before.
+    #[arg(
+        long,
+        hide = true,
+        value_name = "FAULT",
+        requires = "exit_after_frames"
+    )]
+    pub fault_drill: Option<FaultDrill>,
+}
+
+/// A GPU fault the window and `shot` can simulate, to test that they survive it.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FaultDrill {
+    /// The device is destroyed, as a driver reset loses it.
+    DeviceLost,
+    /// The window is minimised (its size 0 x 0) for a few frames, then restored.
+    Minimised,
 }
 
 #[derive(Args, Debug, Clone)]

@@ -8,6 +8,7 @@
 
 mod camera_control;
 mod exact;
+mod faults;
 mod frame_log;
 mod input;
 mod lights;
@@ -57,7 +58,10 @@ pub fn run(args: &OpenArgs) -> anyhow::Result<()> {
         .context("the window's event loop failed")?;
     match app.error {
         Some(e) => Err(e),
-        None => Ok(()),
+        None => match app.running.as_mut().and_then(|r| r.fatal.take()) {
+            Some(e) => Err(e),
+            None => Ok(()),
+        },
     }
 }
 
@@ -165,6 +169,13 @@ struct Running {
     fps: Option<f32>,
     /// `--frame-log`: a line per presented frame.
     frame_log: Option<frame_log::FrameLog>,
+    /// The settings of the last frame that drew; a frame the GPU could not give memory to
+    /// brings them back.
+    last_good_settings: Option<FrameSettings>,
+    /// `--fault-drill`: a simulated GPU fault and the view before it.
+    drill: Option<faults::Drill>,
+    /// Why the window closed with an error (a failed drill).
+    fatal: Option<anyhow::Error>,
 }
 
 impl Running {
@@ -206,7 +217,8 @@ impl Running {
         let ctx = GpuContext::with_adapter(instance, adapter)?;
         log::info!("shadowlab window on {}", ctx.adapter_description());
         let size = window.inner_size();
-        let mut surface = WindowSurface::new(&ctx, wgpu_surface, size.width, size.height)?;
+        let mut surface = WindowSurface::new(&ctx, wgpu_surface)?;
+        surface.resize(&ctx, size.width, size.height);
 
         let egui_ctx = egui::Context::default();
         ui::theme::apply(&egui_ctx);
@@ -308,6 +320,9 @@ impl Running {
             last_frame: now,
             fps: None,
             frame_log,
+            last_good_settings: None,
+            drill: args.fault_drill.map(faults::Drill::Before),
+            fatal: None,
         };
         if args.play_path {
             running.toggle_playing();
@@ -434,8 +449,14 @@ impl Running {
 
     fn redraw(&mut self, event_loop: &ActiveEventLoop) {
         // Minimised or zero-sized: nothing to draw into; try again when the window has area.
-        let size = self.window.inner_size();
+        let size = self.window_size();
         if size.width == 0 || size.height == 0 {
+            self.drill_redraw_minimised(event_loop);
+            return;
+        }
+        // A lost device, or memory that ran out outside a frame: recover before drawing.
+        if let Some(fault) = self.ctx.take_fault() {
+            self.on_gpu_fault(&fault);
             return;
         }
         if (size.width, size.height) != (self.surface.config.width, self.surface.config.height) {
@@ -460,14 +481,19 @@ impl Running {
         }
 
         let egui_frame = self.run_egui();
-        self.draw_view();
+        if !self.draw_view() {
+            // A new device: the next frame draws on it.
+            return;
+        }
         let update_ms = now.elapsed().as_secs_f64() * 1000.0;
         // The smoke test waits for a scene it is loading, and for the compare table's round.
         let settled = self.loading.is_none()
             && self.then_open.is_none()
             && (!self.settings.compare_all
                 || self.compare.as_ref().is_some_and(CompareAll::complete));
+        let drilled = !self.drilling();
         let last_frame = settled
+            && drilled
             && self
                 .exit_after_frames
                 .is_some_and(|n| self.frames_presented + 1 >= n);
@@ -496,9 +522,15 @@ impl Running {
             }
         }
         self.log_frame((dt, update_ms, paint_ms), waits_before, screenshot);
+        if let Err(e) = self.drill_after_frame(event_loop, settled) {
+            log::error!("{e:#}");
+            self.fatal = Some(e);
+            event_loop.exit();
+        }
         if let Some(n) = self.exit_after_frames
             && self.frames_presented >= n
             && settled
+            && drilled
             && !self.exit_screenshot_pending
         {
             if let Some(png) = &self.last_screenshot {

@@ -23,20 +23,17 @@ pub struct EguiFrame {
 }
 
 impl WindowSurface {
-    pub fn new(
-        ctx: &GpuContext,
-        surface: wgpu::Surface<'static>,
-        width: u32,
-        height: u32,
-    ) -> anyhow::Result<Self> {
+    /// The surface's painter; [`Self::resize`] configures it (a window has one swapchain at a
+    /// time: a surface replacing another is configured once the other is gone).
+    pub fn new(ctx: &GpuContext, surface: wgpu::Surface<'static>) -> anyhow::Result<Self> {
         let caps = surface.get_capabilities(&ctx.adapter);
         let format = egui_wgpu::preferred_framebuffer_format(&caps.formats)
             .context("the window surface offers no pixel format")?;
         let config = wgpu::SurfaceConfiguration {
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
             format,
-            width: width.max(1),
-            height: height.max(1),
+            width: 1,
+            height: 1,
             present_mode: wgpu::PresentMode::AutoVsync,
             desired_maximum_frame_latency: 2,
             alpha_mode: caps
@@ -47,9 +44,6 @@ impl WindowSurface {
             view_formats: vec![],
             color_space: wgpu::SurfaceColorSpace::Auto,
         };
-        if width > 0 && height > 0 {
-            surface.configure(&ctx.device, &config);
-        }
         let options = egui_wgpu::RendererOptions {
             msaa_samples: 1,
             ..Default::default()

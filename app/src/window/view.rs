@@ -94,13 +94,14 @@ impl Running {
         }
     }
 
-    /// Renders the 3D view at the central panel's size in pixels and hands it to egui.
-    pub(super) fn draw_view(&mut self) {
+    /// Renders the 3D view at the central panel's size in pixels and hands it to egui. False
+    /// when the device was lost and replaced: this frame's egui output belongs to the old one.
+    pub(super) fn draw_view(&mut self) -> bool {
         let ppp = self.egui_ctx.pixels_per_point();
         let width = (self.view_rect.width() * ppp).round();
         let height = (self.view_rect.height() * ppp).round();
         if !(width >= 1.0 && height >= 1.0) {
-            return;
+            return true;
         }
         let started = Instant::now();
         // Observing: the frozen view's shadows, seen from the camera the user flies.
@@ -124,6 +125,10 @@ impl Running {
             .renderer
             .render(&self.ctx, &self.scene, &self.scene_gpu, &input);
         self.last_frame_ms = started.elapsed().as_secs_f64() * 1000.0;
+        if let Some(fault) = report.fault.take() {
+            return !self.on_gpu_fault(&fault);
+        }
+        self.last_good_settings = Some(self.settings);
         let view = ViewOf {
             camera,
             size: (input.width, input.height),
@@ -181,6 +186,7 @@ impl Running {
                 }
             }
         }
+        true
     }
 }
 

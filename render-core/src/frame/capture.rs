@@ -56,9 +56,15 @@ impl FrameRenderer {
         input: &FrameInput<'_>,
     ) -> Result<FrameReport, GpuError> {
         let mut report = self.render(ctx, scene, scene_gpu, input);
+        if let Some(fault) = report.fault {
+            return Err(fault.into());
+        }
         let deadline = Instant::now() + Duration::from_secs(10);
         loop {
             ctx.wait_idle()?;
+            if let Some(fault) = ctx.take_fault() {
+                return Err(fault.into());
+            }
             self.collect_finished(ctx, &mut report);
             if self.last_frame_complete() {
                 return Ok(report);

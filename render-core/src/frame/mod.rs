@@ -46,7 +46,7 @@ pub(crate) use camera::shader_source as camera_shader_source;
 use results::Latest;
 
 use crate::geom::{Camera, Frustum};
-use crate::gpu::{FrameTimer, GpuContext};
+use crate::gpu::{FrameTimer, GpuContext, GpuFault};
 use crate::metrics::{HeatMapOverlay, MeasureResources, ShadowError};
 use crate::overlays::{LightInset, ObserverLines};
 use crate::scene::Scene;
@@ -177,6 +177,10 @@ impl FrameRenderer {
         {
             return self.render_observed(ctx, scene, scene_gpu, input, &observer);
         }
+        // A lost device, or an allocation that failed since the last frame (a scene's).
+        if let Some(fault) = ctx.take_fault() {
+            return self.faulted(fault);
+        }
         self.observing = false;
         self.techniques
             .activate(ctx, Family::of(input.settings.setup));
@@ -184,6 +188,11 @@ impl FrameRenderer {
         let technique_input = self.technique_input(&setup, scene, scene_gpu, input.camera);
         self.techniques.arrange(&setup.settings, &self.single_views);
         let views = self.techniques.active_mut().prepare(ctx, &technique_input);
+        if let Some(fault) = ctx.take_fault() {
+            // What the technique allocated is invalid: built again when next asked for.
+            self.techniques.discard_active(ctx);
+            return self.faulted(fault);
+        }
         let frame_group = self.write_frame(ctx, &setup, input.camera, scene_gpu, &views);
         let mut encoder = ctx
             .device
@@ -234,6 +243,16 @@ impl FrameRenderer {
             aspect: setup.aspect,
         });
         self.report(ctx, &setup)
+    }
+
+    /// The report of a frame that `fault` stopped before it drew.
+    fn faulted(&self, fault: GpuFault) -> FrameReport {
+        log::debug!("frame {}: {fault}", self.frame_index);
+        FrameReport {
+            frame_index: self.frame_index,
+            fault: Some(fault),
+            ..FrameReport::default()
+        }
     }
 
     /// Settings after the device's fallbacks, targets at the view's size, and the objects in

@@ -77,6 +77,8 @@ pub struct FrameReport {
     pub notes: Vec<String>,
     /// Why this frame's shadow passes could not run as asked, and what was drawn instead.
     pub shadow_failure: Option<String>,
+    /// The GPU fault that stopped this frame before it drew (memory, limits, a lost device).
+    pub fault: Option<crate::gpu::GpuFault>,
     /// Shadow volumes: fragments rasterised and stencil writes (when counted).
     pub volume_fill: Option<crate::technique::VolumeFill>,
     /// Shadow volumes: how many were counted z-pass and z-fail.

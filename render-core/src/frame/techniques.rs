@@ -189,6 +189,29 @@ impl Techniques {
         self.active = family;
     }
 
+    /// Drops the active technique after an allocation of its failed (what it holds is
+    /// invalid); it is built again, with the exclusions, when a frame next asks for it.
+    pub fn discard_active(&mut self, ctx: &GpuContext) {
+        match self.active {
+            Family::Maps => {
+                let layouts = &self.layouts;
+                let mut maps = MapTechnique::new(ctx, &layouts.frame, &layouts.pass_view);
+                maps.exclude(&self.excluded);
+                self.map_shading = Shading::new(
+                    ctx,
+                    &maps,
+                    [&layouts.frame, &layouts.measure],
+                    layouts.early_depth_test,
+                );
+                self.maps = maps;
+                self.layout_key = None;
+            }
+            Family::Volumes => self.volumes = None,
+            Family::Lights => self.layered = None,
+            Family::Virtual => self.virtual_maps = None,
+        }
+    }
+
     pub fn active_family(&self) -> Family {
         self.active
     }

@@ -4,6 +4,8 @@ use std::collections::HashMap;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
+use super::faults::{self, Asked, GpuFault, SharedFaults};
+
 /// Why no GPU could be set up.
 #[derive(Debug, thiserror::Error)]
 pub enum GpuError {
@@ -21,6 +23,9 @@ pub enum GpuError {
     },
     #[error("reading back {what} from the GPU failed: {reason}")]
     Readback { what: String, reason: String },
+    /// Out of memory, beyond the device's limits, or the device lost.
+    #[error(transparent)]
+    Fault(#[from] GpuFault),
 }
 
 /// Device features shadowlab uses when the adapter has them; none is required.
@@ -49,6 +54,8 @@ pub struct GpuContext {
     waits: Arc<AtomicU64>,
     /// Compute pipelines compiled once per device ([`Self::compute_pipeline_once`]).
     compiled: Arc<Mutex<HashMap<String, wgpu::ComputePipeline>>>,
+    /// The device's loss and failed allocations ([`Self::take_fault`]).
+    faults: SharedFaults,
 }
 
 impl GpuContext {
@@ -99,6 +106,8 @@ impl GpuContext {
                     source,
                 }
             })?;
+        let faults = SharedFaults::default();
+        faults::watch(&device, &faults);
         Ok(Self {
             instance,
             adapter,
@@ -106,6 +115,72 @@ impl GpuContext {
             queue,
             waits: Arc::new(AtomicU64::new(0)),
             compiled: Arc::default(),
+            faults,
+        })
+    }
+
+    /// The device's loss (which stays), else the first allocation that failed since the last
+    /// call (taken). Polls the device first, since wgpu reports a loss while polling.
+    pub fn take_fault(&self) -> Option<GpuFault> {
+        let _ = self.device.poll(wgpu::PollType::Poll);
+        faults::take(&self.faults)
+    }
+
+    /// Runs `create` (an allocation of about `bytes`) with wgpu's errors captured: memory the
+    /// device cannot give, or a size beyond its limits, becomes a [`GpuFault`] naming `asked`,
+    /// which the frame reports ([`Self::take_fault`]) instead of a wgpu panic. What `create`
+    /// returns is then invalid, and the frame must not use it.
+    pub fn allocate<T>(
+        &self,
+        asked: &Asked,
+        bytes: u64,
+        create: impl FnOnce(&wgpu::Device) -> T,
+    ) -> T {
+        let memory = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let created = create(&self.device);
+        let over_limit = pollster::block_on(validation.pop());
+        let out_of_memory = pollster::block_on(memory.pop());
+        let fault = match (out_of_memory, over_limit) {
+            (Some(_), _) => Some(GpuFault::OutOfMemory {
+                what: asked.what.clone(),
+                asked: bytes,
+                remedy: asked.remedy.to_owned(),
+            }),
+            (None, Some(error)) => Some(GpuFault::OverLimit {
+                what: asked.what.clone(),
+                asked: bytes,
+                detail: limit_detail(&error),
+                remedy: asked.remedy.to_owned(),
+            }),
+            (None, None) => None,
+        };
+        if let Some(fault) = fault {
+            faults::record(&self.faults, fault);
+        }
+        created
+    }
+
+    /// A texture made through [`Self::allocate`], its size from `descriptor`.
+    pub fn texture(
+        &self,
+        asked: &Asked,
+        descriptor: &wgpu::TextureDescriptor<'_>,
+    ) -> wgpu::Texture {
+        let mips = descriptor.mip_level_count.max(1);
+        let bytes = descriptor
+            .format
+            .theoretical_memory_footprint(descriptor.size)
+            * u64::from(descriptor.sample_count.max(1))
+            * if mips > 1 { 4 } else { 3 }
+            / 3;
+        self.allocate(asked, bytes, |device| device.create_texture(descriptor))
+    }
+
+    /// A buffer made through [`Self::allocate`].
+    pub fn buffer(&self, asked: &Asked, descriptor: &wgpu::BufferDescriptor<'_>) -> wgpu::Buffer {
+        self.allocate(asked, descriptor.size, |device| {
+            device.create_buffer(descriptor)
         })
     }
 
@@ -159,3 +234,12 @@ impl GpuContext {
 
 /// Shared handle for code that keeps the context alive (the window, the headless runner).
 pub type SharedGpu = Arc<GpuContext>;
+
+/// The part of a validation error that says which limit was passed (its innermost cause).
+fn limit_detail(error: &wgpu::Error) -> String {
+    let mut cause: &dyn std::error::Error = error;
+    while let Some(next) = cause.source() {
+        cause = next;
+    }
+    cause.to_string()
+}

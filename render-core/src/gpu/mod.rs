@@ -3,6 +3,7 @@
 mod async_readback;
 mod context;
 mod counters;
+mod faults;
 mod fullscreen;
 mod layout;
 mod log_once;
@@ -12,6 +13,7 @@ mod timing;
 pub use async_readback::AsyncReadback;
 pub use context::{GpuContext, GpuError, OPTIONAL_FEATURES, SharedGpu};
 pub use counters::GpuCounters;
+pub use faults::{Asked, GpuFault, bytes_text};
 pub use fullscreen::{draw_fullscreen, fullscreen_pipeline};
 pub use layout::{
     bind_group_layout, buffer, buffer_entry, color_attachment, compute_pipeline, depth_attachment,

@@ -96,7 +96,7 @@ struct LastFrame {
 impl LayeredTechnique {
     /// `layouts`: group 0 of scene passes and one view alone.
     pub fn new(ctx: &GpuContext, layouts: [&wgpu::BindGroupLayout; 2]) -> Self {
-        let maps = LayeredMaps::new(&ctx.device);
+        let maps = LayeredMaps::new(ctx);
         let paths = Paths::new(ctx, layouts, &maps.page);
         let runs = (paths.multiview_group() > 0, paths.has_atlas());
         Self {

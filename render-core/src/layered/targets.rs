@@ -4,7 +4,9 @@
 //! reads (group 1 of the shading pass), with the reference maps and their caster ids where
 //! the maps were culled on the GPU (the map technique's arrays, `mod.rs`).
 
-use crate::gpu::{GpuContext, bind_group_layout, buffer_entry, storage, texture, view_entry};
+use crate::gpu::{
+    Asked, GpuContext, bind_group_layout, buffer_entry, storage, texture, view_entry,
+};
 use crate::shadow_view::{LayeredPath, SHADOW_FORMAT, ViewTarget};
 
 use super::lights::LightRecord;
@@ -78,7 +80,8 @@ pub struct LayeredMaps {
 }
 
 impl LayeredMaps {
-    pub fn new(device: &wgpu::Device) -> Self {
+    pub fn new(ctx: &GpuContext) -> Self {
+        let device = &ctx.device;
         let light_layout = bind_group_layout(
             device,
             "Layered::light_layout",
@@ -99,7 +102,7 @@ impl LayeredMaps {
                 ),
             ],
         );
-        let (texture, array, layers) = depth_array(device, 64, 1);
+        let (texture, array, layers) = depth_array(ctx, 64, 1);
         let records = records_buffer(device, 1);
         let no_ids = no_ids(device);
         let light_group = light_group(device, &light_layout, [&array, &array, &no_ids], &records);
@@ -137,7 +140,7 @@ impl LayeredMaps {
             self.groups.clear();
         }
         if resized {
-            (self.texture, self.array, self.layers) = depth_array(device, side, layers);
+            (self.texture, self.array, self.layers) = depth_array(ctx, side, layers);
             if self.side != side {
                 let page = [side as f32, 0.0, 0.0, 0.0];
                 ctx.queue
@@ -177,26 +180,35 @@ impl LayeredMaps {
 }
 
 fn depth_array(
-    device: &wgpu::Device,
+    ctx: &GpuContext,
     side: u32,
     layers: u32,
 ) -> (wgpu::Texture, wgpu::TextureView, Vec<wgpu::TextureView>) {
-    let texture = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("Layered::maps"),
-        size: wgpu::Extent3d {
-            width: side,
-            height: side,
-            depth_or_array_layers: layers,
+    let asked = Asked {
+        what: format!(
+            "the many lights' maps: {layers} layers of {side} x {side} texels ({SHADOW_FORMAT:?})"
+        ),
+        remedy: "fewer lights (--lights) or smaller maps (--shadow-res)",
+    };
+    let texture = ctx.texture(
+        &asked,
+        &wgpu::TextureDescriptor {
+            label: Some("Layered::maps"),
+            size: wgpu::Extent3d {
+                width: side,
+                height: side,
+                depth_or_array_layers: layers,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: SHADOW_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
         },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: SHADOW_FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-            | wgpu::TextureUsages::TEXTURE_BINDING
-            | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    });
+    );
     let array = texture.create_view(&wgpu::TextureViewDescriptor {
         label: Some("Layered::maps"),
         dimension: Some(wgpu::TextureViewDimension::D2Array),

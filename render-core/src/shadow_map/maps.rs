@@ -4,8 +4,8 @@
 //! resolution or the number of layers changes.
 
 use crate::gpu::{
-    bind_group_layout, color_attachment, depth_attachment, pipeline_layout, shader_module, texture,
-    view_entry,
+    Asked, GpuContext, bind_group_layout, color_attachment, depth_attachment, pipeline_layout,
+    shader_module, texture, view_entry,
 };
 use crate::scene_gpu::{DrawList, SceneGpu, VERTEX_LAYOUT};
 use crate::shaders::compose;
@@ -37,27 +37,36 @@ struct LayeredTexture {
 
 impl LayeredTexture {
     fn new(
-        device: &wgpu::Device,
+        ctx: &GpuContext,
         label: &str,
         format: wgpu::TextureFormat,
         (resolution, layers): (u32, u32),
     ) -> Self {
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some(label),
-            size: wgpu::Extent3d {
-                width: resolution,
-                height: resolution,
-                depth_or_array_layers: layers,
+        let asked = Asked {
+            what: format!(
+                "the shadow maps ({label}): {layers} of {resolution} x {resolution} texels ({format:?})"
+            ),
+            remedy: "a smaller map (--shadow-res) or fewer cascades (--cascades)",
+        };
+        let texture = ctx.texture(
+            &asked,
+            &wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width: resolution,
+                    height: resolution,
+                    depth_or_array_layers: layers,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::TEXTURE_BINDING
+                    | wgpu::TextureUsages::COPY_SRC,
+                view_formats: &[],
             },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                | wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        });
+        );
         let array = texture.create_view(&wgpu::TextureViewDescriptor {
             label: Some(label),
             dimension: Some(wgpu::TextureViewDimension::D2Array),
@@ -114,11 +123,12 @@ pub struct MapArrays {
 impl MapArrays {
     /// `frame_layout` is group 0 of scene passes, `pass_view_layout` one view alone.
     pub fn new(
-        device: &wgpu::Device,
+        ctx: &GpuContext,
         frame_layout: &wgpu::BindGroupLayout,
         pass_view_layout: &wgpu::BindGroupLayout,
         resolution: u32,
     ) -> Self {
+        let device = &ctx.device;
         let module = shader_module(device, "ShadowMap::shader", shader_source());
         let layout = pipeline_layout(
             device,
@@ -136,7 +146,7 @@ impl MapArrays {
                 texture(wgpu::TextureSampleType::Uint, array),
             ],
         );
-        let textures = Textures::new(device, &light_layout, (resolution, 1));
+        let textures = Textures::new(ctx, &light_layout, (resolution, 1));
         Self {
             pipeline: caster_pipeline(device, &layout, &module, false),
             id_pipeline: caster_pipeline(device, &layout, &module, true),
@@ -147,10 +157,10 @@ impl MapArrays {
     }
 
     /// Recreates the textures when `resolution` or `layers` differ.
-    pub fn ensure(&mut self, device: &wgpu::Device, resolution: u32, layers: u32) {
+    pub fn ensure(&mut self, ctx: &GpuContext, resolution: u32, layers: u32) {
         let layers = layers.max(1);
         if (self.textures.resolution, self.textures.layers) != (resolution, layers) {
-            self.textures = Textures::new(device, &self.light_layout, (resolution, layers));
+            self.textures = Textures::new(ctx, &self.light_layout, (resolution, layers));
             self.generation += 1;
         }
     }
@@ -289,18 +299,19 @@ impl MapArrays {
 
 impl Textures {
     fn new(
-        device: &wgpu::Device,
+        ctx: &GpuContext,
         light_layout: &wgpu::BindGroupLayout,
         (resolution, layers): (u32, u32),
     ) -> Self {
+        let device = &ctx.device;
         let resolution = resolution.clamp(1, device.limits().max_texture_dimension_2d);
         let layers = layers.clamp(1, device.limits().max_texture_array_layers);
         let size = (resolution, layers);
-        let depth = LayeredTexture::new(device, "ShadowMap::depth", SHADOW_FORMAT, size);
+        let depth = LayeredTexture::new(ctx, "ShadowMap::depth", SHADOW_FORMAT, size);
         let reference_depth =
-            LayeredTexture::new(device, "ShadowMap::reference_depth", SHADOW_FORMAT, size);
+            LayeredTexture::new(ctx, "ShadowMap::reference_depth", SHADOW_FORMAT, size);
         let reference_ids =
-            LayeredTexture::new(device, "ShadowMap::reference_ids", CASTER_ID_FORMAT, size);
+            LayeredTexture::new(ctx, "ShadowMap::reference_ids", CASTER_ID_FORMAT, size);
         let light_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("ShadowMap::light_group"),
             layout: light_layout,

@@ -75,7 +75,7 @@ impl MapTechnique {
         Self {
             layout: Box::new(SunView::default()),
             maps: MapArrays::new(
-                &ctx.device,
+                ctx,
                 frame_layout,
                 pass_view_layout,
                 ShadowSettings::default().resolution,
@@ -321,7 +321,7 @@ impl ShadowTechnique for MapTechnique {
             ShadowSettings::MAX_RESOLUTION.min(limits.max_texture_dimension_2d),
         );
         let layers = self.layout.layers().min(limits.max_texture_array_layers);
-        self.maps.ensure(&ctx.device, resolution, layers);
+        self.maps.ensure(ctx, resolution, layers);
         let mut views = self
             .layout
             .views(input, self.method, self.maps.resolution());

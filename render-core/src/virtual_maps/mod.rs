@@ -210,7 +210,7 @@ impl VirtualTechnique {
             return;
         }
         // New buffers are zeroed: every entry empty, every physical page free.
-        let tables = Tables::new(&ctx.device, &self.settings);
+        let tables = Tables::new(ctx, &self.settings);
         self.light_group = Some(tables.light_group(&ctx.device, &self.pipelines));
         self.tables = Some(tables);
         self.latest = None;

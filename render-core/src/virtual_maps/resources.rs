@@ -6,7 +6,7 @@
 
 use super::gpu_data::{LEVEL_SLOTS, VirtualParams, word};
 use super::pipelines::Pipelines;
-use crate::gpu::{AsyncReadback, GpuContext, buffer, buffer_entry, view_entry};
+use crate::gpu::{Asked, AsyncReadback, GpuContext, buffer, buffer_entry, view_entry};
 use crate::scene::{Mobility, Scene};
 use crate::scene_gpu::SceneGpu;
 use crate::shadow_view::{LEVEL_PAGES, PAGE_TEXELS, SHADOW_FORMAT, VirtualSettings};
@@ -54,26 +54,42 @@ pub(super) struct Tables {
 }
 
 impl Tables {
-    pub fn new(device: &wgpu::Device, settings: &VirtualSettings) -> Self {
+    pub fn new(ctx: &GpuContext, settings: &VirtualSettings) -> Self {
+        let device = &ctx.device;
         let entries = u64::from(settings.levels * LEVEL_ENTRIES);
         let pages = u64::from(settings.pages);
         let atlas_pages = settings.atlas_pages();
-        let atlas = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("VirtualMaps::atlas"),
-            size: wgpu::Extent3d {
-                width: atlas_pages[0] * PAGE_TEXELS,
-                height: atlas_pages[1] * settings.page_layers() * PAGE_TEXELS,
-                depth_or_array_layers: 1,
+        let asked = Asked {
+            what: format!(
+                "the virtual maps' pool: {} pages of {PAGE_TEXELS} x {PAGE_TEXELS} texels{}",
+                settings.pages,
+                if settings.page_layers() > 1 {
+                    ", static casters apart"
+                } else {
+                    ""
+                }
+            ),
+            remedy: "fewer pages (--pages)",
+        };
+        let atlas = ctx.texture(
+            &asked,
+            &wgpu::TextureDescriptor {
+                label: Some("VirtualMaps::atlas"),
+                size: wgpu::Extent3d {
+                    width: atlas_pages[0] * PAGE_TEXELS,
+                    height: atlas_pages[1] * settings.page_layers() * PAGE_TEXELS,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: SHADOW_FORMAT,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::TEXTURE_BINDING
+                    | wgpu::TextureUsages::COPY_SRC,
+                view_formats: &[],
             },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: SHADOW_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                | wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        });
+        );
         let counters_size = (word::COUNT * 4) as u64;
         Self {
             pages: settings.pages,

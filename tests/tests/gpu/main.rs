@@ -6,6 +6,7 @@ mod box_clamp;
 mod cascades;
 mod check_cases;
 mod culling;
+mod faults;
 mod flicker;
 mod footprints;
 mod fragment_mask;
