@@ -16,6 +16,10 @@ use crate::cli::FaultDrill;
 
 /// How many redraws a drilled minimise lasts.
 const MINIMISED_REDRAWS: u32 = 4;
+/// Frames before the view is read, before the fault and after the recovery: what a frame
+/// draws follows what earlier frames read back (the visible receivers cascades are fitted
+/// to), a few frames late.
+const SETTLING_FRAMES: u64 = 5;
 
 /// A drill's progress: the view before the fault, then the fault, then the comparison.
 pub(super) enum Drill {
@@ -30,7 +34,7 @@ pub(super) enum Drill {
     After {
         drill: FaultDrill,
         before: image::RgbaImage,
-        frames: u32,
+        frames: u64,
     },
     Done,
 }
@@ -153,8 +157,9 @@ impl Running {
         }
     }
 
-    /// After a presented frame: reads the view before the fault and applies it, then, two
-    /// frames after the recovery, reads it again and prints how many pixels differ.
+    /// After a presented frame: reads the view before the fault and applies it, then, a few
+    /// frames after the recovery ([`SETTLING_FRAMES`]), reads it again and prints how many
+    /// pixels differ.
     pub(super) fn drill_after_frame(
         &mut self,
         event_loop: &ActiveEventLoop,
@@ -164,7 +169,7 @@ impl Running {
             return Ok(());
         };
         self.drill = Some(match drill {
-            Drill::Before(kind) if settled && self.frames_presented >= 2 => {
+            Drill::Before(kind) if settled && self.frames_presented >= SETTLING_FRAMES => {
                 let before = self.view_picture()?;
                 match kind {
                     FaultDrill::DeviceLost => self.ctx.device.destroy(),
@@ -207,7 +212,7 @@ impl Running {
                 drill: kind,
                 before,
                 frames,
-            } if frames >= 2 => {
+            } if frames >= SETTLING_FRAMES => {
                 let after = self.view_picture()?;
                 let differ = if before.dimensions() == after.dimensions() {
                     before

@@ -5,6 +5,7 @@ mod cascades;
 mod check;
 mod cli;
 mod common;
+mod faults;
 mod lights;
 mod pictures;
 mod remembered;
