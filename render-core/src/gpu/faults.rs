@@ -11,8 +11,8 @@ use std::sync::{Arc, Mutex, PoisonError};
 pub enum GpuFault {
     /// The device could not allocate a resource.
     #[error(
-        "GPU memory exhausted: {what} asked for {} and the GPU could not allocate it; {remedy}",
-        bytes_text(*asked)
+        "GPU memory exhausted: {what}{} and the GPU could not allocate it; {remedy}",
+        if *asked > 0 { format!(" asked for {}", bytes_text(*asked)) } else { String::new() }
     )]
     OutOfMemory {
         what: String,
@@ -21,8 +21,8 @@ pub enum GpuFault {
     },
     /// A resource beyond the device's limits (a texture wider than its largest, too many layers).
     #[error(
-        "{what} ({}) does not fit this GPU's limits ({detail}); {remedy}",
-        bytes_text(*asked)
+        "{what}{}: beyond this GPU's limits ({detail}); {remedy}",
+        if *asked > 0 { format!(" ({})", bytes_text(*asked)) } else { String::new() }
     )]
     OverLimit {
         what: String,

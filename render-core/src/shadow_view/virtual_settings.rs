@@ -79,6 +79,9 @@ impl Default for VirtualSettings {
 
 impl VirtualSettings {
     pub const MIN_PAGES: u32 = 16;
+    /// 256 MiB of pages: beyond that a page pass dispatches more workgroups than one
+    /// dimension holds (16,384 pages asked for 131,072 of at most 65,535). A pool beyond the
+    /// device's largest texture is fitted to it, and the notes say so.
     pub const MAX_PAGES: u32 = 4096;
     pub const MAX_LEVELS: u32 = 24;
 

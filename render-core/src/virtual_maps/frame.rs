@@ -347,7 +347,15 @@ impl ShadowTechnique for VirtualTechnique {
 
     fn prepare(&mut self, ctx: &GpuContext, input: &TechniqueInput<'_>) -> Vec<ShadowView> {
         let limits = ctx.device.limits();
-        self.settings = input.virtual_maps.clamped(limits.max_texture_dimension_2d);
+        let side = limits.max_texture_dimension_2d;
+        self.settings = input.virtual_maps.clamped(side);
+        self.pool_note = (self.settings.pages < input.virtual_maps.pages).then(|| {
+            format!(
+                "the pool holds {} pages, not the {} asked: the most this GPU's largest texture \
+                 ({side} x {side}) holds",
+                self.settings.pages, input.virtual_maps.pages
+            )
+        });
         self.face_mips = 0;
         self.first_pages.clear();
         let bounds = input.scene.bounds();
@@ -490,7 +498,7 @@ impl ShadowTechnique for VirtualTechnique {
             .zip(&self.views)
             .map(|(k, v)| self.view_report(k, v))
             .collect();
-        let mut notes = Vec::new();
+        let mut notes: Vec<String> = self.pool_note.iter().cloned().collect();
         let pages = self.latest.as_ref().map(|(tag, c)| {
             let cache = self.frame_tags.iter().find(|f| f.0 == *tag);
             if c.overflow > 0 {

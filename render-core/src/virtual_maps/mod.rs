@@ -83,6 +83,8 @@ struct CacheKey {
 /// The virtual shadow maps.
 pub struct VirtualTechnique {
     pipelines: Pipelines,
+    /// Why the pool has fewer pages than asked (the device's largest texture), for the notes.
+    pool_note: Option<String>,
     page_view: overlay::PageView,
     /// Group 0 of the last frame's passes, for the page view.
     frame_group: Option<wgpu::BindGroup>,
@@ -121,6 +123,7 @@ impl VirtualTechnique {
         let features = ctx.features();
         let device = &ctx.device;
         Self {
+            pool_note: None,
             pipelines: Pipelines::new(
                 device,
                 frame_layout,

@@ -241,16 +241,28 @@ impl VolumeTechnique {
         {
             return;
         }
-        self.scene = Some(SceneVolumes::new(
-            &ctx.device,
-            &SceneLayouts {
-                scene: &self.scene_layout,
-                draw: &self.draw_layout,
-            },
-            &self.uniforms,
-            (scene, scene_gpu),
-            &self.excluded,
-        ));
+        let asked = crate::gpu::Asked {
+            what: format!(
+                "the shadow volumes of {} objects ({} triangles)",
+                scene.instances.len(),
+                scene.triangle_count()
+            ),
+            remedy: "a smaller scene, or another technique (--shadow)",
+        };
+        // Their buffers grow with the scene's edges: a large scene can pass what one binding
+        // may hold, which the allocation's fault names.
+        self.scene = Some(ctx.allocate(&asked, 0, |device| {
+            SceneVolumes::new(
+                device,
+                &SceneLayouts {
+                    scene: &self.scene_layout,
+                    draw: &self.draw_layout,
+                },
+                &self.uniforms,
+                (scene, scene_gpu),
+                &self.excluded,
+            )
+        }));
         if let Some(built) = &self.scene {
             log::info!(
                 "shadow volumes: {} of {} meshes closed (the others cast from both sides of \
