@@ -56,6 +56,8 @@ pub struct GpuContext {
     compiled: Arc<Mutex<HashMap<String, wgpu::ComputePipeline>>>,
     /// The device's loss and failed allocations ([`Self::take_fault`]).
     faults: SharedFaults,
+    /// What probes found out about the device ([`Self::probe_once`]).
+    probed: Arc<Mutex<HashMap<&'static str, bool>>>,
 }
 
 impl GpuContext {
@@ -116,6 +118,7 @@ impl GpuContext {
             waits: Arc::new(AtomicU64::new(0)),
             compiled: Arc::default(),
             faults,
+            probed: Arc::default(),
         })
     }
 
@@ -206,6 +209,16 @@ impl GpuContext {
             .entry(key.to_owned())
             .or_insert_with(create)
             .clone()
+    }
+
+    /// What `probe` (a blocking test of the device, such as whether multiview reaches every
+    /// layer) answers, run on the first ask on this device and remembered for every renderer.
+    pub fn probe_once(&self, key: &'static str, probe: impl FnOnce() -> bool) -> bool {
+        let mut probed = self
+            .probed
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        *probed.entry(key).or_insert_with(probe)
     }
 
     /// How many times the CPU has waited for the GPU so far.

@@ -59,7 +59,7 @@ pub fn bytes_text(bytes: u64) -> String {
 /// What an allocation is for, to name it when it fails.
 #[derive(Clone, Debug)]
 pub struct Asked {
-    /// "the many lights' maps: 192 layers of 4096 x 4096 (Depth32Float)".
+    /// "the many lights' maps: 192 layers of 4096 x 4096 (`Depth32Float`)".
     pub what: String,
     /// What the user can change: "fewer lights (--lights) or smaller maps (--shadow-res)".
     pub remedy: &'static str,

@@ -14,8 +14,12 @@ pub(crate) fn probe_source() -> String {
 }
 
 /// Renders two views of a triangle at depths 0.25 and 0.75 into a two-layer depth array and
-/// reads the second layer back: true when it holds 0.75. Blocks; once per renderer.
+/// reads the second layer back: true when it holds 0.75. Blocks, once per device.
 pub fn multiview_reaches_every_layer(ctx: &GpuContext) -> bool {
+    ctx.probe_once("multiview reaches every layer", || probe(ctx))
+}
+
+fn probe(ctx: &GpuContext) -> bool {
     if !ctx.features().contains(wgpu::Features::MULTIVIEW)
         || ctx.device.limits().max_multiview_view_count < 2
     {
