@@ -150,6 +150,10 @@ fn bench_prints_a_table_and_writes_csv() {
             "1",
             "--size",
             "160x90",
+            // Every method's row at a map of 512: the culling's compute passes, on one
+            // lavapipe thread, grow with the map.
+            "--shadow-res",
+            "512",
             "--methods",
             "all",
             "--csv",
