@@ -1,4 +1,5 @@
-//! The headless commands' own flags: `shot`, `bench`, `report` and `check`.
+//! Each command's own flags: the window's, and the headless `shot`, `bench`, `report` and
+//! `check`.
 
 use std::path::PathBuf;
 
@@ -19,7 +20,7 @@ pub struct ShotArgs {
     pub out: PathBuf,
     /// Loses the GPU device before the frame, to test the message (hidden: a test's aid).
     #[arg(long, hide = true, value_name = "FAULT")]
-    pub fault_drill: Option<super::FaultDrill>,
+    pub fault_drill: Option<FaultDrill>,
     /// Stats JSON to write (default: the PNG's name with .json).
     #[arg(long, value_name = "JSON")]
     pub stats: Option<PathBuf>,
@@ -275,4 +276,51 @@ fn parse_speed(s: &str) -> Result<f32, String> {
             "'{s}' is not a speed: give metres a second, a number above 0 (15 drives, 1.4 walks)"
         )),
     }
+}
+
+/// A GPU fault the window and `shot` can simulate, to test that they survive it.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FaultDrill {
+    /// The device is destroyed, as a driver reset loses it.
+    DeviceLost,
+    /// The window is minimised (its size 0 x 0) for a few frames, then restored.
+    Minimised,
+}
+
+/// `shadowlab [SCENE]`: open the window.
+#[derive(Args, Debug)]
+pub struct OpenArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    #[command(flatten)]
+    pub view: ViewArgs,
+    /// Start with "compare all methods" on: every method's counts, error and GPU times.
+    #[arg(long)]
+    pub compare: bool,
+    /// Smoke test: close the window after this many frames.
+    #[arg(long, value_name = "N")]
+    pub exit_after_frames: Option<u64>,
+    /// Smoke test: before closing, take a screenshot of the whole window (as F12 with
+    /// "include panel" does) into this folder: a PNG and its stats JSON.
+    #[arg(long, value_name = "DIR", requires = "exit_after_frames")]
+    pub screenshot_dir: Option<PathBuf>,
+    /// Smoke test: after the first frame, open SCENE as "Open glTF…" does; the window closes
+    /// once it has loaded or failed (and then still shows the scene it had).
+    #[arg(long, value_name = "SCENE", requires = "exit_after_frames")]
+    pub then_open: Option<String>,
+    /// Start from the defaults instead of the remembered scene, camera and settings (which
+    /// are still saved when the window closes).
+    #[arg(long)]
+    pub fresh: bool,
+    /// Fly the scene's camera path from the first frame, as the Scene tab's "Play path" does.
+    #[arg(long)]
+    pub play_path: bool,
+    /// A CSV line per presented frame: its CPU times, how often it waited for the GPU (never,
+    /// but for a screenshot or "Compare all"), and how late its GPU times are.
+    #[arg(long, value_name = "FILE.csv")]
+    pub frame_log: Option<PathBuf>,
+    /// A test's aid, hidden: a GPU fault after the first frames, and whether the view after
+    /// the recovery is the view before.
+    #[arg(long, hide = true, requires = "exit_after_frames")]
+    pub fault_drill: Option<FaultDrill>,
 }

@@ -1,7 +1,5 @@
 //! The command-line contract of DESIGN.md: arguments shared by `shot`, `bench` and the window.
 
-use std::path::PathBuf;
-
 use anyhow::{Context as _, bail};
 use clap::{Args, Parser, Subcommand};
 use glam::Vec3;
@@ -20,7 +18,7 @@ mod light;
 mod virtual_maps;
 mod volumes;
 
-pub use commands::{BenchArgs, CheckArgs, ReportArgs, ShotArgs, Sweep};
+pub use commands::{BenchArgs, CheckArgs, FaultDrill, OpenArgs, ReportArgs, ShotArgs, Sweep};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -49,58 +47,6 @@ pub enum Command {
     Check(Box<CheckArgs>),
     /// List the built-in scenes.
     Scenes,
-}
-
-/// `shadowlab [SCENE]`: open the window.
-#[derive(Args, Debug)]
-pub struct OpenArgs {
-    #[command(flatten)]
-    pub scene: SceneArgs,
-    #[command(flatten)]
-    pub view: ViewArgs,
-    /// Start with "compare all methods" on: every method's counts, error and GPU times.
-    #[arg(long)]
-    pub compare: bool,
-    /// Smoke test: close the window after this many frames.
-    #[arg(long, value_name = "N")]
-    pub exit_after_frames: Option<u64>,
-    /// Smoke test: before closing, take a screenshot of the whole window (as F12 with
-    /// "include panel" does) into this folder: a PNG and its stats JSON.
-    #[arg(long, value_name = "DIR", requires = "exit_after_frames")]
-    pub screenshot_dir: Option<PathBuf>,
-    /// Smoke test: after the first frame, open SCENE as "Open glTF…" does; the window closes
-    /// once it has loaded or failed (and then still shows the scene it had).
-    #[arg(long, value_name = "SCENE", requires = "exit_after_frames")]
-    pub then_open: Option<String>,
-    /// Start from the defaults instead of the remembered scene, camera and settings (which
-    /// are still saved when the window closes).
-    #[arg(long)]
-    pub fresh: bool,
-    /// Fly the scene's camera path from the first frame, as the Scene tab's "Play path" does.
-    #[arg(long)]
-    pub play_path: bool,
-    /// A CSV line per presented frame: its CPU times, how often it waited for the GPU (never,
-    /// but for a screenshot or "Compare all"), and how late its GPU times are.
-    #[arg(long, value_name = "FILE.csv")]
-    pub frame_log: Option<PathBuf>,
-    /// Tests the window's recovery from a GPU fault after its first frames (hidden: a test's
-    /// aid, not a user's): it prints whether the view afterwards is the view before.
-    #[arg(
-        long,
-        hide = true,
-        value_name = "FAULT",
-        requires = "exit_after_frames"
-    )]
-    pub fault_drill: Option<FaultDrill>,
-}
-
-/// A GPU fault the window and `shot` can simulate, to test that they survive it.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum FaultDrill {
-    /// The device is destroyed, as a driver reset loses it.
-    DeviceLost,
-    /// The window is minimised (its size 0 x 0) for a few frames, then restored.
-    Minimised,
 }
 
 #[derive(Args, Debug, Clone)]

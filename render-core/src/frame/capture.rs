@@ -45,6 +45,16 @@ impl FrameCapture {
 }
 
 impl FrameRenderer {
+    /// The report of a frame that `fault` stopped before it drew.
+    pub(super) fn faulted(&self, fault: crate::gpu::GpuFault) -> FrameReport {
+        log::debug!("frame {}: {fault}", self.frame_index);
+        FrameReport {
+            frame_index: self.frame_index,
+            fault: Some(fault),
+            ..FrameReport::default()
+        }
+    }
+
     /// Renders `input`, waits for the GPU, and returns the report with this frame's GPU times,
     /// visible counts and measurements. Readbacks are mapped by whichever thread polls the
     /// device, so it keeps polling until this frame's results are in (ten seconds at most).

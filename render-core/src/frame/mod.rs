@@ -46,7 +46,7 @@ pub(crate) use camera::shader_source as camera_shader_source;
 use results::Latest;
 
 use crate::geom::{Camera, Frustum};
-use crate::gpu::{FrameTimer, GpuContext, GpuFault};
+use crate::gpu::{FrameTimer, GpuContext};
 use crate::metrics::{HeatMapOverlay, MeasureResources, ShadowError};
 use crate::overlays::{LightInset, ObserverLines};
 use crate::scene::Scene;
@@ -243,16 +243,6 @@ impl FrameRenderer {
             aspect: setup.aspect,
         });
         self.report(ctx, &setup)
-    }
-
-    /// The report of a frame that `fault` stopped before it drew.
-    fn faulted(&self, fault: GpuFault) -> FrameReport {
-        log::debug!("frame {}: {fault}", self.frame_index);
-        FrameReport {
-            frame_index: self.frame_index,
-            fault: Some(fault),
-            ..FrameReport::default()
-        }
     }
 
     /// Settings after the device's fallbacks, targets at the view's size, and the objects in

@@ -241,17 +241,9 @@ impl VolumeTechnique {
         {
             return;
         }
-        let asked = crate::gpu::Asked {
-            what: format!(
-                "the shadow volumes of {} objects ({} triangles)",
-                scene.instances.len(),
-                scene.triangle_count()
-            ),
-            remedy: "a smaller scene, or another technique (--shadow)",
-        };
         // Their buffers grow with the scene's edges: a large scene can pass what one binding
         // may hold, which the allocation's fault names.
-        self.scene = Some(ctx.allocate(&asked, 0, |device| {
+        self.scene = Some(ctx.allocate(&SceneVolumes::asked(scene), 0, |device| {
             SceneVolumes::new(
                 device,
                 &SceneLayouts {

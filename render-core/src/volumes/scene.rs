@@ -114,6 +114,18 @@ pub(super) struct SceneLayouts<'a> {
 }
 
 impl SceneVolumes {
+    /// What the volumes of `scene` are named as when their buffers do not fit.
+    pub fn asked(scene: &Scene) -> crate::gpu::Asked {
+        crate::gpu::Asked {
+            what: format!(
+                "the shadow volumes of {} objects ({} triangles)",
+                scene.instances.len(),
+                scene.triangle_count()
+            ),
+            remedy: "a smaller scene, or another technique (--shadow)",
+        }
+    }
+
     /// `excluded` sorted; `uniforms` the frame's `VolumeFrame`.
     pub fn new(
         device: &wgpu::Device,
