@@ -119,6 +119,17 @@ impl Frames {
 }
 
 impl Frames {
+    /// The last frame again with every page drawn again in the physical page it holds (the
+    /// cache off for one frame): the exact reference of a cached frame. A fresh renderer's
+    /// frame is not one: its pages land elsewhere in the atlas, where the rasteriser's depths
+    /// round otherwise in their last bit, which decides a tap whose depth test is that close.
+    /// The cache goes on from the pages drawn here.
+    pub fn redrawn(&mut self, scene: &Scene, camera: &Camera, settings: &FrameSettings) -> Frame {
+        let mut uncached = *settings;
+        uncached.virtual_maps.cache = false;
+        self.frame(scene, camera, &uncached)
+    }
+
     /// Moves the box (instance 1) 0.9 m along x and 0.4 m along z, across page borders; its
     /// old and new world bounds.
     pub fn move_box(&mut self, scene: &mut Scene) -> [Aabb; 2] {

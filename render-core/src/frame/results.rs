@@ -147,6 +147,14 @@ impl FrameRenderer {
             .map(LayeredTechnique::depth_texture)
     }
 
+    /// The virtual maps' physical page of each page-table entry (where resident) after the
+    /// last frame with them. Blocks: for tests.
+    pub fn virtual_page_slots(&self, ctx: &GpuContext) -> Result<Vec<u32>, GpuError> {
+        self.techniques
+            .virtual_maps()
+            .map_or(Ok(Vec::new()), |v| v.read_page_slots(ctx))
+    }
+
     /// The virtual maps' physical atlas as the last frame with them left it; for tests.
     pub fn virtual_atlas(&self) -> Option<&wgpu::Texture> {
         self.techniques.virtual_maps()?.atlas()

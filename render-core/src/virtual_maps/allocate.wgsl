@@ -1,6 +1,7 @@
 // The page table's frame (virtual_maps/frame.rs), in this order: entries touched by a moved
-// box invalid; each entry kept, or released when its page left its level's square, was
-// invalidated or everything was; (marking); free physical pages listed; marked entries given
+// box invalid; each entry kept, released when its page left its level's square, or kept
+// invalid where it was invalidated or everything was; (marking); invalid pages drawn again
+// in place where marked, released where not; free physical pages listed; marked entries given
 // pages, all but a few kept back; where the pool ran out, cached pages no pixel marked evicted
 // and the refused entries given pages again; (the refused pixels' fallback marks); the
 // fallback pages given the pages kept back; the frame's counts, the drawn pages' list,
@@ -109,8 +110,16 @@ fn begin_pages(@builtin(global_invocation_id) id: vec3<u32>) {
     // A page the receiver mask left partial was made invalid (released here), or where its
     // movable layer alone is partial, that layer is stale.
     let partial = (flags & PAGE_PARTIAL) != 0u;
-    if (params.counts.w != 0u || (flags & PAGE_INVALID) != 0u || !same_page) {
+    if (!same_page) {
         release(e);
+        atomicAdd(&counters.invalidated, 1u);
+        return;
+    }
+    // Invalid, or every page is: kept where it is, still invalid, until marking says whether
+    // it is drawn again there (`redraw_in_place`).
+    if (params.counts.w != 0u || (flags & PAGE_INVALID) != 0u) {
+        clear_stale_blocks(e);
+        atomicStore(&page_flags[e], PAGE_RESIDENT | PAGE_INVALID);
         atomicAdd(&counters.invalidated, 1u);
         return;
     }
@@ -120,39 +129,103 @@ fn begin_pages(@builtin(global_invocation_id) id: vec3<u32>) {
     }
 }
 
-// Every free physical page into the free list. The second round runs only where the first
-// allocation refused pages, after the eviction.
-fn list_free(slot: u32) {
-    if (slot < params.counts.y && owners[slot] == 0u) {
-        free_list[atomicAdd(&counters.free_count, 1u)] = slot;
+// An invalid page (`begin_pages`) that pixels marked is drawn again whole in the physical page
+// it holds; one that none marked is released. A page keeps its place in the atlas: the
+// rasteriser's depths depend, in their last bit, on where in the atlas a page is drawn (the
+// same triangle elsewhere rounds otherwise), so a page drawn again where it was holds the very
+// depths a page drawn there before holds, and a frame that draws every page again is the
+// exact reference of a cached one.
+fn redraw_in_place(slot: u32) {
+    if (owners[slot] == 0u) {
+        return;
+    }
+    let e = owners[slot] - 1u;
+    let flags = atomicLoad(&page_flags[e]);
+    if ((flags & PAGE_INVALID) == 0u) {
+        return;
+    }
+    if ((flags & PAGE_MARKED) != 0u) {
+        atomicAnd(&page_flags[e], ~PAGE_INVALID);
+        atomicOr(&page_flags[e], PAGE_RENDERED);
+    } else {
+        release(e);
     }
 }
 
-@compute @workgroup_size(64)
-fn list_free_pages(@builtin(global_invocation_id) id: vec3<u32>) {
-    list_free(id.x);
+// Allocation is ordered, so the same frame gives every page the same physical page on every
+// run (and so the same depths, bit for bit: `redraw_in_place`): the free list holds the free
+// physical pages in ascending order, and the entries asking for a page take them in ascending
+// order of entry (finest level first). One workgroup does each: each of its threads a run of
+// consecutive items, ranked by a prefix sum over the threads.
+const RANK_THREADS: u32 = 256u;
+const NO_ENTRY: u32 = 0xffffffffu;
+var<workgroup> prefix: array<u32, 256>;
+
+// The items of threads before `t` that `count` counts, each thread giving its own; the total
+// is then `prefix[RANK_THREADS - 1u]`. Every thread of the workgroup calls it.
+fn exclusive_prefix(t: u32, count: u32) -> u32 {
+    prefix[t] = count;
+    workgroupBarrier();
+    for (var d = 1u; d < RANK_THREADS; d <<= 1u) {
+        var before = 0u;
+        if (t >= d) {
+            before = prefix[t - d];
+        }
+        workgroupBarrier();
+        prefix[t] += before;
+        workgroupBarrier();
+    }
+    return prefix[t] - count;
 }
 
-@compute @workgroup_size(64)
-fn list_free_again(@builtin(global_invocation_id) id: vec3<u32>) {
-    if (atomicLoad(&counters.first_refused) > 0u) {
-        list_free(id.x);
+// Thread `t`'s run of `items` items: first and one past the last.
+fn thread_run(t: u32, items: u32) -> vec2<u32> {
+    let run = (items + RANK_THREADS - 1u) / RANK_THREADS;
+    return vec2<u32>(min(t * run, items), min((t + 1u) * run, items));
+}
+
+// The free physical pages into the free list, in order; `redrawing` first draws invalid
+// pages again in place or releases them (the first round). The second round runs only where
+// the first allocation refused pages, after the eviction.
+fn list_free(t: u32, running: bool, redrawing: bool) {
+    let run = thread_run(t, params.counts.y);
+    var count = 0u;
+    for (var slot = run.x; slot < run.y && running; slot++) {
+        if (redrawing) {
+            redraw_in_place(slot);
+        }
+        count += select(0u, 1u, owners[slot] == 0u);
+    }
+    var at = exclusive_prefix(t, count);
+    for (var slot = run.x; slot < run.y && running; slot++) {
+        if (owners[slot] == 0u) {
+            free_list[at] = slot;
+            at++;
+        }
+    }
+    if (running && t == 0u) {
+        atomicStore(&counters.free_count, prefix[RANK_THREADS - 1u]);
     }
 }
 
-// A physical page for entry `e` from the free list, leaving `kept_back` pages in it, or the
-// entry refused.
-fn take_page(e: u32, kept_back: u32) -> bool {
-    let taken = atomicAdd(&counters.taken, 1u);
-    let free = atomicLoad(&counters.free_count);
-    if (taken + kept_back >= free) {
-        // Given back, so the count ends at the pages taken: every value below the limit is
-        // handed out once, and the counter never falls below it again.
-        atomicSub(&counters.taken, 1u);
+@compute @workgroup_size(256)
+fn list_free_pages(@builtin(local_invocation_index) t: u32) {
+    list_free(t, true, true);
+}
+
+@compute @workgroup_size(256)
+fn list_free_again(@builtin(local_invocation_index) t: u32) {
+    list_free(t, atomicLoad(&counters.first_refused) > 0u, false);
+}
+
+// Physical page `rank` of the free list for entry `e`, leaving `kept_back` pages in it, or
+// the entry refused.
+fn take_page(e: u32, rank: u32, kept_back: u32) -> bool {
+    if (rank + kept_back >= atomicLoad(&counters.free_count)) {
         atomicOr(&page_flags[e], PAGE_REFUSED);
         return false;
     }
-    let slot = free_list[taken];
+    let slot = free_list[rank];
     owners[slot] = e + 1u;
     page_slots[e] = slot;
     page_tags[e] = absolute_page(e / LEVEL_ENTRIES, window_page(e));
@@ -166,12 +239,67 @@ fn wants_page(e: u32) -> bool {
     return (flags & PAGE_MARKED) != 0u && (flags & PAGE_RESIDENT) == 0u;
 }
 
+// The rounds of allocation: marked entries; the refused ones again after the eviction; the
+// coarsest level's pages that refused pixels marked (mark.wgsl `mark_fallback`), an item per
+// entry of each chain's coarsest level.
+const ROUND_MARKED: u32 = 0u;
+const ROUND_REFUSED: u32 = 1u;
+const ROUND_FALLBACK: u32 = 2u;
+
+fn round_items(round: u32) -> u32 {
+    return select(entry_count(), chain_count() * LEVEL_ENTRIES, round == ROUND_FALLBACK);
+}
+
+// The entry of item `k` of round `round` where it asks for a page, else NO_ENTRY.
+fn asking(round: u32, k: u32) -> u32 {
+    var e = k;
+    var asks = false;
+    if (round == ROUND_MARKED) {
+        asks = wants_page(k);
+    } else if (round == ROUND_REFUSED) {
+        asks = (atomicLoad(&page_flags[k]) & PAGE_REFUSED) != 0u;
+    } else {
+        e = (chain_levels(k / LEVEL_ENTRIES).y - 1u) * LEVEL_ENTRIES + k % LEVEL_ENTRIES;
+        asks = wants_page(e);
+    }
+    return select(NO_ENTRY, e, asks);
+}
+
+// One round: the entries asking take the free list's pages in order, from the pages the
+// rounds before took, leaving `kept_back`; returns the entries refused.
+fn allocate_round(t: u32, round: u32, running: bool, kept_back: u32) -> u32 {
+    let run = thread_run(t, round_items(round));
+    var count = 0u;
+    for (var k = run.x; k < run.y && running; k++) {
+        count += select(0u, 1u, asking(round, k) != NO_ENTRY);
+    }
+    let first = atomicLoad(&counters.taken);
+    var rank = first + exclusive_prefix(t, count);
+    let asked = prefix[RANK_THREADS - 1u];
+    var refused = 0u;
+    for (var k = run.x; k < run.y && running; k++) {
+        let e = asking(round, k);
+        if (e != NO_ENTRY) {
+            refused += select(1u, 0u, take_page(e, rank, kept_back));
+            rank++;
+        }
+    }
+    storageBarrier();
+    workgroupBarrier();
+    if (running && t == 0u) {
+        let free = atomicLoad(&counters.free_count);
+        let room = select(0u, free - kept_back, free > kept_back);
+        atomicStore(&counters.taken, max(first, min(first + asked, room)));
+    }
+    return refused;
+}
+
 // Marked pages, each level's, from the pool less the pages kept back for fallbacks.
-@compute @workgroup_size(64)
-fn allocate_pages(@builtin(global_invocation_id) id: vec3<u32>) {
-    let e = id.x;
-    if (e < entry_count() && wants_page(e) && !take_page(e, params.limits.x)) {
-        atomicAdd(&counters.first_refused, 1u);
+@compute @workgroup_size(256)
+fn allocate_pages(@builtin(local_invocation_index) t: u32) {
+    let refused = allocate_round(t, ROUND_MARKED, true, params.limits.x);
+    if (refused > 0u) {
+        atomicAdd(&counters.first_refused, refused);
     }
 }
 
@@ -199,24 +327,15 @@ fn restart_free_list() {
 }
 
 // The refused entries again, after the eviction.
-@compute @workgroup_size(64)
-fn allocate_refused(@builtin(global_invocation_id) id: vec3<u32>) {
-    let e = id.x;
-    if (e < entry_count() && atomicLoad(&counters.first_refused) > 0u
-        && (atomicLoad(&page_flags[e]) & PAGE_REFUSED) != 0u) {
-        take_page(e, params.limits.x);
-    }
+@compute @workgroup_size(256)
+fn allocate_refused(@builtin(local_invocation_index) t: u32) {
+    allocate_round(t, ROUND_REFUSED, atomicLoad(&counters.first_refused) > 0u, params.limits.x);
 }
 
-// The coarsest level's pages that refused pixels marked (mark.wgsl `mark_fallback`), from
-// the pages kept back. x: entry of the level, y: chain.
-@compute @workgroup_size(64)
-fn allocate_fallback(@builtin(global_invocation_id) id: vec3<u32>) {
-    let e = (chain_levels(id.y).y - 1u) * LEVEL_ENTRIES + id.x;
-    if (id.x < LEVEL_ENTRIES && id.y < chain_count()
-        && atomicLoad(&counters.first_refused) > 0u && wants_page(e)) {
-        take_page(e, 0u);
-    }
+// The coarsest level's pages that refused pixels marked, from the pages kept back.
+@compute @workgroup_size(256)
+fn allocate_fallback(@builtin(local_invocation_index) t: u32) {
+    allocate_round(t, ROUND_FALLBACK, atomicLoad(&counters.first_refused) > 0u, 0u);
 }
 
 // Whether this frame's pixels read a stale block of entry `e`'s movable layer (marking's

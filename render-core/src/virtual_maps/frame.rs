@@ -67,18 +67,18 @@ impl VirtualTechnique {
         let [table_group, mark_group, cull_group, occlusion_group] = groups;
         let levels = tables.levels;
         let entries = (levels * LEVEL_ENTRIES).div_ceil(64);
-        let pages = tables.pages.div_ceil(64);
-        let level_entries = LEVEL_ENTRIES.div_ceil(64);
+        // The free lists and the rounds of allocation are one workgroup each (ordered:
+        // allocate.wgsl).
         let sizes: [[u32; 2]; 11] = [
             [moved.div_ceil(64), levels],
             [entries, 1],
-            [pages, 1],
-            [entries, 1],
+            [1, 1],
+            [1, 1],
             [entries, 1],
             [1, 1],
-            [pages, 1],
-            [entries, 1],
-            [level_entries, self.chains()],
+            [1, 1],
+            [1, 1],
+            [1, 1],
             [entries, 1],
             [1, 1],
         ];

@@ -13,7 +13,9 @@
 //!           light's faces and their mips, or a spot's (punctual.rs `punctual_views`)
 //! draw      in compute, no readback (allocate.wgsl, mark.wgsl, cull.wgsl): moved boxes
 //!           invalidate their pages; pages that left their square or were invalidated are
-//!           released; each visible receiver pixel marks the pages its PCF taps read at the
+//!           released (when everything is invalid, the light or the settings changed, a
+//!           marked page is drawn again where it is: its depths are those of a page drawn
+//!           there, bit for bit, which a page drawn elsewhere's are not); each visible receiver pixel marks the pages its PCF taps read at the
 //!           level resolution matching picks; marked pages get physical pages (where the pool
 //!           runs out, cached pages nobody marked are evicted, and the pixels whose pages are
 //!           still refused mark the coarsest level's, which take pages kept back for them);
@@ -188,6 +190,12 @@ impl VirtualTechnique {
     /// where one was refreshed. Blocks: for tests.
     pub fn read_page_hierarchy(&self, ctx: &GpuContext) -> Result<Vec<u32>, crate::gpu::GpuError> {
         self.read_table(ctx, |t| &t.hierarchy, HIERARCHY_CELLS)
+    }
+
+    /// Each entry's physical page (meaningful where it is resident) as the last frame left
+    /// it. Blocks: for tests.
+    pub fn read_page_slots(&self, ctx: &GpuContext) -> Result<Vec<u32>, crate::gpu::GpuError> {
+        self.read_table(ctx, |t| &t.slots, LEVEL_ENTRIES)
     }
 
     /// A per-level table's words, `words_per_level` for each of the tables' levels.

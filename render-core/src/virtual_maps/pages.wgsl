@@ -17,7 +17,8 @@ const LEVEL_ENTRIES: u32 = 1024u;
 const POINT_NEAR_M: f32 = 0.05;
 
 // An entry's flags: marked by a visible pixel this frame; holding a physical page; drawn this
-// frame (every layer); marked but given no physical page; touched by a moving box. Where
+// frame (every layer); marked but given no physical page; touched by a moving box (drawn
+// again in the physical page it holds where marked, allocate.wgsl `redraw_in_place`). Where
 // static casters are kept apart, a moving box leaves the page resident but its movable
 // casters' layer stale, and a marked stale page has that layer alone drawn (refreshed).
 const PAGE_MARKED: u32 = 1u;

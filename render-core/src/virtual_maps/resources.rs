@@ -113,7 +113,12 @@ impl Tables {
                 counters_size,
                 STORAGE | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_SRC,
             ),
-            slots: buffer(device, "VirtualMaps::slots", entries * 4, STORAGE),
+            slots: buffer(
+                device,
+                "VirtualMaps::slots",
+                entries * 4,
+                STORAGE | wgpu::BufferUsages::COPY_SRC,
+            ),
             tags: buffer(device, "VirtualMaps::tags", entries * 8, STORAGE),
             owners: buffer(device, "VirtualMaps::owners", pages * 4, STORAGE),
             free_list: buffer(device, "VirtualMaps::free_list", pages * 4, STORAGE),

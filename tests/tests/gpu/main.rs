@@ -22,6 +22,7 @@ mod resolution;
 mod shadows;
 mod truth;
 mod views;
+mod virtual_allocation;
 mod virtual_grid;
 mod virtual_maps;
 mod virtual_oracle;

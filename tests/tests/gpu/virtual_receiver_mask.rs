@@ -179,7 +179,8 @@ fn the_mask_holds_the_blocks_pixels_read_and_culls_the_casters_over_none() {
     assert!(p.receiver_mask);
     assert_eq!(p.caster_pages, expected_pairs(&scene, &frame, &masks));
     assert!(p.caster_pages_masked > 0, "{p:?}");
-    let whole = Frames::new(&scene).frame(&scene, &camera(), &settings(uncached()));
+    // Every page drawn again where it is, the mask off.
+    let whole = frames.frame(&scene, &camera(), &settings(uncached()));
     assert_eq!(whole.pages.caster_pages_masked, 0);
     assert_eq!(
         whole.pages.caster_pages,

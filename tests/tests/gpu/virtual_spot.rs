@@ -207,8 +207,8 @@ fn a_static_spot_draws_no_page_in_the_second_frame_and_a_turned_one_every_page()
     let third = frames.frame(&scene, &camera, &turned);
     assert!(third.pages.all_invalidated);
     assert_eq!(third.pages.pages_rendered, third.pages.pages_marked);
-    let fresh = Frames::new(&scene).frame(&scene, &camera, &turned);
-    assert_eq!(third.capture.shadow, fresh.capture.shadow);
+    let redrawn = frames.redrawn(&scene, &camera, &turned);
+    assert_eq!(third.capture.shadow, redrawn.capture.shadow);
 }
 
 #[test]
