@@ -107,8 +107,8 @@ fn begin_pages(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let level = e / LEVEL_ENTRIES;
     let same_page = all(page_tags[e] == absolute_page(level, window_page(e)));
-    // A page the receiver mask left partial was made invalid (released here), or where its
-    // movable layer alone is partial, that layer is stale.
+    // A page the receiver mask left partial was made invalid (drawn again below), or where
+    // its movable layer alone is partial, that layer is stale.
     let partial = (flags & PAGE_PARTIAL) != 0u;
     if (!same_page) {
         release(e);
