@@ -12,13 +12,15 @@
 //!           in light space, so a page keeps its place as the camera moves; or a point
 //!           light's faces and their mips, or a spot's (punctual.rs `punctual_views`)
 //! draw      in compute, no readback (allocate.wgsl, mark.wgsl, cull.wgsl): moved boxes
-//!           invalidate their pages; pages that left their square or were invalidated are
-//!           released (when everything is invalid, the light or the settings changed, a
-//!           marked page is drawn again where it is: its depths are those of a page drawn
-//!           there, bit for bit, which a page drawn elsewhere's are not); each visible receiver pixel marks the pages its PCF taps read at the
-//!           level resolution matching picks; marked pages get physical pages (where the pool
-//!           runs out, cached pages nobody marked are evicted, and the pixels whose pages are
-//!           still refused mark the coarsest level's, which take pages kept back for them);
+//!           invalidate their pages; pages that left their square are released, invalid
+//!           ones (or all, when the light or the settings changed) drawn again where they
+//!           are if marked, released if not (a page's depths round by its place in the
+//!           atlas, so a page drawn in place holds the very depths it held); each visible
+//!           receiver pixel marks the pages its PCF taps read at the level resolution matching
+//!           picks; marked pages get physical pages in the order of their entries, the
+//!           same on every run (where the pool runs out, cached pages nobody marked are
+//!           evicted, and the pixels whose pages are still refused mark the coarsest
+//!           level's, which take pages kept back for them);
 //!           each caster against the pages drawn this frame, through the hierarchy of page
 //!           flags; then one pass over the atlas (draw.wgsl):
 //!           each drawn page cleared, each (caster, page) pair drawn with clip distances at the
